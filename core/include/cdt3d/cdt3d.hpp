@@ -1,0 +1,188 @@
+// cdt3d: constrained Delaunay tetrahedralization of piecewise linear complexes
+// (Si & Gärtner, IMR 2005). This header is the whole public API.
+//
+// The library never throws and never exits: every entry point returns a Status
+// whose Error says what went wrong and where (file, line or record, facet,
+// vertex).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace cdt3d {
+
+using VertexId = uint32_t;
+inline constexpr uint32_t kNone = 0xffffffffu;
+
+/// Largest coordinate magnitude accepted. Keeps every intermediate of the exact
+/// predicates (up to degree-5 products of coordinate differences) far from
+/// double overflow and underflow. Inputs outside [-kMaxCoordinate,
+/// kMaxCoordinate] are rejected with ErrorCode::CoordinateRange.
+inline constexpr double kMaxCoordinate = 1e50;
+
+// ---------------------------------------------------------------------------
+// Errors
+// ---------------------------------------------------------------------------
+
+/// Every failure the library can report. The stable string form (error_code_name)
+/// is what the JS API exposes as `Cdt3dError.code`.
+enum class ErrorCode {
+  Ok = 0,
+  IoError,           ///< "io": file cannot be opened or read
+  UnknownFormat,     ///< "unknown-format": extension or content not recognised
+  Empty,             ///< "empty": file has no data
+  Truncated,         ///< "truncated": file ends early / sizes disagree
+  Parse,             ///< "parse": malformed syntax, bad number, bad header
+  NonFinite,         ///< "nan": NaN or infinite coordinate
+  CoordinateRange,   ///< "coordinate-range": |coordinate| > kMaxCoordinate
+  IndexOutOfRange,   ///< "index": vertex index outside the point list
+  DegenerateFacet,   ///< "degenerate": < 3 distinct vertices, repeated vertex, zero area
+  NonPlanarFacet,    ///< "nonplanar": polygon vertices not coplanar
+  DuplicateFacet,    ///< "duplicate": same facet listed twice
+  TooLarge,          ///< "too-large": more items than the index type allows
+  Coplanar,          ///< "coplanar": all points in one plane (no tetrahedron)
+  Collinear,         ///< "collinear": all points on one line
+  TooFewPoints,      ///< "too-few-points": fewer than 4 distinct points
+  InvalidArgument,   ///< "invalid-argument": bad option or API argument
+  Cancelled,         ///< "cancelled": the cancel flag was raised
+  OutOfMemory,       ///< "out-of-memory": allocation failed
+  Internal,          ///< "internal": a check inside the library failed (a bug)
+};
+
+/// Stable short name of an error code, e.g. "truncated".
+const char* error_code_name(ErrorCode code);
+
+/// What went wrong and where. Fields that do not apply are -1 / empty.
+struct Error {
+  ErrorCode code = ErrorCode::Ok;
+  std::string message;   ///< human-readable, complete sentence without location
+  std::string file;      ///< input file name, if any
+  int64_t line = -1;     ///< 1-based text line
+  int64_t record = -1;   ///< 0-based binary record (e.g. STL triangle)
+  int64_t facet = -1;    ///< 0-based facet index in the Plc
+  int64_t vertex = -1;   ///< 0-based vertex index
+  int64_t other_facet = -1;  ///< second facet (duplicates, intersections)
+
+  /// "file:line: message (facet 3, vertex 7)" style one-line description.
+  std::string to_string() const;
+};
+
+/// Result of an operation: ok() or an Error.
+struct Status {
+  Error error;
+  bool ok() const { return error.code == ErrorCode::Ok; }
+  static Status success() { return {}; }
+};
+
+// ---------------------------------------------------------------------------
+// Piecewise linear complex
+// ---------------------------------------------------------------------------
+
+struct Vec3 {
+  double x = 0, y = 0, z = 0;
+};
+inline bool operator==(const Vec3& a, const Vec3& b) {
+  return a.x == b.x && a.y == b.y && a.z == b.z;
+}
+
+/// A planar facet: one or more vertex loops in one plane (TetGen's polygons).
+/// The region covered is the union of the loops' interiors minus the areas
+/// marked by `holes` (points inside facet holes, as in TetGen .poly). A loop of
+/// an STL/OFF triangle is the triangle itself.
+struct Facet {
+  std::vector<std::vector<VertexId>> loops;  ///< each loop has >= 3 vertices
+  std::vector<Vec3> holes;                   ///< hole points lying in the facet's plane
+  int marker = 0;                            ///< boundary marker (TetGen)
+  int64_t line = -1;    ///< source line of the facet (text formats), -1 if none
+  int64_t record = -1;  ///< source record (binary formats), -1 if none
+};
+
+/// A region point: tets of the region containing `point` get `attribute`.
+struct Region {
+  Vec3 point;
+  double attribute = 0;
+  double max_volume = -1;  ///< -1: no constraint
+};
+
+/// A piecewise linear complex. Points are unique (identical coordinates are
+/// welded exactly on input; nothing is welded by tolerance).
+struct Plc {
+  std::vector<Vec3> points;
+  std::vector<Facet> facets;
+  std::vector<std::array<VertexId, 2>> segments;  ///< explicit segments (not facet edges)
+  std::vector<Vec3> holes;                        ///< volume hole points
+  std::vector<Region> regions;
+
+  // Provenance, filled by the readers.
+  std::string file;             ///< file name the PLC was read from
+  size_t file_vertices = 0;     ///< vertex records in the file before welding
+  size_t welded_vertices = 0;   ///< file records merged into an identical earlier point
+};
+
+/// Summary of a PLC, as printed by `cdt3d info`.
+struct PlcInfo {
+  size_t file_vertices = 0;   ///< vertex records in the file
+  size_t points = 0;          ///< distinct points after exact welding
+  size_t unreferenced = 0;    ///< points used by no facet or segment
+  size_t facets = 0;
+  size_t triangles = 0;       ///< triangles after fan-triangulating each loop
+  size_t loops = 0;
+  size_t segments = 0;        ///< explicit segments + distinct facet boundary edges
+  size_t holes = 0;
+  size_t regions = 0;
+  Vec3 bbox_min, bbox_max;
+};
+PlcInfo plc_info(const Plc& plc);
+
+/// Every segment of the PLC, sorted, each once: explicit segments and every
+/// facet loop edge, as (lower id, higher id).
+std::vector<std::array<VertexId, 2>> plc_segments(const Plc& plc);
+
+// ---------------------------------------------------------------------------
+// Reading
+// ---------------------------------------------------------------------------
+
+enum class FileFormat { Unknown, Stl, Off, Obj, Ply, Poly, Smesh, Node };
+
+/// Format from a file name's extension (case-insensitive).
+FileFormat format_from_name(const std::string& file_name);
+
+/// Parse a PLC from bytes. `file_name` picks the format by extension and names
+/// the file in errors. Runs check_plc() on success.
+Status read_plc(const uint8_t* data, size_t size, const std::string& file_name, Plc& out);
+
+/// Read a file from disk and parse it with read_plc().
+Status read_plc_file(const std::string& path, Plc& out);
+
+/// Input checks: finite coordinates within kMaxCoordinate, indices in range,
+/// facets with >= 3 distinct vertices and no repeated vertex in a loop, no
+/// zero-area (collinear) loops, planar facets, no duplicate facets. Exact
+/// predicates; no tolerances.
+Status check_plc(const Plc& plc);
+
+// ---------------------------------------------------------------------------
+// Tetrahedral meshes and writers
+// ---------------------------------------------------------------------------
+
+/// A tetrahedral mesh as delivered to users: flat arrays.
+struct TetMeshData {
+  std::vector<double> points;      ///< 3 per point
+  std::vector<uint32_t> tets;      ///< 4 per tet, positively oriented
+  std::vector<uint32_t> faces;     ///< 3 per boundary/constrained face
+  std::vector<int32_t> face_markers;    ///< per face: input facet marker (or id)
+  std::vector<double> tet_attributes;   ///< per tet region attribute (may be empty)
+};
+
+/// TetGen .node/.ele/.face (0-based indices, with "# generated by cdt3d").
+std::string write_node(const TetMeshData& m);
+std::string write_ele(const TetMeshData& m);
+std::string write_face(const TetMeshData& m);
+/// Legacy VTK unstructured grid (ASCII), cell data: region attribute.
+std::string write_vtk(const TetMeshData& m);
+/// Medit .mesh (MeshVersionFormatted 2).
+std::string write_medit(const TetMeshData& m);
+
+}  // namespace cdt3d
