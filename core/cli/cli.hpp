@@ -10,6 +10,7 @@ inline constexpr int kExitUsage = 2;  // bad command line
 
 int run_info(int argc, char** argv);      // cmd_info.cpp
 int run_delaunay(int argc, char** argv);  // cmd_delaunay.cpp
+int run_mesh(int argc, char** argv);      // cmd_mesh.cpp
 
 }  // namespace cli
 }  // namespace cdt3d

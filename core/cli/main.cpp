@@ -13,6 +13,8 @@ void print_usage(std::FILE* out) {
                "commands:\n"
                "  info MODEL               read a PLC and print its summary\n"
                "  delaunay POINTS [-o P]   Delaunay tetrahedralization of the points\n"
+               "  mesh MODEL --stop-after PHASE [-o P]\n"
+               "                           run the CDT pipeline up to a phase\n"
                "\n"
                "MODEL: .stl (ASCII/binary) .off .obj .ply .poly .smesh\n"
                "exit codes: 0 success, 1 input or meshing error, 2 usage error\n");
@@ -28,6 +30,7 @@ int main(int argc, char** argv) {
   const char* cmd = argv[1];
   if (!std::strcmp(cmd, "info")) return cdt3d::cli::run_info(argc - 2, argv + 2);
   if (!std::strcmp(cmd, "delaunay")) return cdt3d::cli::run_delaunay(argc - 2, argv + 2);
+  if (!std::strcmp(cmd, "mesh")) return cdt3d::cli::run_mesh(argc - 2, argv + 2);
   std::fprintf(stderr, "cdt3d: unknown command '%s'\n", cmd);
   print_usage(stderr);
   return cdt3d::cli::kExitUsage;

@@ -1,9 +1,47 @@
 // Exact geometric predicates on double coordinates (filter -> exact expansion
 // arithmetic), plus symbolic perturbation ordered by vertex index.
 // Round-to-nearest only; no FMA contraction (-ffp-contract=off); no fesetround.
+//
+// Each predicate is the sign of a polynomial in the coordinates. It first
+// evaluates the polynomial in doubles and compares the result against a
+// rigorous semi-static error bound (computed from the largest absolute
+// coordinate differences, the Meyer–Pion idea, with constants derived below
+// for our exact evaluation order). Only when the bound cannot decide does it
+// call the exact stage (predicates.cpp), which evaluates the same polynomial
+// with floating-point expansions (expansion.hpp) and never rounds.
+//
+// Supported range (exactness guarantee). Every predicate returns the sign of
+// the exact real determinant when each coordinate of the points involved is
+// 0 or has magnitude in [1e-50, 1e50] (kMaxCoordinate in cdt3d.hpp). More
+// generally the exact stage scales the points by a power of two so that no
+// partial product can overflow or lose bits below 2^-1074; this works when
+// hi - lo <= 404 for insphere (508 incircle, 678 orient3d, 1027 orient2d),
+// where 2^hi bounds the largest |coordinate| and 2^lo is the lowest set bit
+// of any nonzero coordinate. For |x| in [1e-50, 1e50]: hi <= 167 and
+// lo >= -219 (ulp of 2^-167), so hi - lo <= 386. Points outside this rule
+// (for instance a subnormal coordinate next to a coordinate of 1) still get
+// an answer, usually right but not guaranteed, and counters().out_of_range
+// counts them.
 #pragma once
 
+#include <cfloat>
+#include <cmath>
 #include <cstdint>
+
+#if defined(__FAST_MATH__)
+#error "cdt3d predicates need IEEE arithmetic: never compile with -ffast-math or -Ofast"
+#endif
+#if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD != 0
+#error "cdt3d predicates need doubles evaluated in double precision (FLT_EVAL_METHOD == 0)"
+#endif
+
+#ifndef CDT3D_PREDICATE_CALL_COUNTS
+#if defined(__EMSCRIPTEN__)
+#define CDT3D_PREDICATE_CALL_COUNTS 0
+#else
+#define CDT3D_PREDICATE_CALL_COUNTS 1
+#endif
+#endif
 
 namespace cdt3d {
 namespace pred {
@@ -11,10 +49,10 @@ namespace pred {
 /// Sign of the determinant | ax-dx ay-dy az-dz ; bx-dx ... ; cx-dx ... |.
 /// > 0 when d lies below the plane through a, b, c, with a, b, c appearing
 /// counterclockwise seen from above (Shewchuk's convention). Exact.
-int orient3d(const double* a, const double* b, const double* c, const double* d);
+inline int orient3d(const double* a, const double* b, const double* c, const double* d);
 
 /// Sign of the 2D orientation of (a, b, c): > 0 counterclockwise. Exact.
-int orient2d(const double* a, const double* b, const double* c);
+inline int orient2d(const double* a, const double* b, const double* c);
 
 /// Sign of orient2d of the projections of 3D points a, b, c onto the
 /// coordinate plane that drops axis `drop` (0 = x, 1 = y, 2 = z); the
@@ -26,8 +64,8 @@ int orient2d_projected(const double* a, const double* b, const double* c, int dr
 /// Sign of the insphere determinant: > 0 when e lies inside the sphere through
 /// a, b, c, d, provided orient3d(a, b, c, d) > 0 (the sign flips otherwise).
 /// Exact, unperturbed (0 when co-spherical).
-int insphere(const double* a, const double* b, const double* c, const double* d,
-             const double* e);
+inline int insphere(const double* a, const double* b, const double* c, const double* d,
+                    const double* e);
 
 /// 2D incircle: > 0 when d inside the circle through a, b, c with
 /// orient2d(a,b,c) > 0. Exact.
@@ -36,7 +74,9 @@ int incircle(const double* a, const double* b, const double* c, const double* d)
 /// In-plane incircle for four coplanar 3D points, without rounding any
 /// projection: > 0 when d is inside the circumcircle of a, b, c, independent of
 /// the orientation of a, b, c. Precondition: a, b, c not collinear and d in
-/// their plane. Exact.
+/// their plane. Exact. (Evaluated as insphere(a, b, c, f, d) for a point f off
+/// the plane with exact double coordinates: the sphere through a, b, c, f
+/// meets the plane in the circumcircle; 0 if a, b, c are collinear.)
 int incircle_coplanar(const double* a, const double* b, const double* c, const double* d);
 
 /// Collinearity of three 3D points, exact.
@@ -47,6 +87,10 @@ bool collinear3d(const double* a, const double* b, const double* c);
 /// when a,b,c,d is a proper tetrahedron with orient3d(a,b,c,d) > 0:
 /// > 0 inside, < 0 outside. Uses insphere() first; the perturbation only
 /// decides exact zeros.
+/// The perturbation: the lifted coordinate |p|^2 of each point is raised by
+/// eps^(k), k = 1 for the largest id, 2 for the next, ...; so on a tie the
+/// point with the larger id counts as slightly farther out, and the query e
+/// is outside when its id is the largest. See sos.cpp for the derivation.
 int insphere_sos(const double* a, const double* b, const double* c, const double* d,
                  const double* e, uint32_t ia, uint32_t ib, uint32_t ic, uint32_t id,
                  uint32_t ie);
@@ -55,16 +99,192 @@ int insphere_sos(const double* a, const double* b, const double* c, const double
 /// with a, b, c (orient3d == 0), decides whether e is in conflict with the
 /// ghost tet on the outer side of face (a, b, c), consistently with
 /// insphere_sos. > 0 conflict.
+/// Convention (tet_mesh.hpp): the ghost tet is (a, b, c, infinity) and the
+/// outer side is where orient3d(a, b, c, p) > 0. Its "sphere" is the limit of
+/// the sphere through a, b, c and a point q going to infinity on that side:
+/// the open outer half-space plus the open disk of the circumcircle of a, b, c.
+/// So: orient3d(a, b, c, e) != 0 gives the answer (> 0 conflict); otherwise
+/// incircle_coplanar(a, b, c, e) != 0 does; otherwise (e on the circle) the
+/// answer is insphere_sos(a, b, c, q, e) for any such q, which no longer
+/// depends on q nor on the id of the infinite vertex (sos.cpp). Never 0 when
+/// a, b, c are not collinear.
 int incircle_coplanar_sos(const double* a, const double* b, const double* c,
                           const double* e, uint32_t ia, uint32_t ib, uint32_t ic,
                           uint32_t ie);
 
 /// Counters for filter efficiency (not thread-safe; for statistics only).
+/// *_exact counts the calls the filter could not decide (always on).
+/// *_calls counts every call when CDT3D_PREDICATE_CALL_COUNTS is 1, the
+/// default natively; in WebAssembly builds the default is 0 and they stay 0,
+/// because V8 turns the per-call memory increment into ~3-5 ns, as much as
+/// the whole filter. Define CDT3D_PREDICATE_CALL_COUNTS=1 to force them on.
 struct Counters {
   uint64_t orient3d_calls = 0, orient3d_exact = 0;
   uint64_t insphere_calls = 0, insphere_exact = 0;
+  uint64_t orient2d_calls = 0, orient2d_exact = 0;
+  uint64_t incircle_calls = 0, incircle_exact = 0;
+  uint64_t sos_ties = 0;      ///< insphere_sos / incircle_coplanar_sos decided by SoS
+  uint64_t out_of_range = 0;  ///< exact evaluations outside the supported range
 };
-Counters& counters();
+
+namespace detail {
+
+extern Counters g_counters;
+
+inline void count_call(uint64_t& counter) {
+#if CDT3D_PREDICATE_CALL_COUNTS
+  ++counter;
+#else
+  (void)counter;
+#endif
+}
+
+// Exact stages (predicates.cpp); they count themselves in g_counters.
+int orient3d_exact(const double* a, const double* b, const double* c, const double* d);
+int insphere_exact(const double* a, const double* b, const double* c, const double* d,
+                   const double* e);
+int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy);
+inline int orient2d_xy(double ax, double ay, double bx, double by, double cx, double cy);
+
+inline double max3(double a, double b, double c) {
+  const double m = a > b ? a : b;
+  return m > c ? m : c;
+}
+inline double min3(double a, double b, double c) {
+  const double m = a < b ? a : b;
+  return m < c ? m : c;
+}
+inline double max4(double a, double b, double c, double d) {
+  const double m = a > b ? a : b;
+  const double n = c > d ? c : d;
+  return m > n ? m : n;
+}
+
+// Filter constants. Notation: u = 2^-53 (unit roundoff); fl(x op y) =
+// (x op y)(1 + t) with |t| <= u as long as nothing underflows. The computed
+// coordinate differences D' = fl(p - q) satisfy |D - D'| <= u |D'| (half an
+// ulp of the result; differences that land in the subnormal range are exact).
+//
+// The polynomial is evaluated by a fixed expression tree. Expanded into
+// monomials of the D', the computed value is sum(m * prod(1 + t)) with at most
+// k factors on each monomial, k being the number of roundings on the longest
+// leaf-to-root path (products contribute the paths of both operands plus
+// one). Replacing D' by the exact D adds one factor (1 + t) per factor of the
+// monomial (its degree g). Hence
+//     |computed - exact| <= ((1 + u)^(k + g) - 1) * S,   S = sum |m|,
+// and S is bounded through the column maxima M_x = max |D'_x| (over the rows)
+// etc. The bound actually tested is computed in doubles (a few more factors
+// (1 - u)) and its constant is rounded up with a margin (>= 0.09u of S); the
+// margin also absorbs the absolute error of underflowing products (each at
+// most 2^-1075, times at most the product of the remaining factors), which is
+// why the filter requires min(M) >= kLo: that keeps the margin above it and
+// keeps the bound itself a normal number. max(M) <= kHi rules out overflow
+// (and catches inf/NaN, since comparisons with NaN are false). Outside those
+// limits, or when |computed| <= bound, the exact stage decides.
+//
+// orient3d: det = Ax(ByCz - BzCy) + Bx(CyAz - CzAy) + Cx(AyBz - AzBy),
+//   summed left to right: k = 5 (mul, sub, mul, add, add), g = 3;
+//   S <= 6 Mx My Mz (six monomials |x y z|); (1+u)^8 - 1 < 8.0000001u;
+//   48u(1 + 1e-6) = 5.3291e-15 < 5.34e-15 (margin 0.098u).
+//   Underflow: at most 9 products, error <= 2^-1074 * (6 Mmax + 3); with
+//   min(M) >= 2^-300 this is far below 0.098u * Mx My Mz.
+inline constexpr double kOrient3dEps = 5.34e-15;
+inline constexpr double kOrient3dLo = 0x1p-300, kOrient3dHi = 0x1p+300;
+// insphere (rows A..D = a..d minus e, lifts l = Ax^2 + Ay^2 + Az^2):
+//   det = (ld*abc - lc*dab) + (lb*cda - la*bcd), 3x3 minors from 2x2 xy
+//   minors as in the code: minor path 5, lift path 3, product 1, two more
+//   sums: k = 11, g = 5; S = sum_i l_i * perm3(other rows) <= 6 Mx My Mz
+//   (la + lb + lc + ld); (1+u)^16 - 1 < 16.0000001u; 96u(1 + 11u) <
+//   1.06582e-14 < 1.07e-14 (margin 0.37u). The sum of the lifts used in the
+//   bound is computed, (1 - u)^-6 covered by the margin.
+//   Underflow: about 40 products, each error amplified by at most 7 Mmax^3
+//   (a lift times a z, or a 3x3 minor); sum(l) >= Mmax^2, so with
+//   min(M) >= 2^-190 (Mmin^5 * 2^-47 > 2^-1022: bound normal) the margin
+//   0.37u * Mx My Mz sum(l) dominates.
+inline constexpr double kInsphereEps = 1.07e-14;
+inline constexpr double kInsphereLo = 0x1p-190, kInsphereHi = 0x1p+200;
+// orient2d: det = Ax By - Ay Bx: k = 2, g = 2, S <= 2 Mx My;
+//   8u(1 + 1e-6) = 8.8818e-16 < 9e-16 (margin 0.1u).
+inline constexpr double kOrient2dEps = 9.0e-16;
+inline constexpr double kOrient2dLo = 0x1p-450, kOrient2dHi = 0x1p+500;
+
+}  // namespace detail
+
+inline int orient3d(const double* a, const double* b, const double* c, const double* d) {
+  detail::count_call(detail::g_counters.orient3d_calls);
+  const double adx = a[0] - d[0], ady = a[1] - d[1], adz = a[2] - d[2];
+  const double bdx = b[0] - d[0], bdy = b[1] - d[1], bdz = b[2] - d[2];
+  const double cdx = c[0] - d[0], cdy = c[1] - d[1], cdz = c[2] - d[2];
+  const double det = adx * (bdy * cdz - bdz * cdy) + bdx * (cdy * adz - cdz * ady) +
+                     cdx * (ady * bdz - adz * bdy);
+  const double mx = detail::max3(std::fabs(adx), std::fabs(bdx), std::fabs(cdx));
+  const double my = detail::max3(std::fabs(ady), std::fabs(bdy), std::fabs(cdy));
+  const double mz = detail::max3(std::fabs(adz), std::fabs(bdz), std::fabs(cdz));
+  const double lo = detail::min3(mx, my, mz), hi = detail::max3(mx, my, mz);
+  if (lo >= detail::kOrient3dLo && hi <= detail::kOrient3dHi) {
+    const double bound = detail::kOrient3dEps * mx * my * mz;
+    if (std::fabs(det) > bound) return (det > 0.0) - (det < 0.0);
+  }
+  return detail::orient3d_exact(a, b, c, d);
+}
+
+inline int insphere(const double* a, const double* b, const double* c, const double* d,
+                    const double* e) {
+  detail::count_call(detail::g_counters.insphere_calls);
+  const double aex = a[0] - e[0], aey = a[1] - e[1], aez = a[2] - e[2];
+  const double bex = b[0] - e[0], bey = b[1] - e[1], bez = b[2] - e[2];
+  const double cex = c[0] - e[0], cey = c[1] - e[1], cez = c[2] - e[2];
+  const double dex = d[0] - e[0], dey = d[1] - e[1], dez = d[2] - e[2];
+  const double ab = aex * bey - bex * aey;
+  const double bc = bex * cey - cex * bey;
+  const double cd = cex * dey - dex * cey;
+  const double da = dex * aey - aex * dey;
+  const double ac = aex * cey - cex * aey;
+  const double bd = bex * dey - dex * bey;
+  const double abc = aez * bc - bez * ac + cez * ab;
+  const double bcd = bez * cd - cez * bd + dez * bc;
+  const double cda = cez * da + dez * ac + aez * cd;
+  const double dab = dez * ab + aez * bd + bez * da;
+  const double la = aex * aex + aey * aey + aez * aez;
+  const double lb = bex * bex + bey * bey + bez * bez;
+  const double lc = cex * cex + cey * cey + cez * cez;
+  const double ld = dex * dex + dey * dey + dez * dez;
+  const double det = (ld * abc - lc * dab) + (lb * cda - la * bcd);
+  const double mx =
+      detail::max4(std::fabs(aex), std::fabs(bex), std::fabs(cex), std::fabs(dex));
+  const double my =
+      detail::max4(std::fabs(aey), std::fabs(bey), std::fabs(cey), std::fabs(dey));
+  const double mz =
+      detail::max4(std::fabs(aez), std::fabs(bez), std::fabs(cez), std::fabs(dez));
+  const double lo = detail::min3(mx, my, mz), hi = detail::max3(mx, my, mz);
+  if (lo >= detail::kInsphereLo && hi <= detail::kInsphereHi) {
+    const double bound = detail::kInsphereEps * mx * my * mz * ((la + lb) + (lc + ld));
+    if (std::fabs(det) > bound) return (det > 0.0) - (det < 0.0);
+  }
+  return detail::insphere_exact(a, b, c, d, e);
+}
+
+inline int detail::orient2d_xy(double ax, double ay, double bx, double by, double cx,
+                               double cy) {
+  count_call(g_counters.orient2d_calls);
+  const double acx = ax - cx, acy = ay - cy;
+  const double bcx = bx - cx, bcy = by - cy;
+  const double det = acx * bcy - acy * bcx;
+  const double mx = std::fabs(acx) > std::fabs(bcx) ? std::fabs(acx) : std::fabs(bcx);
+  const double my = std::fabs(acy) > std::fabs(bcy) ? std::fabs(acy) : std::fabs(bcy);
+  const double lo = mx < my ? mx : my, hi = mx < my ? my : mx;
+  if (lo >= kOrient2dLo && hi <= kOrient2dHi) {
+    const double bound = kOrient2dEps * mx * my;
+    if (std::fabs(det) > bound) return (det > 0.0) - (det < 0.0);
+  }
+  return orient2d_exact(ax, ay, bx, by, cx, cy);
+}
+
+inline int orient2d(const double* a, const double* b, const double* c) {
+  return detail::orient2d_xy(a[0], a[1], b[0], b[1], c[0], c[1]);
+}
+
+inline Counters& counters() { return detail::g_counters; }
 
 }  // namespace pred
 }  // namespace cdt3d

@@ -25,6 +25,8 @@ const char* error_code_name(ErrorCode code) {
     case ErrorCode::Cancelled: return "cancelled";
     case ErrorCode::OutOfMemory: return "out-of-memory";
     case ErrorCode::Internal: return "internal";
+    case ErrorCode::LimitReached: return "limit";
+    case ErrorCode::InvalidPlc: return "invalid-plc";
   }
   return "internal";
 }
@@ -49,6 +51,7 @@ std::string Error::to_string() const {
   add("record", record);
   add("facet", facet);
   add("other facet", other_facet);
+  add("segment", segment);
   add("vertex", vertex);
   if (!where.empty()) s += " (" + where + ")";
   s += " [";

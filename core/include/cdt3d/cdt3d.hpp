@@ -50,6 +50,8 @@ enum class ErrorCode {
   Cancelled,         ///< "cancelled": the cancel flag was raised
   OutOfMemory,       ///< "out-of-memory": allocation failed
   Internal,          ///< "internal": a check inside the library failed (a bug)
+  LimitReached,      ///< "limit": a phase hit its insertion bound (names the element)
+  InvalidPlc,        ///< "invalid-plc": the PLC violates its definition (e.g. a vertex on a segment)
 };
 
 /// Stable short name of an error code, e.g. "truncated".
@@ -65,6 +67,7 @@ struct Error {
   int64_t facet = -1;    ///< 0-based facet index in the Plc
   int64_t vertex = -1;   ///< 0-based vertex index
   int64_t other_facet = -1;  ///< second facet (duplicates, intersections)
+  int64_t segment = -1;  ///< 0-based segment index in plc_segments() order
 
   /// "file:line: message (facet 3, vertex 7)" style one-line description.
   std::string to_string() const;

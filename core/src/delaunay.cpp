@@ -1,0 +1,551 @@
+// Step 1: Delaunay tetrahedralization by incremental Bowyer–Watson insertion
+// (Bowyer 1981, Watson 1981) in BRIO + Hilbert order (Amenta, Choi, Rote
+// 2003), with ghost tets and SoS-perturbed conflict tests. See delaunay.hpp.
+#include "delaunay.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <new>
+#include <numeric>
+
+namespace cdt3d {
+
+namespace {
+
+Status make_error(ErrorCode code, std::string message, int64_t vertex = -1) {
+  Status s;
+  s.error.code = code;
+  s.error.message = std::move(message);
+  s.error.vertex = vertex;
+  return s;
+}
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// A hint to start loading memory that is needed soon (no-op elsewhere).
+template <typename T>
+inline void prefetch(const T* p) {
+#if defined(__GNUC__) || defined(__clang__)
+  __builtin_prefetch(static_cast<const void*>(p));
+#else
+  (void)p;
+#endif
+}
+
+bool same_point(const double* p, const double* q) {
+  return p[0] == q[0] && p[1] == q[1] && p[2] == q[2];
+}
+
+// For a tet whose new vertex sits at position `apex`: the three faces
+// through the apex, each with the positions of the boundary edge it contains,
+// in the order met going counterclockwise (seen from outside) after the apex.
+// Two new tets sharing that edge see it in opposite directions.
+struct ApexFace {
+  int face, first, second;
+};
+struct ApexFaceTable {
+  ApexFace at[4][3];
+};
+constexpr ApexFaceTable make_apex_faces() {
+  ApexFaceTable t{};
+  for (int apex = 0; apex < 4; ++apex) {
+    int k = 0;
+    for (int m = 0; m < 4; ++m) {
+      if (m == apex) continue;
+      const int* f = kFaceVertex[m];
+      const int j = f[0] == apex ? 0 : f[1] == apex ? 1 : 2;
+      t.at[apex][k++] = ApexFace{m, f[(j + 1) % 3], f[(j + 2) % 3]};
+    }
+  }
+  return t;
+}
+constexpr ApexFaceTable kApexFaces = make_apex_faces();
+
+// Local-id tables up to this many boundary vertices are dense.
+constexpr uint32_t kDenseLocals = 96;
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+// PointInserter
+// ---------------------------------------------------------------------------
+
+PointInserter::PointInserter(TetMesh& mesh, uint64_t seed)
+    : mesh_(mesh), rng_(seed ^ 0x77616c6b77616c6bull) {}
+
+// Conflict of point p (vertex v) with tet t: for a real tet, p strictly
+// inside its circumsphere under SoS; for a ghost tet, p strictly beyond its
+// hull face, or on the face's plane and inside its circumcircle under SoS
+// (the limit of the circumsphere of a tet whose apex goes to infinity).
+bool PointInserter::in_conflict(TetId t, const double* p, VertexId v) const {
+  const VertexId* w = &mesh_.tv[4 * static_cast<size_t>(t)];
+  const double* a = mesh_.point(w[0]);
+  const double* b = mesh_.point(w[1]);
+  const double* c = mesh_.point(w[2]);
+  if (w[3] != kInfinite) {
+    const double* d = mesh_.point(w[3]);
+    const int s = pred::insphere(a, b, c, d, p);
+    if (s != 0) return s > 0;
+    return pred::insphere_sos(a, b, c, d, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(w[3]),
+                              sos(v)) > 0;
+  }
+  const int o = fast::orient3d(a, b, c, p);
+  if (o != 0) return o > 0;
+  return pred::incircle_coplanar_sos(a, b, c, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(v)) > 0;
+}
+
+uint32_t PointInserter::local_id(VertexId x) {
+  if (x == kInfinite) return 1;
+  uint32_t& l = vlocal_[x];
+  if (l == 0) {
+    locals_.push_back(x);
+    l = static_cast<uint32_t>(locals_.size() + 1);
+  }
+  return l;
+}
+
+Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result) {
+  TetMesh& m = mesh_;
+  new_tets_.clear();
+  cavity_.clear();
+  if (v >= m.num_vertices()) return make_error(ErrorCode::InvalidArgument, "Vertex id out of range.");
+  if (m.vtet[v] != kNone)
+    return make_error(ErrorCode::InvalidArgument, "Vertex is already in the triangulation.", v);
+  if (m.live_tets == 0)
+    return make_error(ErrorCode::InvalidArgument, "The mesh has no tetrahedra to insert into.", v);
+
+  if (vlocal_.size() < m.num_vertices()) vlocal_.resize(m.num_vertices() + m.num_vertices() / 4, 0);
+  const double* p = m.point(v);
+  const Location loc = locate_point(m, p, hint, rng_);
+  walk_steps += loc.steps;
+  if (result) *result = InsertResult{v, false, loc.tet};
+  if (loc.kind == LocateKind::Failed)
+    return make_error(ErrorCode::Internal, "delaunay: point location made no progress.", v);
+  if (loc.kind == LocateKind::OnVertex) {
+    m.vkind[v] = kVertexDuplicate;
+    if (result) result->vertex = loc.vertex, result->duplicate = true;
+    return Status::success();
+  }
+
+  // Cavity: breadth-first from the located tet over tets in conflict. Two
+  // transient flag bits mark "in the cavity" and "tested, not in conflict"
+  // (a byte per tet is denser in cache than the epoch stamps).
+  uint8_t* flag = m.tflag.data();
+  const TetId t0 = loc.tet;
+  if (!in_conflict(t0, p, v))
+    return make_error(ErrorCode::Internal, "delaunay: located tet is not in conflict.", v);
+  boundary_.clear();
+  cavity_.push_back(t0);
+  flag[t0] |= kTetInCavity;
+  for (size_t k = 0; k < cavity_.size(); ++k) {
+    const TetId t = cavity_[k];
+    const HalfFace* adj = &m.tadj[4 * static_cast<size_t>(t)];
+    // Start the four neighbours' memory loads together.
+    for (int i = 0; i < 4; ++i) {
+      prefetch(&flag[hf_tet(adj[i])]);
+      prefetch(&m.tv[4 * static_cast<size_t>(hf_tet(adj[i]))]);
+    }
+    for (int i = 0; i < 4; ++i) {
+      const HalfFace hf = adj[i];
+      const TetId n = hf_tet(hf);
+      const uint8_t f = flag[n];
+      if (f & kTetInCavity) continue;
+      if (!(f & kTetTested)) {
+        if (in_conflict(n, p, v)) {
+          flag[n] = f | kTetInCavity;
+          cavity_.push_back(n);
+          prefetch(&m.tadj[4 * static_cast<size_t>(n)]);
+          continue;
+        }
+        flag[n] = f | kTetTested;
+      }
+      prefetch(&m.tadj[hf]);  // glued to a new tet below
+      const VertexId* w = &m.tv[4 * static_cast<size_t>(t)];
+      const VertexId a = w[kFaceVertex[i][0]], b = w[kFaceVertex[i][1]], c = w[kFaceVertex[i][2]];
+      boundary_.push_back(BoundaryFace{a, b, c, hf, local_id(a), local_id(b), local_id(c)});
+    }
+  }
+  for (const BoundaryFace& f : boundary_) flag[hf_tet(f.outside)] &= uint8_t(~kTetTested);
+  cavity_tets += cavity_.size();
+
+  // Cone each boundary face (a, b, c) to v: (a, b, c, v) is positive because
+  // v sees the face from inside the cavity. A ghost keeps kInfinite at
+  // position 3 by an even permutation.
+  // The faces through v are glued to each other by boundary edge: each
+  // boundary edge (u, w) lies on exactly two boundary faces, and the two new
+  // tets see it in opposite directions. With few boundary vertices a dense
+  // table indexed by directed local edge (u, w) finds the partner; large
+  // cavities sort edge records instead.
+  const size_t nb = boundary_.size(), nc = cavity_.size();
+  const uint32_t L = static_cast<uint32_t>(locals_.size() + 2);
+  const bool dense = L <= kDenseLocals;
+  if (dense && dense_.empty()) dense_.resize(size_t(kDenseLocals) * kDenseLocals);
+  pending_.clear();
+  recs_.clear();
+  new_tets_.reserve(nb);
+  for (size_t j = 0; j < nb; ++j) {
+    const BoundaryFace& f = boundary_[j];
+    TetId t;
+    if (j < nc) {
+      t = cavity_[j];
+      flag[t] = 0;
+    } else {
+      t = m.alloc_tet();
+      flag = m.tflag.data();
+    }
+    VertexId w[4] = {f.a, f.b, f.c, v};
+    uint32_t l[4] = {f.la, f.lb, f.lc, 0};
+    int apex = 3;
+    const int k = f.a == kInfinite ? 0 : f.b == kInfinite ? 1 : f.c == kInfinite ? 2 : -1;
+    if (k >= 0) {  // keep kInfinite at position 3 by an even permutation
+      const int x = k == 0 ? 1 : 0, y = k == 2 ? 1 : 2;
+      std::swap(w[k], w[3]), std::swap(l[k], l[3]);
+      std::swap(w[x], w[y]), std::swap(l[x], l[y]);
+      apex = k;
+    }
+    m.set_tet(t, w[0], w[1], w[2], w[3]);
+    m.glue(make_hf(t, apex), f.outside);
+    for (const ApexFace& af : kApexFaces.at[apex]) {
+      const HalfFace hf = make_hf(t, af.face);
+      const uint32_t x = l[af.first], y = l[af.second];
+      if (dense) {
+        dense_[x * L + y] = hf;
+        pending_.push_back(Pending{hf, y * L + x});
+      } else {
+        recs_.push_back(EdgeRec{std::min(x, y), std::max(x, y), hf});
+      }
+    }
+    new_tets_.push_back(t);
+  }
+  for (size_t j = nb; j < nc; ++j) m.free_tet(cavity_[j]);
+  for (VertexId x : locals_) vlocal_[x] = 0;
+  locals_.clear();
+  if (dense) {
+    HalfFace* adj = m.tadj.data();
+    for (const Pending& pe : pending_) adj[pe.hf] = dense_[pe.reverse];
+  } else {
+    std::sort(recs_.begin(), recs_.end(), [](const EdgeRec& a, const EdgeRec& b) {
+      return a.lo != b.lo ? a.lo < b.lo : a.hi != b.hi ? a.hi < b.hi : a.hf < b.hf;
+    });
+    for (size_t q = 0; q + 1 < recs_.size(); q += 2) {
+      if (recs_[q].lo != recs_[q + 1].lo || recs_[q].hi != recs_[q + 1].hi)
+        return make_error(ErrorCode::Internal, "delaunay: cavity boundary is not a closed surface.", v);
+      m.glue(recs_[q].hf, recs_[q + 1].hf);
+    }
+  }
+
+  // Vertex-to-tet map: every vertex of the cavity lies on its boundary and
+  // gets a new real tet (near the vertex the old tets it had are replaced by
+  // new ones), so vtet always names a real tet.
+  for (TetId t : new_tets_) {
+    const VertexId* w = &m.tv[4 * static_cast<size_t>(t)];
+    if (w[3] == kInfinite) continue;
+    m.vtet[w[0]] = t, m.vtet[w[1]] = t, m.vtet[w[2]] = t, m.vtet[w[3]] = t;
+    last_tet_ = t;
+  }
+  if (m.vkind[v] == kVertexNotInserted || m.vkind[v] == kVertexDuplicate) m.vkind[v] = kVertexInput;
+  return Status::success();
+}
+
+Status PointInserter::insert_point(const double* xyz, TetId hint, uint8_t kind,
+                                   InsertResult* result) {
+  for (int k = 0; k < 3; ++k) {
+    if (!std::isfinite(xyz[k]))
+      return make_error(ErrorCode::NonFinite, "Point has a non-finite coordinate.");
+    if (std::fabs(xyz[k]) > kMaxCoordinate)
+      return make_error(ErrorCode::CoordinateRange, "Point coordinate exceeds kMaxCoordinate.");
+  }
+  // Locate first so that a duplicate adds no vertex.
+  const Location loc = locate_point(mesh_, xyz, hint, rng_);
+  if (loc.kind == LocateKind::Failed)
+    return make_error(ErrorCode::Internal, "delaunay: point location made no progress.");
+  if (loc.kind == LocateKind::OnVertex) {
+    new_tets_.clear();
+    cavity_.clear();
+    walk_steps += loc.steps;
+    if (result) *result = InsertResult{loc.vertex, true, loc.tet};
+    return Status::success();
+  }
+  if (mesh_.num_vertices() >= (size_t(1) << 30))
+    return make_error(ErrorCode::TooLarge, "Too many vertices.");
+  const VertexId v = mesh_.add_vertex(xyz, kind);
+  Status s = insert_vertex(v, loc.tet, result);
+  if (s.ok()) mesh_.vkind[v] = kind;
+  return s;
+}
+
+Status insert_point(TetMesh& mesh, const double* xyz, TetId hint, InsertResult* result,
+                    std::vector<TetId>* new_tets) {
+  PointInserter ins(mesh);
+  Status s = ins.insert_point(xyz, hint, kVertexSteiner, result);
+  if (new_tets) *new_tets = ins.new_tets();
+  return s;
+}
+
+// ---------------------------------------------------------------------------
+// Whole point sets
+// ---------------------------------------------------------------------------
+
+namespace {
+
+// Number of pairwise distinct points among vertices 0..n-1, counted up to 4,
+// for the error message when no proper tetrahedron exists.
+size_t count_distinct_upto4(const TetMesh& m, size_t n) {
+  VertexId seen[4];
+  size_t found = 0;
+  for (VertexId v = 0; v < n; ++v) {
+    bool fresh = true;
+    for (size_t k = 0; k < found && fresh; ++k) fresh = !same_point(m.point(seen[k]), m.point(v));
+    if (fresh) {
+      seen[found++] = v;
+      if (found == 4) break;
+    }
+  }
+  return found;
+}
+
+// First affinely independent quadruple among vertices 0..n-1 (in id order),
+// as a positive tet, with its four ghost tets.
+Status make_initial_tet(TetMesh& m, size_t n, VertexId chosen[4]) {
+  VertexId i1 = 0, i2 = 0, i3 = 0;
+  const double* p0 = m.point(0);
+  for (i1 = 1; i1 < n && same_point(m.point(i1), p0); ++i1) {
+  }
+  if (i1 == n) return make_error(ErrorCode::TooFewPoints, "Fewer than 4 distinct points.");
+  const double* p1 = m.point(i1);
+  for (i2 = i1 + 1; i2 < n && pred::collinear3d(p0, p1, m.point(i2)); ++i2) {
+  }
+  if (i2 == n) {
+    return count_distinct_upto4(m, n) < 4
+               ? make_error(ErrorCode::TooFewPoints, "Fewer than 4 distinct points.")
+               : make_error(ErrorCode::Collinear, "All points lie on one line.");
+  }
+  const double* p2 = m.point(i2);
+  int o = 0;
+  for (i3 = i2 + 1; i3 < n; ++i3) {
+    o = pred::orient3d(p0, p1, p2, m.point(i3));
+    if (o != 0) break;
+  }
+  if (i3 == n) {
+    return count_distinct_upto4(m, n) < 4
+               ? make_error(ErrorCode::TooFewPoints, "Fewer than 4 distinct points.")
+               : make_error(ErrorCode::Coplanar, "All points lie in one plane.");
+  }
+  VertexId a = 0, b = i1;
+  if (o < 0) std::swap(a, b);
+  chosen[0] = a, chosen[1] = b, chosen[2] = i2, chosen[3] = i3;
+
+  const TetId t0 = m.alloc_tet();
+  m.set_tet(t0, a, b, i2, i3);
+  TetId ghost[4];
+  for (int i = 0; i < 4; ++i) {
+    // Face i of t0 is counterclockwise from outside; the ghost's face 3 is
+    // the same face counterclockwise from inside, so reversed.
+    const VertexId* w = &m.tv[4 * static_cast<size_t>(t0)];
+    const VertexId f0 = w[kFaceVertex[i][0]], f1 = w[kFaceVertex[i][1]], f2 = w[kFaceVertex[i][2]];
+    ghost[i] = m.alloc_tet();
+    m.set_tet(ghost[i], f0, f2, f1, kInfinite);
+    m.glue(make_hf(t0, i), make_hf(ghost[i], 3));
+  }
+  // Ghost faces 0..2 contain kInfinite and one hull edge: glue the pairs.
+  for (int g = 0; g < 4; ++g)
+    for (int i = 0; i < 3; ++i)
+      for (int h = g + 1; h < 4; ++h)
+        for (int j = 0; j < 3; ++j) {
+          const VertexId* x = &m.tv[4 * static_cast<size_t>(ghost[g])];
+          const VertexId* y = &m.tv[4 * static_cast<size_t>(ghost[h])];
+          const VertexId x1 = x[(i + 1) % 3], x2 = x[(i + 2) % 3];
+          const VertexId y1 = y[(j + 1) % 3], y2 = y[(j + 2) % 3];
+          if ((x1 == y1 && x2 == y2) || (x1 == y2 && x2 == y1))
+            m.glue(make_hf(ghost[g], i), make_hf(ghost[h], j));
+        }
+  for (int k = 0; k < 4; ++k) {
+    m.vtet[chosen[k]] = t0;
+    m.vkind[chosen[k]] = kVertexInput;
+  }
+  return Status::success();
+}
+
+// Moves coordinates stored in insertion order (a[k] belongs to vertex
+// order[k]) to their vertex ids, in place, following the permutation's cycles.
+void scatter_coords(std::vector<double>& a, const std::vector<VertexId>& order) {
+  const size_t n = order.size();
+  std::vector<bool> done(n, false);
+  for (size_t s = 0; s < n; ++s) {
+    if (done[s]) continue;
+    double carry[3] = {a[3 * s], a[3 * s + 1], a[3 * s + 2]};
+    size_t k = s;
+    do {
+      const size_t t = order[k];
+      for (int c = 0; c < 3; ++c) std::swap(carry[c], a[3 * t + c]);
+      done[t] = true;
+      k = t;
+    } while (k != s);
+  }
+}
+
+// The bulk build. For memory locality the triangulation is built in a work
+// mesh whose vertex k is vertices[order[k]] in BRIO order (so points inserted
+// close in time sit close in memory), perturbing by the caller's ids; then
+// the vertex ids are translated back.
+Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<VertexId>* to_vertex,
+             DelaunayStats* stats, const DelaunayOptions& options) {
+  const auto t_start = std::chrono::steady_clock::now();
+  const size_t nv = m.num_vertices();
+  const size_t n = vertices.size();
+  DelaunayStats st;
+  st.points = n;
+  if (stats) *stats = st;
+
+  m.tv.clear();
+  m.tadj.clear();
+  m.tstamp.clear();
+  m.tflag.clear();
+  m.free_tets.clear();
+  m.live_tets = 0;
+  m.epoch = 0;
+  m.vkind.assign(nv, kVertexNotInserted);
+  m.vtet.assign(nv, kNone);
+  if (to_vertex) to_vertex->assign(vertices.begin(), vertices.end());
+
+  if (n >= (size_t(1) << 30)) return make_error(ErrorCode::TooLarge, "Too many points.");
+  {
+    std::vector<bool> listed(nv, false);
+    for (VertexId v : vertices) {
+      if (v >= nv) return make_error(ErrorCode::IndexOutOfRange, "Vertex id out of range.", v);
+      if (listed[v]) return make_error(ErrorCode::InvalidArgument, "Vertex listed twice.", v);
+      listed[v] = true;
+      const double* p = m.point(v);
+      for (int k = 0; k < 3; ++k) {
+        if (!std::isfinite(p[k]))
+          return make_error(ErrorCode::NonFinite, "Point has a non-finite coordinate.", v);
+        if (std::fabs(p[k]) > kMaxCoordinate)
+          return make_error(ErrorCode::CoordinateRange,
+                            "Point coordinate exceeds the supported range.", v);
+      }
+    }
+  }
+  if (n < 4) return make_error(ErrorCode::TooFewPoints, "Fewer than 4 distinct points.");
+
+  std::vector<VertexId> order;
+  if (options.spatial_sort) {
+    brio_order(m.coords.data(), vertices, options.seed, order);
+  } else {
+    order = vertices;
+  }
+  st.ms_sort = ms_since(t_start);
+  const auto t_insert = std::chrono::steady_clock::now();
+
+  // Work mesh in insertion order. When every vertex is listed, the caller's
+  // coordinates are released meanwhile and rebuilt from the work copy.
+  TetMesh w;
+  w.coords.resize(3 * n);
+  for (size_t k = 0; k < n; ++k)
+    for (int c = 0; c < 3; ++c) w.coords[3 * k + c] = m.coords[3 * size_t(order[k]) + c];
+  const bool all = n == nv;
+  if (all) std::vector<double>().swap(m.coords);
+  w.vkind.assign(n, kVertexNotInserted);
+  w.vtet.assign(n, kNone);
+  // About 6.75 tets per point for uniform points; grows gently beyond.
+  w.reserve(0, n * 27 / 4 + 64);
+
+  auto finish = [&](Status s) {
+    if (all) {
+      scatter_coords(w.coords, order);
+      m.coords = std::move(w.coords);
+    }
+    if (stats) *stats = st;
+    return s;
+  };
+
+  VertexId first[4];
+  Status s = make_initial_tet(w, n, first);
+  if (!s.ok()) return finish(s);
+
+  PointInserter ins(w, options.seed);
+  ins.set_sos_ids(order.data());
+  TetId hint = w.vtet[first[0]];
+  std::vector<std::pair<VertexId, VertexId>> dups;  // (vertex, merged into), caller ids
+  for (VertexId k = 0; k < n; ++k) {
+    if (k == first[0] || k == first[1] || k == first[2] || k == first[3]) continue;
+    InsertResult r;
+    s = ins.insert_vertex(k, hint, &r);
+    if (!s.ok()) {
+      if (s.error.vertex >= 0) s.error.vertex = order[size_t(s.error.vertex)];
+      return finish(s);
+    }
+    if (r.duplicate)
+      dups.emplace_back(order[k], order[r.vertex]);
+    else
+      hint = ins.last_tet();
+  }
+
+  // Translate the work mesh back to the caller's vertex ids.
+  for (VertexId& x : w.tv)
+    if (x < n) x = order[x];
+  m.tv = std::move(w.tv);
+  m.tadj = std::move(w.tadj);
+  m.tstamp = std::move(w.tstamp);
+  m.tflag = std::move(w.tflag);
+  m.free_tets = std::move(w.free_tets);
+  m.live_tets = w.live_tets;
+  m.epoch = w.epoch;
+  for (size_t k = 0; k < n; ++k) {
+    m.vtet[order[k]] = w.vtet[k];
+    m.vkind[order[k]] = w.vkind[k];
+  }
+  if (to_vertex && !dups.empty()) {
+    std::sort(dups.begin(), dups.end());
+    for (size_t k = 0; k < n; ++k) {
+      auto it = std::lower_bound(dups.begin(), dups.end(), std::make_pair(vertices[k], VertexId(0)));
+      if (it != dups.end() && it->first == vertices[k]) (*to_vertex)[k] = it->second;
+    }
+  }
+  st.ms_insert = ms_since(t_insert);
+  st.duplicates = dups.size();
+  st.vertices = n - dups.size();
+  st.hull_faces = m.num_ghost_tets();
+  st.tets = m.live_tets - st.hull_faces;
+  st.walk_steps = ins.walk_steps;
+  st.cavity_tets = ins.cavity_tets;
+  return finish(Status::success());
+}
+
+Status build_guarded(TetMesh& m, const std::vector<VertexId>& vertices,
+                     std::vector<VertexId>* to_vertex, DelaunayStats* stats,
+                     const DelaunayOptions& options) {
+#if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
+  try {
+    return build(m, vertices, to_vertex, stats, options);
+  } catch (const std::bad_alloc&) {
+    m.clear();
+    return make_error(ErrorCode::OutOfMemory, "Out of memory in the Delaunay tetrahedralization.");
+  }
+#else
+  return build(m, vertices, to_vertex, stats, options);
+#endif
+}
+
+}  // namespace
+
+Status delaunay_tetrahedralize(TetMesh& mesh, const double* coords, size_t n,
+                               std::vector<VertexId>* input_to_vertex, DelaunayStats* stats,
+                               const DelaunayOptions& options) {
+  mesh.clear();
+  if (n >= (size_t(1) << 30)) return make_error(ErrorCode::TooLarge, "Too many points.");
+  mesh.coords.assign(coords, coords + 3 * n);
+  std::vector<VertexId> all(n);
+  std::iota(all.begin(), all.end(), VertexId(0));
+  return build_guarded(mesh, all, input_to_vertex, stats, options);
+}
+
+Status delaunay_tetrahedralize_vertices(TetMesh& mesh, const std::vector<VertexId>& vertices,
+                                        std::vector<VertexId>* to_vertex, DelaunayStats* stats,
+                                        const DelaunayOptions& options) {
+  return build_guarded(mesh, vertices, to_vertex, stats, options);
+}
+
+}  // namespace cdt3d

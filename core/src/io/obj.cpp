@@ -1,0 +1,110 @@
+// Wavefront OBJ reader: geometry only. "v x y z" vertices, "f" polygons whose
+// corners are written i, i/t, i//n or i/t/n (1-based; negative = relative to
+// the vertices read so far), "l" polylines as explicit segments, "p" points.
+// Texture coordinates, normals, groups, smoothing and materials are ignored.
+#include "io/read_common.hpp"
+
+namespace cdt3d {
+namespace io {
+namespace {
+
+// Resolves the vertex part of a corner token ("12", "-1", "3/4/5", "3//5")
+// to a 0-based file index.
+Status corner_index(const Token& t, uint64_t vertices_so_far, const std::string& file,
+                    int64_t facet, uint32_t& out) {
+  size_t len = 0;
+  while (len < t.n && t.p[len] != '/') ++len;
+  Token head = t;
+  head.n = len;
+  int64_t i = 0;
+  Status s = int_from_token(head, i, file, "vertex index");
+  if (!s.ok()) {
+    if (s.error.code == ErrorCode::TooLarge) s.error.code = ErrorCode::IndexOutOfRange;
+    s.error.facet = facet;
+    return s;
+  }
+  int64_t resolved = -1;
+  if (i > 0) {
+    resolved = i - 1;
+  } else if (i < 0) {
+    resolved = static_cast<int64_t>(vertices_so_far) + i;
+  }
+  if (i == 0 || resolved < 0 || static_cast<uint64_t>(resolved) >= kMaxItems) {
+    Status e = fail(ErrorCode::IndexOutOfRange,
+                    "Vertex index " + std::to_string(i) + " is out of range: " +
+                        std::to_string(vertices_so_far) +
+                        " vertices are defined at this point (indices start at 1, negative "
+                        "ones count back from the last).",
+                    file, t.line);
+    e.error.facet = facet;
+    return e;
+  }
+  out = static_cast<uint32_t>(resolved);
+  return Status::success();
+}
+
+}  // namespace
+
+Status read_obj(const uint8_t* data, size_t size, const std::string& file, Plc& out) {
+  out = Plc();
+  out.file = file;
+  if (size == 0) return fail(ErrorCode::Empty, "The file is empty.", file);
+  TextReader r(reinterpret_cast<const char*>(data), size, '#');
+  PlcBuilder b(out, file, 1);
+  b.reserve_vertices(size / 32, size / 32, size / 32);
+  Token t;
+  std::vector<uint32_t> corners;
+  while (r.next(t)) {
+    if (t.is("v")) {
+      const Subject who{"vertex", static_cast<int64_t>(b.file_vertex_count())};
+      double c[3];
+      for (double& x : c) {
+        Token v;
+        if (!r.next_on_line(v)) {
+          Status e = fail(ErrorCode::Parse, "A 'v' line needs three coordinates.", file, t.line);
+          e.error.vertex = who.index;
+          return e;
+        }
+        Status s = parse_coord(v, x, file, who);
+        if (!s.ok()) return s;
+      }
+      Status s = check_coords(c[0], c[1], c[2], file, t.line, -1, who);
+      if (s.ok()) s = b.add_vertex(c[0], c[1], c[2], t.line, -1);
+      if (!s.ok()) return s;
+    } else if (t.is("f") || t.is("fo")) {
+      const int64_t facet = static_cast<int64_t>(out.facets.size());
+      corners.clear();
+      Token c;
+      while (r.next_on_line(c)) {
+        uint32_t v = 0;
+        Status s = corner_index(c, b.file_vertex_count(), file, facet, v);
+        if (!s.ok()) return s;
+        corners.push_back(v);
+      }
+      Facet& f = b.add_facet(t.line, -1);
+      f.loops.emplace_back(corners.begin(), corners.end());
+    } else if (t.is("l") || t.is("p")) {
+      corners.clear();
+      Token c;
+      while (r.next_on_line(c)) {
+        uint32_t v = 0;
+        Status s = corner_index(c, b.file_vertex_count(), file, -1, v);
+        if (!s.ok()) return s;
+        corners.push_back(v);
+      }
+      if (t.is("p") || corners.size() == 1) {
+        for (uint32_t v : corners) b.add_isolated(v, t.line, -1);
+      } else {
+        for (size_t k = 0; k + 1 < corners.size(); ++k) {
+          b.add_segment(corners[k], corners[k + 1], t.line, -1);
+        }
+      }
+    }
+    // Everything else (vt, vn, vp, g, o, s, usemtl, mtllib, ...) is ignored.
+    r.skip_line();
+  }
+  return b.finish();
+}
+
+}  // namespace io
+}  // namespace cdt3d

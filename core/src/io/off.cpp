@@ -1,0 +1,137 @@
+// OFF reader (Object File Format): optional "OFF" keyword (also COFF, NOFF,
+// STOFF... whose extra per-vertex values are ignored), the counts
+// "vertices faces [edges]", the vertex lines, then one line per face
+// "n i1 ... in [colour]". Polygons become one-loop facets. '#' starts a comment
+// anywhere on a line. A record may continue on the next line; whatever
+// follows the values we need on a record's last line is ignored.
+#include "io/read_common.hpp"
+
+namespace cdt3d {
+namespace io {
+namespace {
+
+// Recognises [ST][C][N][4][n]OFF. Sets dims_error for 4OFF / nOFF.
+bool is_off_keyword(const Token& t, bool& dims_error) {
+  dims_error = false;
+  if (t.n < 3) return false;
+  const char* end = t.p + t.n - 3;
+  if (!(end[0] == 'O' && end[1] == 'F' && end[2] == 'F') &&
+      !(end[0] == 'o' && end[1] == 'f' && end[2] == 'f')) {
+    return false;
+  }
+  for (const char* c = t.p; c < end; ++c) {
+    switch (*c) {
+      case 'S':
+      case 'T':
+      case 'C':
+      case 'N':
+        break;
+      case '4':
+      case 'n':
+        dims_error = true;
+        break;
+      default:
+        return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+Status read_off(const uint8_t* data, size_t size, const std::string& file, Plc& out) {
+  out = Plc();
+  out.file = file;
+  if (size == 0) return fail(ErrorCode::Empty, "The file is empty.", file);
+  TextReader r(reinterpret_cast<const char*>(data), size, '#');
+  Token t;
+  if (!r.next(t)) return fail(ErrorCode::Empty, "The file holds only comments and white space.", file);
+
+  bool dims_error = false;
+  uint64_t nv = 0, nf = 0;
+  int64_t line = t.line;
+  if (is_off_keyword(t, dims_error)) {
+    if (dims_error) {
+      return fail(ErrorCode::Parse, "Only 3D OFF files are supported (found '" + t.str() + "').",
+                  file, t.line);
+    }
+    const TextReader::Mark after_keyword = r.mark();
+    Token b;
+    if (r.next_on_line(b) && b.is_nocase("BINARY")) {
+      return fail(ErrorCode::Parse, "Binary OFF files are not supported.", file, b.line);
+    }
+    r.reset(after_keyword);  // the counts follow, on this line or a later one
+    Status s = expect_count(r, nv, line, file, "vertex count");
+    if (!s.ok()) return s;
+  } else {
+    Status s = count_from_token(t, nv, file, "vertex count");
+    if (!s.ok()) {
+      if (s.error.code == ErrorCode::Parse) {
+        s.error.message = "An OFF file must begin with 'OFF' or the vertex count.";
+      }
+      return s;
+    }
+  }
+  Status s = expect_count(r, nf, line, file, "face count");
+  if (!s.ok()) return s;
+  r.skip_line();  // the optional edge count
+
+  PlcBuilder b(out, file, 0);
+  // Each vertex line needs at least 6 bytes ("0 0 0\n"): never reserve more
+  // than the file can hold.
+  b.reserve_vertices(nv, r.remaining() / 6 + 1, nv);
+  for (uint64_t i = 0; i < nv; ++i) {
+    const Subject who{"vertex", static_cast<int64_t>(i)};
+    double c[3];
+    for (double& x : c) {
+      s = expect_coord(r, x, file, who);
+      if (!s.ok()) return s;
+    }
+    s = check_coords(c[0], c[1], c[2], file, r.last_line(), -1, who);
+    if (s.ok()) s = b.add_vertex(c[0], c[1], c[2], r.last_line(), -1);
+    if (!s.ok()) return s;
+    r.skip_line();
+  }
+
+  out.facets.reserve(static_cast<size_t>(nf < r.remaining() / 8 + 1 ? nf : r.remaining() / 8 + 1));
+  for (uint64_t f = 0; f < nf; ++f) {
+    uint64_t n = 0;
+    int64_t face_line = 0;
+    s = expect_count(r, n, face_line, file, "face vertex count");
+    if (!s.ok()) return s;
+    if (n > r.remaining() / 2 + 1) {
+      Status e = fail(ErrorCode::Truncated,
+                      "Face " + std::to_string(f) + " declares " + std::to_string(n) +
+                          " vertices but the file ends before.",
+                      file, face_line);
+      e.error.facet = static_cast<int64_t>(f);
+      return e;
+    }
+    Facet& facet = b.add_facet(face_line, -1);
+    facet.loops.emplace_back();
+    std::vector<VertexId>& loop = facet.loops.back();
+    loop.reserve(static_cast<size_t>(n));
+    for (uint64_t k = 0; k < n; ++k) {
+      int64_t v = 0, vline = 0;
+      s = expect_int(r, v, vline, file, "face vertex index");
+      if (!s.ok()) {
+        s.error.facet = static_cast<int64_t>(f);
+        return s;
+      }
+      if (v < 0 || static_cast<uint64_t>(v) >= nv) {
+        Status e = fail(ErrorCode::IndexOutOfRange,
+                        "Face " + std::to_string(f) + " uses vertex index " + std::to_string(v) +
+                            ", outside 0.." + std::to_string(static_cast<int64_t>(nv) - 1) + ".",
+                        file, vline);
+        e.error.facet = static_cast<int64_t>(f);
+        return e;
+      }
+      loop.push_back(static_cast<VertexId>(v));
+    }
+    r.skip_line();  // optional face colour
+  }
+  return b.finish();
+}
+
+}  // namespace io
+}  // namespace cdt3d

@@ -1,0 +1,562 @@
+// Tokenizer, number parsing and exact welding shared by the PLC readers.
+#include "io/read_common.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+
+namespace cdt3d {
+namespace io {
+
+Status fail(ErrorCode code, std::string message, const std::string& file, int64_t line,
+            int64_t record) {
+  Status s;
+  s.error.code = code;
+  s.error.message = std::move(message);
+  s.error.file = file;
+  s.error.line = line;
+  s.error.record = record;
+  return s;
+}
+
+// ---------------------------------------------------------------------------
+// Numbers
+// ---------------------------------------------------------------------------
+
+namespace {
+
+bool is_digit(char c) { return c >= '0' && c <= '9'; }
+
+// Powers of ten that are exact in binary64.
+constexpr double kPow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                               1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                               1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+
+char lower(char c) { return (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c; }
+
+// Everything the fast path does not handle: long mantissas, large exponents,
+// hexadecimal, nan/inf. strtod is correctly rounded in glibc and in the musl
+// used by emscripten; the token is copied so that it is NUL-terminated.
+NumParse parse_double_slow(const char* p, size_t n, double& out) {
+  char small[128];
+  std::string big;
+  char* buf = small;
+  if (n + 1 > sizeof(small)) {
+    big.assign(p, n);
+    buf = &big[0];
+  } else {
+    std::memcpy(small, p, n);
+    small[n] = '\0';
+  }
+  char* end = nullptr;
+  const double v = std::strtod(buf, &end);
+  if (end != buf + n || n == 0) return NumParse::Bad;
+  if (!std::isfinite(v)) {
+    size_t i = (p[0] == '+' || p[0] == '-') ? 1 : 0;
+    const char c = i < n ? lower(p[i]) : '\0';
+    return (c == 'n' || c == 'i') ? NumParse::NonFinite : NumParse::Overflow;
+  }
+  out = (v == 0) ? 0.0 : v;
+  return NumParse::Ok;
+}
+
+}  // namespace
+
+NumParse parse_double(const char* p, size_t n, double& out) {
+  // Fast path (Clinger): a mantissa below 2^53 and a power of ten up to 1e22
+  // are both exact, so one multiplication or division rounds correctly.
+  size_t i = 0;
+  bool neg = false;
+  if (i < n && (p[i] == '+' || p[i] == '-')) {
+    neg = p[i] == '-';
+    ++i;
+  }
+  uint64_t m = 0;
+  int digits = 0;
+  int64_t exp10 = 0;
+  bool any = false, exact = true;
+  for (; i < n && is_digit(p[i]); ++i) {
+    any = true;
+    const int d = p[i] - '0';
+    if (m == 0 && d == 0) continue;
+    if (digits < 19) {
+      m = m * 10 + static_cast<uint64_t>(d);
+      ++digits;
+    } else {
+      ++exp10;
+      if (d != 0) exact = false;
+    }
+  }
+  if (i < n && p[i] == '.') {
+    for (++i; i < n && is_digit(p[i]); ++i) {
+      any = true;
+      const int d = p[i] - '0';
+      if (m == 0 && d == 0) {
+        --exp10;
+        continue;
+      }
+      if (digits < 19) {
+        m = m * 10 + static_cast<uint64_t>(d);
+        ++digits;
+        --exp10;
+      } else if (d != 0) {
+        exact = false;
+      }
+    }
+  }
+  if (!any) return parse_double_slow(p, n, out);
+  if (i < n && (p[i] == 'e' || p[i] == 'E')) {
+    ++i;
+    bool eneg = false;
+    if (i < n && (p[i] == '+' || p[i] == '-')) {
+      eneg = p[i] == '-';
+      ++i;
+    }
+    if (i >= n || !is_digit(p[i])) return NumParse::Bad;
+    int64_t e = 0;
+    for (; i < n && is_digit(p[i]); ++i) {
+      if (e < 100000) e = e * 10 + (p[i] - '0');
+    }
+    exp10 += eneg ? -e : e;
+  }
+  if (i != n) return parse_double_slow(p, n, out);
+  if (m == 0) {
+    out = 0.0;
+    return NumParse::Ok;
+  }
+  if (exact && m <= (uint64_t{1} << 53) && exp10 >= -22 && exp10 <= 22) {
+    double v = static_cast<double>(m);
+    v = exp10 < 0 ? v / kPow10[-exp10] : v * kPow10[exp10];
+    out = neg ? -v : v;
+    return NumParse::Ok;
+  }
+  return parse_double_slow(p, n, out);
+}
+
+NumParse parse_int(const char* p, size_t n, int64_t& out) {
+  size_t i = 0;
+  bool neg = false;
+  if (i < n && (p[i] == '+' || p[i] == '-')) {
+    neg = p[i] == '-';
+    ++i;
+  }
+  if (i >= n) return NumParse::Bad;
+  uint64_t v = 0;
+  bool overflow = false;
+  for (; i < n; ++i) {
+    if (!is_digit(p[i])) return NumParse::Bad;
+    const uint64_t d = static_cast<uint64_t>(p[i] - '0');
+    if (v > 922337203685477580ull) {  // (2^63 - 1) / 10: the next digit could overflow
+      overflow = true;
+    } else {
+      v = v * 10 + d;
+    }
+  }
+  if (overflow || v > 9223372036854775807ull) return NumParse::Overflow;
+  out = neg ? -static_cast<int64_t>(v) : static_cast<int64_t>(v);
+  return NumParse::Ok;
+}
+
+// ---------------------------------------------------------------------------
+// Tokens
+// ---------------------------------------------------------------------------
+
+bool Token::is(const char* word) const {
+  const size_t len = std::strlen(word);
+  return len == n && std::memcmp(p, word, n) == 0;
+}
+
+bool Token::is_nocase(const char* word) const {
+  const size_t len = std::strlen(word);
+  if (len != n) return false;
+  for (size_t i = 0; i < n; ++i) {
+    if (lower(p[i]) != lower(word[i])) return false;
+  }
+  return true;
+}
+
+namespace {
+bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+}  // namespace
+
+TextReader::TextReader(const char* data, size_t size, char comment, size_t start, int64_t line)
+    : data_(data),
+      size_(size),
+      pos_(start < size ? start : size),
+      line_(line),
+      last_line_(line),
+      comment_(comment) {}
+
+void TextReader::skip_blank_and_comments(bool cross_lines) {
+  while (pos_ < size_) {
+    const char c = data_[pos_];
+    if (c == '\n') {
+      if (!cross_lines) return;
+      ++line_;
+      ++pos_;
+    } else if (is_blank(c)) {
+      ++pos_;
+    } else if (comment_ != 0 && c == comment_) {
+      const void* nl = std::memchr(data_ + pos_, '\n', size_ - pos_);
+      pos_ = nl ? static_cast<size_t>(static_cast<const char*>(nl) - data_) : size_;
+    } else {
+      return;
+    }
+  }
+}
+
+void TextReader::read_token(Token& t) {
+  const size_t start = pos_;
+  while (pos_ < size_) {
+    const char c = data_[pos_];
+    if (c == '\n' || is_blank(c) || (comment_ != 0 && c == comment_)) break;
+    ++pos_;
+  }
+  t.p = data_ + start;
+  t.n = pos_ - start;
+  t.line = line_;
+  last_line_ = line_;
+}
+
+bool TextReader::next(Token& t) {
+  skip_blank_and_comments(true);
+  if (pos_ >= size_) return false;
+  read_token(t);
+  return true;
+}
+
+bool TextReader::next_on_line(Token& t) {
+  skip_blank_and_comments(false);
+  if (pos_ >= size_ || data_[pos_] == '\n') return false;
+  read_token(t);
+  return true;
+}
+
+void TextReader::skip_line() {
+  const void* nl = std::memchr(data_ + pos_, '\n', size_ - pos_);
+  if (!nl) {
+    pos_ = size_;
+    return;
+  }
+  pos_ = static_cast<size_t>(static_cast<const char*>(nl) - data_) + 1;
+  ++line_;
+}
+
+bool TextReader::at_end() {
+  skip_blank_and_comments(true);
+  return pos_ >= size_;
+}
+
+Status expect_token(TextReader& r, Token& t, const std::string& file, const char* what) {
+  if (r.next(t)) return Status::success();
+  return fail(ErrorCode::Truncated, std::string("The file ends early: expected ") + what + ".",
+              file, r.last_line());
+}
+
+namespace {
+std::string quote(const Token& t) {
+  std::string s = t.n > 40 ? std::string(t.p, 40) + "..." : t.str();
+  for (char& c : s) {
+    if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
+  }
+  return "'" + s + "'";
+}
+}  // namespace
+
+namespace {
+
+std::string describe(Subject who) {
+  return std::string(who.kind) + " " + std::to_string(who.index);
+}
+
+Status located(Status s, Subject who) {
+  if (std::strcmp(who.kind, "vertex") == 0) s.error.vertex = who.index;
+  return s;
+}
+
+}  // namespace
+
+Status check_coords(double x, double y, double z, const std::string& file, int64_t line,
+                    int64_t record, Subject who) {
+  const double c[3] = {x, y, z};
+  for (int k = 0; k < 3; ++k) {
+    if (std::isfinite(c[k]) && std::fabs(c[k]) <= kMaxCoordinate) continue;
+    const std::string axis(1, static_cast<char>('x' + k));
+    if (!std::isfinite(c[k])) {
+      return located(fail(ErrorCode::NonFinite,
+                          "The " + axis + " coordinate of " + describe(who) + " is not finite.",
+                          file, line, record),
+                     who);
+    }
+    if (std::fabs(c[k]) > kMaxCoordinate) {
+      return located(fail(ErrorCode::CoordinateRange,
+                          "The " + axis + " coordinate of " + describe(who) +
+                              " exceeds the supported magnitude 1e50.",
+                          file, line, record),
+                     who);
+    }
+  }
+  return Status::success();
+}
+
+Status parse_coord(const Token& t, double& out, const std::string& file, Subject who) {
+  switch (parse_double(t.p, t.n, out)) {
+    case NumParse::Ok:
+      return Status::success();
+    case NumParse::NonFinite:
+      return located(fail(ErrorCode::NonFinite,
+                          "Non-finite coordinate " + quote(t) + " for " + describe(who) + ".",
+                          file, t.line),
+                     who);
+    case NumParse::Overflow:
+      return located(fail(ErrorCode::CoordinateRange,
+                          "The coordinate " + quote(t) + " of " + describe(who) +
+                              " exceeds the supported magnitude 1e50.",
+                          file, t.line),
+                     who);
+    case NumParse::Bad:
+      break;
+  }
+  return located(fail(ErrorCode::Parse,
+                      "Expected a number for a coordinate of " + describe(who) + ", found " +
+                          quote(t) + ".",
+                      file, t.line),
+                 who);
+}
+
+Status expect_coord(TextReader& r, double& out, const std::string& file, Subject who) {
+  Token t;
+  if (!r.next(t)) {
+    return located(fail(ErrorCode::Truncated,
+                        "The file ends early: expected a coordinate of " + describe(who) + ".",
+                        file, r.last_line()),
+                   who);
+  }
+  return parse_coord(t, out, file, who);
+}
+
+Status int_from_token(const Token& t, int64_t& out, const std::string& file, const char* what) {
+  switch (parse_int(t.p, t.n, out)) {
+    case NumParse::Ok:
+      return Status::success();
+    case NumParse::Overflow:
+      return fail(ErrorCode::TooLarge,
+                  std::string("The integer ") + quote(t) + " (" + what + ") is too large.", file,
+                  t.line);
+    default:
+      break;
+  }
+  return fail(ErrorCode::Parse,
+              std::string("Expected an integer (") + what + "), found " + quote(t) + ".", file,
+              t.line);
+}
+
+Status count_from_token(const Token& t, uint64_t& out, const std::string& file,
+                        const char* what) {
+  int64_t v = 0;
+  Status s = int_from_token(t, v, file, what);
+  if (!s.ok()) return s;
+  if (v < 0) {
+    return fail(ErrorCode::Parse, std::string("The ") + what + " is negative.", file, t.line);
+  }
+  if (static_cast<uint64_t>(v) > kMaxItems) {
+    return fail(ErrorCode::TooLarge,
+                std::string("The ") + what + " " + std::to_string(v) +
+                    " exceeds the 32-bit limit of 4294967294.",
+                file, t.line);
+  }
+  out = static_cast<uint64_t>(v);
+  return Status::success();
+}
+
+Status expect_int(TextReader& r, int64_t& out, int64_t& line, const std::string& file,
+                  const char* what) {
+  Token t;
+  Status s = expect_token(r, t, file, what);
+  if (!s.ok()) return s;
+  line = t.line;
+  return int_from_token(t, out, file, what);
+}
+
+Status expect_count(TextReader& r, uint64_t& out, int64_t& line, const std::string& file,
+                    const char* what) {
+  Token t;
+  Status s = expect_token(r, t, file, what);
+  if (!s.ok()) return s;
+  line = t.line;
+  return count_from_token(t, out, file, what);
+}
+
+// ---------------------------------------------------------------------------
+// PlcBuilder
+// ---------------------------------------------------------------------------
+
+namespace {
+
+uint64_t bits_of(double d) {
+  uint64_t u;
+  std::memcpy(&u, &d, sizeof u);
+  return u;
+}
+
+uint64_t mix(uint64_t h) {
+  h ^= h >> 33;
+  h *= 0xff51afd7ed558ccdull;
+  h ^= h >> 33;
+  h *= 0xc4ceb9fe1a85ec53ull;
+  h ^= h >> 33;
+  return h;
+}
+
+uint64_t hash_point(const Vec3& p) {
+  uint64_t h = mix(bits_of(p.x) + 0x9e3779b97f4a7c15ull);
+  h = mix(h ^ bits_of(p.y));
+  h = mix(h ^ (bits_of(p.z) * 0x9e3779b97f4a7c15ull));
+  return h;
+}
+
+}  // namespace
+
+PlcBuilder::PlcBuilder(Plc& plc, const std::string& file, int64_t index_base)
+    : plc_(plc), file_(file), base_(index_base) {
+  plc_ = Plc();
+  plc_.file = file;
+  table_.assign(64, kNone);
+}
+
+void PlcBuilder::reserve_vertices(uint64_t count, uint64_t cap, uint64_t distinct) {
+  const uint64_t n = count < cap ? count : cap;
+  const uint64_t d = distinct < n ? distinct : n;
+  remap_.reserve(static_cast<size_t>(n));
+  plc_.points.reserve(static_cast<size_t>(d));
+  size_t want = 64;
+  while (want < 2 * d + 2) want *= 2;
+  if (want > table_.size()) {
+    table_.assign(want, kNone);
+    const uint64_t mask = want - 1;
+    for (uint32_t id = 0; id < plc_.points.size(); ++id) {
+      uint64_t h = hash_point(plc_.points[id]) & mask;
+      while (table_[h] != kNone) h = (h + 1) & mask;
+      table_[h] = id;
+    }
+  }
+}
+
+void PlcBuilder::grow_table() {
+  // Rebuilt from the points vector in id order: deterministic.
+  std::vector<uint32_t> t(table_.size() * 2, kNone);
+  const uint64_t mask = t.size() - 1;
+  for (uint32_t id = 0; id < plc_.points.size(); ++id) {
+    uint64_t h = hash_point(plc_.points[id]) & mask;
+    while (t[h] != kNone) h = (h + 1) & mask;
+    t[h] = id;
+  }
+  table_.swap(t);
+}
+
+uint32_t PlcBuilder::weld(const Vec3& p) {
+  // Neighbouring records often repeat a recent point (adjacent STL triangles
+  // share corners): check the last few ids before hashing. Same result either
+  // way, since each distinct point has exactly one id.
+  for (uint32_t id : recent_) {
+    if (id != kNone && plc_.points[id] == p) return id;
+  }
+  const uint32_t id = lookup_or_insert(p);
+  recent_[recent_next_] = id;
+  recent_next_ = (recent_next_ + 1) % kRecent;
+  return id;
+}
+
+uint32_t PlcBuilder::lookup_or_insert(const Vec3& p) {
+  if (2 * (plc_.points.size() + 1) > table_.size()) grow_table();
+  const uint64_t mask = table_.size() - 1;
+  uint64_t h = hash_point(p) & mask;
+  while (table_[h] != kNone) {
+    const uint32_t id = table_[h];
+    if (plc_.points[id] == p) return id;
+    h = (h + 1) & mask;
+  }
+  const uint32_t id = static_cast<uint32_t>(plc_.points.size());
+  table_[h] = id;
+  plc_.points.push_back(p);
+  return id;
+}
+
+Status PlcBuilder::add_vertex(double x, double y, double z, int64_t line, int64_t record) {
+  if (remap_.size() >= kMaxItems) {
+    return fail(ErrorCode::TooLarge, "The file has more than 4294967294 vertices.", file_, line,
+                record);
+  }
+  // -0 and +0 are the same point: store +0 so equality and hashing agree.
+  Vec3 p;
+  p.x = x == 0 ? 0.0 : x;
+  p.y = y == 0 ? 0.0 : y;
+  p.z = z == 0 ? 0.0 : z;
+  remap_.push_back(weld(p));
+  return Status::success();
+}
+
+Facet& PlcBuilder::add_facet(int64_t line, int64_t record) {
+  plc_.facets.emplace_back();
+  Facet& f = plc_.facets.back();
+  f.line = line;
+  f.record = record;
+  return f;
+}
+
+void PlcBuilder::add_segment(uint32_t a, uint32_t b, int64_t line, int64_t record) {
+  segments_.push_back(Ref{a, b, line, record});
+}
+
+void PlcBuilder::add_isolated(uint32_t a, int64_t line, int64_t record) {
+  isolated_.push_back(Ref{a, a, line, record});
+}
+
+Status PlcBuilder::out_of_range(uint64_t index, int64_t line, int64_t record,
+                                int64_t facet) const {
+  Status s = fail(ErrorCode::IndexOutOfRange,
+                  "Vertex index " + std::to_string(static_cast<int64_t>(index) + base_) +
+                      " is out of range: the file has " + std::to_string(remap_.size()) +
+                      " vertices" + (base_ == 1 ? ", numbered from 1." : ", numbered from 0."),
+                  file_, line, record);
+  s.error.facet = facet;
+  return s;
+}
+
+Status PlcBuilder::finish() {
+  const uint64_t n = remap_.size();
+  for (size_t fi = 0; fi < plc_.facets.size(); ++fi) {
+    Facet& f = plc_.facets[fi];
+    for (auto& loop : f.loops) {
+      for (VertexId& v : loop) {
+        if (v >= n) return out_of_range(v, f.line, f.record, static_cast<int64_t>(fi));
+        v = remap_[v];
+      }
+    }
+  }
+  for (const Ref& r : isolated_) {
+    if (r.a >= n) return out_of_range(r.a, r.line, r.record, -1);
+  }
+  plc_.segments.reserve(segments_.size());
+  for (const Ref& r : segments_) {
+    if (r.a >= n) return out_of_range(r.a, r.line, r.record, -1);
+    if (r.b >= n) return out_of_range(r.b, r.line, r.record, -1);
+    const uint32_t a = remap_[r.a], b = remap_[r.b];
+    if (a == b) {
+      Status s = fail(ErrorCode::DegenerateFacet,
+                      "Segment " + std::to_string(plc_.segments.size()) +
+                          " has identical endpoints (point " + std::to_string(a) + ").",
+                      file_, r.line, r.record);
+      s.error.vertex = a;
+      return s;
+    }
+    plc_.segments.push_back({a, b});
+  }
+  plc_.file_vertices = static_cast<size_t>(n);
+  plc_.welded_vertices = static_cast<size_t>(n - plc_.points.size());
+  std::vector<uint32_t>().swap(table_);
+  return Status::success();
+}
+
+}  // namespace io
+}  // namespace cdt3d

@@ -1,0 +1,219 @@
+// Shared pieces of the PLC readers: a text tokenizer that tracks line numbers,
+// number parsing that never throws and never depends on a stream, error
+// construction, and PlcBuilder, which welds identical points exactly and remaps
+// facet indices once the whole file has been read.
+#pragma once
+
+#include <cdt3d/cdt3d.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace cdt3d {
+namespace io {
+
+// ---------------------------------------------------------------------------
+// Errors
+// ---------------------------------------------------------------------------
+
+/// A failed Status with the given code, message and location.
+Status fail(ErrorCode code, std::string message, const std::string& file, int64_t line = -1,
+            int64_t record = -1);
+
+/// Largest number of distinct points / file vertex records: VertexId is 32-bit
+/// and kNone is reserved.
+inline constexpr uint64_t kMaxItems = 0xfffffffeull;
+
+// ---------------------------------------------------------------------------
+// Numbers
+// ---------------------------------------------------------------------------
+
+enum class NumParse {
+  Ok,
+  Bad,        ///< not a number
+  NonFinite,  ///< "nan", "inf", "infinity" (any case, optional sign)
+  Overflow,   ///< a finite decimal too large for a double
+};
+
+/// Parses a whole token as a double, correctly rounded. Accepts decimal and
+/// exponent notation. -0 is returned as +0 so that welding needs no special case.
+NumParse parse_double(const char* p, size_t n, double& out);
+
+/// Parses a whole token as a decimal integer with an optional sign.
+/// Overflow when it does not fit in int64.
+NumParse parse_int(const char* p, size_t n, int64_t& out);
+
+// ---------------------------------------------------------------------------
+// Text tokenizer
+// ---------------------------------------------------------------------------
+
+struct Token {
+  const char* p = nullptr;
+  size_t n = 0;
+  int64_t line = 0;  ///< 1-based line of the token
+
+  std::string str() const { return std::string(p, n); }
+  bool is(const char* word) const;        ///< exact match
+  bool is_nocase(const char* word) const; ///< ASCII case-insensitive match
+};
+
+/// Splits text into whitespace-separated tokens. `comment` (0 for none) starts
+/// a comment running to the end of the line, also in the middle of a line.
+/// Every call consumes input or reports the end, so no loop over it can hang.
+class TextReader {
+ public:
+  TextReader(const char* data, size_t size, char comment, size_t start = 0, int64_t line = 1);
+
+  /// Next token anywhere (crossing line ends). False at the end of the input.
+  bool next(Token& t);
+  /// Next token on the current line only. False (consuming nothing of the next
+  /// line) when the line or the input ends first.
+  bool next_on_line(Token& t);
+  /// Skips the rest of the current line, including its line feed.
+  void skip_line();
+  /// True when no token remains anywhere.
+  bool at_end();
+
+  /// A saved position, to look ahead and come back.
+  struct Mark {
+    size_t pos;
+    int64_t line;
+  };
+  Mark mark() const { return Mark{pos_, line_}; }
+  void reset(Mark m) {
+    pos_ = m.pos;
+    line_ = m.line;
+  }
+
+  int64_t line() const { return line_; }
+  /// Line of the last token read (1 before any): where a truncated file ends.
+  int64_t last_line() const { return last_line_; }
+  size_t pos() const { return pos_; }
+  size_t remaining() const { return size_ - pos_; }
+
+ private:
+  void skip_blank_and_comments(bool cross_lines);
+  void read_token(Token& t);
+
+  const char* data_;
+  size_t size_;
+  size_t pos_;
+  int64_t line_;
+  int64_t last_line_;
+  char comment_;
+};
+
+/// Reads the next token of a record that may continue on following lines;
+/// a Truncated error naming the last line when the input ends.
+Status expect_token(TextReader& r, Token& t, const std::string& file, const char* what);
+
+/// What a coordinate belongs to, for messages: kind is "vertex", "hole",
+/// "region" or "facet hole"; Error::vertex is set only for "vertex".
+struct Subject {
+  const char* kind;
+  int64_t index;
+};
+
+/// Parses a token as a coordinate. Errors: Parse, NonFinite, CoordinateRange
+/// (decimal overflow), naming the subject and the token's line.
+Status parse_coord(const Token& t, double& out, const std::string& file, Subject who);
+
+/// Next token (possibly on a following line) parsed with parse_coord;
+/// Truncated at the end of the input.
+Status expect_coord(TextReader& r, double& out, const std::string& file, Subject who);
+
+/// Next token parsed as a non-negative count that must fit in 32 bits
+/// (TooLarge otherwise).
+Status expect_count(TextReader& r, uint64_t& out, int64_t& line, const std::string& file,
+                    const char* what);
+
+/// A token parsed as a count (as expect_count).
+Status count_from_token(const Token& t, uint64_t& out, const std::string& file, const char* what);
+
+/// A token parsed as an integer (Parse error otherwise, TooLarge beyond int64).
+Status int_from_token(const Token& t, int64_t& out, const std::string& file, const char* what);
+
+/// Next token parsed as an integer (Parse error otherwise).
+Status expect_int(TextReader& r, int64_t& out, int64_t& line, const std::string& file,
+                  const char* what);
+
+/// Checks a coordinate triple: NonFinite or CoordinateRange naming the subject.
+Status check_coords(double x, double y, double z, const std::string& file, int64_t line,
+                    int64_t record, Subject who);
+
+// ---------------------------------------------------------------------------
+// Building a Plc
+// ---------------------------------------------------------------------------
+
+/// Collects a file's vertex records and facets. Vertices are welded exactly
+/// as they arrive (an open-addressing table keyed on the coordinates, used
+/// for lookup only; point ids are given in order of first appearance, so the
+/// result never depends on the hash). Facets and segments hold *file* vertex
+/// indices until finish() checks their range and maps them to point ids.
+class PlcBuilder {
+ public:
+  PlcBuilder(Plc& plc, const std::string& file, int64_t index_base);
+
+  /// Capacity hint: `count` vertex records of which about `distinct` are
+  /// different points; never reserves more than `cap` records.
+  void reserve_vertices(uint64_t count, uint64_t cap, uint64_t distinct);
+
+  /// Adds one vertex record (coordinates already checked with check_coords).
+  /// TooLarge past kMaxItems records.
+  Status add_vertex(double x, double y, double z, int64_t line, int64_t record);
+
+  uint64_t file_vertex_count() const { return remap_.size(); }
+  /// Index base used in messages (0 or 1), when known only after the header.
+  void set_index_base(int64_t base) { base_ = base; }
+
+  /// Appends a facet (loops of file indices to fill in) and returns it.
+  Facet& add_facet(int64_t line, int64_t record);
+  /// Appends an explicit segment between two file vertex indices.
+  void add_segment(uint32_t a, uint32_t b, int64_t line, int64_t record);
+  /// Records a vertex referenced on its own (a one-corner polygon), for the
+  /// range check only.
+  void add_isolated(uint32_t a, int64_t line, int64_t record);
+
+  /// Range-checks every index (IndexOutOfRange naming facet and line/record),
+  /// maps file indices to point ids and fills the provenance fields.
+  Status finish();
+
+ private:
+  struct Ref {
+    uint32_t a, b;
+    int64_t line, record;
+  };
+  uint32_t weld(const Vec3& p);
+  uint32_t lookup_or_insert(const Vec3& p);
+  void grow_table();
+  Status out_of_range(uint64_t index, int64_t line, int64_t record, int64_t facet) const;
+
+  Plc& plc_;
+  const std::string& file_;
+  int64_t base_;
+  std::vector<uint32_t> remap_;  // file vertex record -> point id
+  std::vector<uint32_t> table_;  // open addressing: point id or kNone
+  std::vector<Ref> segments_;
+  std::vector<Ref> isolated_;
+  static constexpr int kRecent = 6;
+  uint32_t recent_[kRecent] = {kNone, kNone, kNone, kNone, kNone, kNone};
+  int recent_next_ = 0;
+};
+
+// ---------------------------------------------------------------------------
+// Format readers (one file each). They fill `out` from scratch and leave the
+// final checks (check_plc) to read_plc.
+// ---------------------------------------------------------------------------
+
+Status read_stl(const uint8_t* data, size_t size, const std::string& file, Plc& out);
+Status read_off(const uint8_t* data, size_t size, const std::string& file, Plc& out);
+Status read_obj(const uint8_t* data, size_t size, const std::string& file, Plc& out);
+Status read_ply(const uint8_t* data, size_t size, const std::string& file, Plc& out);
+/// TetGen .poly (kind Poly), .smesh (Smesh) and .node (Node: points only).
+Status read_tetgen(const uint8_t* data, size_t size, const std::string& file, FileFormat kind,
+                   Plc& out);
+
+}  // namespace io
+}  // namespace cdt3d

@@ -1,0 +1,221 @@
+// PLC entry points: format detection by extension, read_plc dispatch (then
+// check_plc), reading a file from disk, and the summary used by `cdt3d info`.
+#include <algorithm>
+#include <cstdio>
+#include <exception>
+#include <new>
+
+#include <cdt3d/cdt3d.hpp>
+
+#include "io/read_common.hpp"
+
+namespace cdt3d {
+
+FileFormat format_from_name(const std::string& file_name) {
+  const size_t dot = file_name.find_last_of('.');
+  const size_t slash = file_name.find_last_of("/\\");
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) {
+    return FileFormat::Unknown;
+  }
+  std::string ext = file_name.substr(dot + 1);
+  for (char& c : ext) {
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  }
+  if (ext == "stl") return FileFormat::Stl;
+  if (ext == "off") return FileFormat::Off;
+  if (ext == "obj") return FileFormat::Obj;
+  if (ext == "ply") return FileFormat::Ply;
+  if (ext == "poly") return FileFormat::Poly;
+  if (ext == "smesh") return FileFormat::Smesh;
+  if (ext == "node") return FileFormat::Node;
+  return FileFormat::Unknown;
+}
+
+namespace {
+
+Status dispatch(const uint8_t* data, size_t size, const std::string& file_name, Plc& out) {
+  // A null pointer with a size would be a caller bug; treat it as no data.
+  static const uint8_t kNothing = 0;
+  if (data == nullptr) {
+    data = &kNothing;
+    size = 0;
+  }
+  switch (format_from_name(file_name)) {
+    case FileFormat::Stl:
+      return io::read_stl(data, size, file_name, out);
+    case FileFormat::Off:
+      return io::read_off(data, size, file_name, out);
+    case FileFormat::Obj:
+      return io::read_obj(data, size, file_name, out);
+    case FileFormat::Ply:
+      return io::read_ply(data, size, file_name, out);
+    case FileFormat::Poly:
+      return io::read_tetgen(data, size, file_name, FileFormat::Poly, out);
+    case FileFormat::Smesh:
+      return io::read_tetgen(data, size, file_name, FileFormat::Smesh, out);
+    case FileFormat::Node:
+      return io::read_tetgen(data, size, file_name, FileFormat::Node, out);
+    case FileFormat::Unknown:
+      break;
+  }
+  return io::fail(ErrorCode::UnknownFormat,
+                  "Unknown file extension: expected .stl, .off, .obj, .ply, .poly, .smesh or "
+                  ".node.",
+                  file_name);
+}
+
+Status read_and_check(const uint8_t* data, size_t size, const std::string& file_name, Plc& out) {
+  Status s = dispatch(data, size, file_name, out);
+  if (s.ok() && out.points.empty()) {
+    s = io::fail(ErrorCode::Empty, "The file contains no vertices.", file_name);
+  }
+  if (s.ok()) s = check_plc(out);
+  if (!s.ok()) {
+    // Never hand back half a PLC.
+    out = Plc();
+    out.file = file_name;
+  }
+  return s;
+}
+
+}  // namespace
+
+Status read_plc(const uint8_t* data, size_t size, const std::string& file_name, Plc& out) {
+#if defined(__cpp_exceptions)
+  // Nothing here throws except allocation; turn that into a status.
+  try {
+    return read_and_check(data, size, file_name, out);
+  } catch (const std::bad_alloc&) {
+    out = Plc();
+    return io::fail(ErrorCode::OutOfMemory, "Out of memory while reading the file.", file_name);
+  } catch (const std::exception& e) {
+    out = Plc();
+    return io::fail(ErrorCode::Internal, std::string("Unexpected failure: ") + e.what(),
+                    file_name);
+  }
+#else
+  return read_and_check(data, size, file_name, out);
+#endif
+}
+
+Status read_plc_file(const std::string& path, Plc& out) {
+  out = Plc();
+  out.file = path;
+  if (format_from_name(path) == FileFormat::Unknown) {
+    // Report the extension before touching the file system.
+    return read_plc(nullptr, 0, path, out);
+  }
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return io::fail(ErrorCode::IoError, "Cannot open the file.", path);
+  std::vector<uint8_t> bytes;
+  bool read_error = false;
+#if defined(__cpp_exceptions)
+  try {
+#endif
+    // Read straight into the buffer when the size is known, then in chunks
+    // for whatever remains (pipes, files that grew).
+    if (std::fseek(f, 0, SEEK_END) == 0) {
+      const long end = std::ftell(f);
+      if (end > 0 && std::fseek(f, 0, SEEK_SET) == 0) {
+        bytes.resize(static_cast<size_t>(end));
+        bytes.resize(std::fread(bytes.data(), 1, bytes.size(), f));
+      } else {
+        std::rewind(f);
+      }
+    }
+    uint8_t chunk[1 << 16];
+    for (;;) {
+      const size_t got = std::fread(chunk, 1, sizeof chunk, f);
+      bytes.insert(bytes.end(), chunk, chunk + got);
+      if (got < sizeof chunk) {
+        read_error = std::ferror(f) != 0;
+        break;
+      }
+    }
+#if defined(__cpp_exceptions)
+  } catch (const std::bad_alloc&) {
+    std::fclose(f);
+    return io::fail(ErrorCode::OutOfMemory, "Out of memory while reading the file.", path);
+  }
+#endif
+  std::fclose(f);
+  if (read_error) return io::fail(ErrorCode::IoError, "Reading the file failed.", path);
+  return read_plc(bytes.data(), bytes.size(), path, out);
+}
+
+namespace {
+
+// Every edge as (min << 32 | max), sorted, each once.
+std::vector<uint64_t> packed_edges(const Plc& plc) {
+  std::vector<uint64_t> edges;
+  size_t n = plc.segments.size();
+  for (const Facet& f : plc.facets) {
+    for (const auto& loop : f.loops) n += loop.size();
+  }
+  edges.reserve(n);
+  auto add = [&edges](VertexId a, VertexId b) {
+    if (a == b) return;
+    edges.push_back(a < b ? (uint64_t{a} << 32) | b : (uint64_t{b} << 32) | a);
+  };
+  for (const auto& s : plc.segments) add(s[0], s[1]);
+  for (const Facet& f : plc.facets) {
+    for (const auto& loop : f.loops) {
+      const size_t m = loop.size();
+      for (size_t i = 0; i < m; ++i) add(loop[i], loop[i + 1 == m ? 0 : i + 1]);
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return edges;
+}
+
+}  // namespace
+
+std::vector<std::array<VertexId, 2>> plc_segments(const Plc& plc) {
+  const std::vector<uint64_t> edges = packed_edges(plc);
+  std::vector<std::array<VertexId, 2>> segs(edges.size());
+  for (size_t i = 0; i < edges.size(); ++i) {
+    segs[i] = {static_cast<VertexId>(edges[i] >> 32), static_cast<VertexId>(edges[i])};
+  }
+  return segs;
+}
+
+PlcInfo plc_info(const Plc& plc) {
+  PlcInfo info;
+  info.file_vertices = plc.file_vertices;
+  info.points = plc.points.size();
+  info.facets = plc.facets.size();
+  info.holes = plc.holes.size();
+  info.regions = plc.regions.size();
+  std::vector<uint8_t> used(plc.points.size(), 0);
+  auto mark = [&used](VertexId v) {
+    if (v < used.size()) used[v] = 1;
+  };
+  for (const Facet& f : plc.facets) {
+    for (const auto& loop : f.loops) {
+      ++info.loops;
+      if (loop.size() >= 3) info.triangles += loop.size() - 2;
+      for (VertexId v : loop) mark(v);
+    }
+  }
+  for (const auto& s : plc.segments) {
+    mark(s[0]);
+    mark(s[1]);
+  }
+  for (uint8_t u : used) info.unreferenced += u ? 0 : 1;
+  info.segments = packed_edges(plc).size();
+  if (!plc.points.empty()) {
+    info.bbox_min = info.bbox_max = plc.points[0];
+    for (const Vec3& p : plc.points) {
+      info.bbox_min.x = std::min(info.bbox_min.x, p.x);
+      info.bbox_min.y = std::min(info.bbox_min.y, p.y);
+      info.bbox_min.z = std::min(info.bbox_min.z, p.z);
+      info.bbox_max.x = std::max(info.bbox_max.x, p.x);
+      info.bbox_max.y = std::max(info.bbox_max.y, p.y);
+      info.bbox_max.z = std::max(info.bbox_max.z, p.z);
+    }
+  }
+  return info;
+}
+
+}  // namespace cdt3d

@@ -1,0 +1,326 @@
+// Input validation of a PLC with exact predicates and no tolerances: finite
+// coordinates within kMaxCoordinate, distinct points, indices in range, loops
+// of >= 3 distinct vertices that are not all collinear, planar facets, no
+// duplicate facets, proper explicit segments. The first problem found is
+// reported, naming the facet and its source line or record.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include <cdt3d/cdt3d.hpp>
+
+#include "predicates.hpp"
+
+namespace cdt3d {
+namespace {
+
+Status error(const Plc& plc, ErrorCode code, std::string message) {
+  Status s;
+  s.error.code = code;
+  s.error.message = std::move(message);
+  s.error.file = plc.file;
+  return s;
+}
+
+Status facet_error(const Plc& plc, size_t fi, ErrorCode code, std::string message) {
+  Status s = error(plc, code, std::move(message));
+  s.error.facet = static_cast<int64_t>(fi);
+  s.error.line = plc.facets[fi].line;
+  s.error.record = plc.facets[fi].record;
+  return s;
+}
+
+bool bad_coord(double c) { return !std::isfinite(c) || std::fabs(c) > kMaxCoordinate; }
+
+// Checks one point, named in messages as "<kind> <index>".
+Status check_point(const Plc& plc, const Vec3& p, const char* kind, size_t index, int64_t vertex) {
+  const double c[3] = {p.x, p.y, p.z};
+  for (int k = 0; k < 3; ++k) {
+    if (!bad_coord(c[k])) continue;
+    const bool nan = !std::isfinite(c[k]);
+    Status s = error(plc, nan ? ErrorCode::NonFinite : ErrorCode::CoordinateRange,
+                     std::string(kind) + " " + std::to_string(index) +
+                         (nan ? " has a non-finite " : " has a ") +
+                         std::string(1, static_cast<char>('x' + k)) +
+                         (nan ? " coordinate." : " coordinate beyond the supported magnitude 1e50."));
+    s.error.vertex = vertex;
+    return s;
+  }
+  return Status::success();
+}
+
+struct P3 {
+  double c[3];
+};
+
+P3 at(const Plc& plc, VertexId v) {
+  const Vec3& p = plc.points[v];
+  return P3{{p.x, p.y, p.z}};
+}
+
+// Distinct points: identical coordinates must have been welded. Sorts copies
+// (coordinates + id) rather than ids, for locality.
+Status check_distinct_points(const Plc& plc) {
+  struct Item {
+    double x, y, z;
+    VertexId id;
+  };
+  std::vector<Item> items(plc.points.size());
+  for (size_t i = 0; i < items.size(); ++i) {
+    const Vec3& p = plc.points[i];
+    items[i] = Item{p.x, p.y, p.z, static_cast<VertexId>(i)};
+  }
+  std::sort(items.begin(), items.end(), [](const Item& a, const Item& b) {
+    if (a.x != b.x) return a.x < b.x;
+    if (a.y != b.y) return a.y < b.y;
+    if (a.z != b.z) return a.z < b.z;
+    return a.id < b.id;
+  });
+  for (size_t i = 1; i < items.size(); ++i) {
+    const Item& a = items[i - 1];
+    const Item& b = items[i];
+    if (a.x == b.x && a.y == b.y && a.z == b.z) {
+      Status s = error(plc, ErrorCode::InvalidArgument,
+                       "Points " + std::to_string(a.id) + " and " + std::to_string(b.id) +
+                           " have identical coordinates.");
+      s.error.vertex = b.id;
+      return s;
+    }
+  }
+  return Status::success();
+}
+
+Status check_facet_holes(const Plc& plc, size_t fi) {
+  const Facet& f = plc.facets[fi];
+  for (size_t h = 0; h < f.holes.size(); ++h) {
+    Status s = check_point(plc, f.holes[h], "Facet hole point", h, -1);
+    if (!s.ok()) {
+      s.error.facet = static_cast<int64_t>(fi);
+      s.error.line = f.line;
+      s.error.record = f.record;
+      return s;
+    }
+  }
+  return Status::success();
+}
+
+// Checks one facet's loops: sizes, index range, repeated vertices, zero area,
+// planarity. `scratch` is reused between calls.
+Status check_facet(const Plc& plc, size_t fi, std::vector<VertexId>& scratch) {
+  const Facet& f = plc.facets[fi];
+  const size_t n_points = plc.points.size();
+  if (f.loops.empty()) {
+    return facet_error(plc, fi, ErrorCode::DegenerateFacet, "Facet " + std::to_string(fi) + " has no polygon.");
+  }
+  for (size_t li = 0; li < f.loops.size(); ++li) {
+    const auto& loop = f.loops[li];
+    auto name = [li, fi]() {
+      return "Polygon " + std::to_string(li) + " of facet " + std::to_string(fi);
+    };
+    for (VertexId v : loop) {
+      if (v >= n_points) {
+        return facet_error(plc, fi, ErrorCode::IndexOutOfRange,
+                           name() + " uses vertex " + std::to_string(v) + " but there are " +
+                               std::to_string(n_points) + " points.");
+      }
+    }
+    if (loop.size() < 3) {
+      return facet_error(plc, fi, ErrorCode::DegenerateFacet,
+                         name() + " has " + std::to_string(loop.size()) +
+                             (loop.size() == 1 ? " vertex" : " vertices") + "; at least 3 are needed.");
+    }
+    VertexId repeated = kNone;
+    if (loop.size() == 3) {
+      if (loop[0] == loop[1] || loop[0] == loop[2]) {
+        repeated = loop[0];
+      } else if (loop[1] == loop[2]) {
+        repeated = loop[1];
+      }
+    } else {
+      scratch.assign(loop.begin(), loop.end());
+      std::sort(scratch.begin(), scratch.end());
+      for (size_t i = 1; i < scratch.size() && repeated == kNone; ++i) {
+        if (scratch[i] == scratch[i - 1]) repeated = scratch[i];
+      }
+    }
+    if (repeated != kNone) {
+      Status s = facet_error(plc, fi, ErrorCode::DegenerateFacet,
+                             name() + " repeats vertex " + std::to_string(repeated) + ".");
+      s.error.vertex = repeated;
+      return s;
+    }
+    // Zero area: every vertex on the line through the first two.
+    const P3 a = at(plc, loop[0]);
+    const P3 b = at(plc, loop[1]);
+    bool flat = true;
+    for (size_t i = 2; i < loop.size() && flat; ++i) {
+      const P3 c = at(plc, loop[i]);
+      if (!pred::collinear3d(a.c, b.c, c.c)) flat = false;
+    }
+    if (flat) {
+      return facet_error(plc, fi, ErrorCode::DegenerateFacet,
+                         name() + " has zero area: its vertices are collinear.");
+    }
+  }
+  // Planarity: a non-collinear triple of the first loop spans the plane; every
+  // vertex of every loop must lie in it exactly. A lone triangle is planar.
+  const auto& first = f.loops[0];
+  if (f.loops.size() == 1 && first.size() == 3) return check_facet_holes(plc, fi);
+  const P3 a = at(plc, first[0]);
+  const P3 b = at(plc, first[1]);
+  P3 c = a;
+  for (size_t i = 2; i < first.size(); ++i) {
+    c = at(plc, first[i]);
+    if (!pred::collinear3d(a.c, b.c, c.c)) break;
+  }
+  for (size_t li = 0; li < f.loops.size(); ++li) {
+    for (VertexId v : f.loops[li]) {
+      const P3 d = at(plc, v);
+      if (pred::orient3d(a.c, b.c, c.c, d.c) != 0) {
+        Status s = facet_error(plc, fi, ErrorCode::NonPlanarFacet,
+                               "Facet " + std::to_string(fi) + " is not planar: vertex " +
+                                   std::to_string(v) + " lies off the plane of its first polygon.");
+        s.error.vertex = v;
+        return s;
+      }
+    }
+  }
+  return check_facet_holes(plc, fi);
+}
+
+// Duplicate facets: the same set of loops, each taken as a vertex set. Every
+// facet gets a canonical key (its loops' sorted vertex lists, the loops in
+// sorted order); sorting the keys puts duplicates side by side.
+Status check_duplicates(const Plc& plc) {
+  const size_t nf = plc.facets.size();
+  std::vector<uint32_t> keys;
+  std::vector<size_t> start(nf + 1, 0);
+  std::vector<std::vector<VertexId>> loops;
+  for (size_t fi = 0; fi < nf; ++fi) {
+    const Facet& f = plc.facets[fi];
+    start[fi] = keys.size();
+    keys.push_back(static_cast<uint32_t>(f.loops.size()));
+    if (f.loops.size() == 1) {
+      const size_t at = keys.size();
+      keys.push_back(static_cast<uint32_t>(f.loops[0].size()));
+      keys.insert(keys.end(), f.loops[0].begin(), f.loops[0].end());
+      std::sort(keys.begin() + static_cast<std::ptrdiff_t>(at) + 1, keys.end());
+      continue;
+    }
+    loops.assign(f.loops.begin(), f.loops.end());
+    for (auto& l : loops) std::sort(l.begin(), l.end());
+    std::sort(loops.begin(), loops.end(), [](const std::vector<VertexId>& x, const std::vector<VertexId>& y) {
+      if (x.size() != y.size()) return x.size() < y.size();
+      return x < y;
+    });
+    for (const auto& l : loops) {
+      keys.push_back(static_cast<uint32_t>(l.size()));
+      keys.insert(keys.end(), l.begin(), l.end());
+    }
+  }
+  start[nf] = keys.size();
+  auto key_less = [&](size_t x, size_t y) {
+    return std::lexicographical_compare(keys.begin() + static_cast<std::ptrdiff_t>(start[x]),
+                                        keys.begin() + static_cast<std::ptrdiff_t>(start[x + 1]),
+                                        keys.begin() + static_cast<std::ptrdiff_t>(start[y]),
+                                        keys.begin() + static_cast<std::ptrdiff_t>(start[y + 1]));
+  };
+  // The first six key words, packed, decide most comparisons (all of them for
+  // lone triangles, whose key is 5 words) without touching the key array.
+  struct Entry {
+    uint64_t w[3];
+    uint32_t facet;
+  };
+  std::vector<Entry> entries(nf);
+  for (size_t fi = 0; fi < nf; ++fi) {
+    uint32_t word[6] = {0, 0, 0, 0, 0, 0};
+    const size_t len = start[fi + 1] - start[fi];
+    for (size_t k = 0; k < 6 && k < len; ++k) word[k] = keys[start[fi] + k] + 1;
+    Entry& e = entries[fi];
+    for (int k = 0; k < 3; ++k) e.w[k] = (uint64_t{word[2 * k]} << 32) | word[2 * k + 1];
+    e.facet = static_cast<uint32_t>(fi);
+  }
+  auto entry_cmp = [&](const Entry& x, const Entry& y) -> int {
+    for (int k = 0; k < 3; ++k) {
+      if (x.w[k] != y.w[k]) return x.w[k] < y.w[k] ? -1 : 1;
+    }
+    if (key_less(x.facet, y.facet)) return -1;
+    if (key_less(y.facet, x.facet)) return 1;
+    return 0;
+  };
+  std::sort(entries.begin(), entries.end(), [&](const Entry& x, const Entry& y) {
+    const int c = entry_cmp(x, y);
+    return c != 0 ? c < 0 : x.facet < y.facet;
+  });
+  // Among all duplicate pairs, report the one whose later facet comes first
+  // in the file: (that facet, the first facet with the same key).
+  size_t best_dup = nf, best_first = nf;
+  size_t group = 0;  // position where the current run of equal keys starts
+  for (size_t i = 1; i < nf; ++i) {
+    if (entry_cmp(entries[i - 1], entries[i]) != 0) {
+      group = i;
+      continue;
+    }
+    // Same key: entries[i] duplicates entries[group], the run's lowest index.
+    if (entries[i].facet < best_dup) {
+      best_dup = entries[i].facet;
+      best_first = entries[group].facet;
+    }
+  }
+  if (best_dup == nf) return Status::success();
+  Status s = facet_error(plc, best_dup, ErrorCode::DuplicateFacet,
+                         "Facet " + std::to_string(best_dup) + " repeats facet " +
+                             std::to_string(best_first) + " (the same vertices).");
+  s.error.other_facet = static_cast<int64_t>(best_first);
+  return s;
+}
+
+}  // namespace
+
+Status check_plc(const Plc& plc) {
+  for (size_t i = 0; i < plc.points.size(); ++i) {
+    Status s = check_point(plc, plc.points[i], "Point", i, static_cast<int64_t>(i));
+    if (!s.ok()) return s;
+  }
+  if (plc.points.size() > 0xfffffffeull) {
+    return error(plc, ErrorCode::TooLarge, "More points than 32-bit ids allow.");
+  }
+  Status s = check_distinct_points(plc);
+  if (!s.ok()) return s;
+  std::vector<VertexId> scratch;
+  for (size_t fi = 0; fi < plc.facets.size(); ++fi) {
+    s = check_facet(plc, fi, scratch);
+    if (!s.ok()) return s;
+  }
+  for (size_t i = 0; i < plc.segments.size(); ++i) {
+    const auto& seg = plc.segments[i];
+    if (seg[0] >= plc.points.size() || seg[1] >= plc.points.size()) {
+      return error(plc, ErrorCode::IndexOutOfRange,
+                   "Segment " + std::to_string(i) + " uses a vertex beyond the " +
+                       std::to_string(plc.points.size()) + " points.");
+    }
+    if (seg[0] == seg[1]) {
+      Status e = error(plc, ErrorCode::DegenerateFacet,
+                       "Segment " + std::to_string(i) + " has identical endpoints.");
+      e.error.vertex = seg[0];
+      return e;
+    }
+  }
+  for (size_t i = 0; i < plc.holes.size(); ++i) {
+    s = check_point(plc, plc.holes[i], "Hole point", i, -1);
+    if (!s.ok()) return s;
+  }
+  for (size_t i = 0; i < plc.regions.size(); ++i) {
+    s = check_point(plc, plc.regions[i].point, "Region point", i, -1);
+    if (!s.ok()) return s;
+    if (!std::isfinite(plc.regions[i].attribute) || !std::isfinite(plc.regions[i].max_volume)) {
+      return error(plc, ErrorCode::NonFinite,
+                   "Region " + std::to_string(i) + " has a non-finite attribute or volume.");
+    }
+  }
+  return check_duplicates(plc);
+}
+
+}  // namespace cdt3d

@@ -1,0 +1,355 @@
+// Exact stages of the predicates (the filters are inline in predicates.hpp),
+// the 2D incircle, and the projected / coplanar helpers.
+//
+// Exact stage, for every predicate:
+//  1. Scale the points by a power of two 2^s (exact; the sign of each
+//     determinant is unchanged since it is homogeneous in the coordinates)
+//     so that the largest |coordinate| is below 2^T_hi and every coordinate
+//     is a multiple of 2^T_lo. T_lo makes every product of `degree`
+//     coordinates a multiple of 2^-1074, so no Dekker product ever loses a
+//     bit to underflow; T_hi keeps every partial sum below 2^996, so the
+//     Veltkamp split never overflows. Inside the documented range, s = 0.
+//  2. If every coordinate difference against the last point is exact in
+//     double (two-diff tail 0: always the case for the integer and
+//     power-of-two grids that make inputs degenerate), evaluate the
+//     difference form of the determinant on those doubles: short expansions.
+//  3. Otherwise evaluate the raw homogeneous form (the determinant with a
+//     column of ones, and the lifted column |p|^2 for in-circle/sphere),
+//     whose entries are the coordinates themselves: longer expansions, but
+//     only products of an expansion by a double, so sizes are fixed and the
+//     buffers live on the stack (at most ~120 KB, in insphere).
+#include "predicates.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#include "expansion.hpp"
+
+namespace cdt3d {
+namespace pred {
+
+namespace detail {
+Counters g_counters;
+}  // namespace detail
+
+namespace {
+
+using detail::g_counters;
+
+// Scaling targets (see step 1 above); T_lo = -floor(1074 / degree), T_hi from
+// the largest sum of absolute monomials of each form (predicates.hpp has the
+// resulting hi - lo limits).
+struct ScaleLimits {
+  int t_lo, t_hi;
+};
+constexpr ScaleLimits kOrient2dScale{-537, 490};   // 6 (2M)^2 < 2^996
+constexpr ScaleLimits kOrient3dScale{-358, 320};   // 24 (2M)^3 < 2^996
+constexpr ScaleLimits kIncircleScale{-268, 240};   // 192 (2M)^4 < 2^996
+constexpr ScaleLimits kInsphereScale{-214, 190};   // 2304 (2M)^5 < 2^996
+
+// Exponent of the lowest set bit of a nonzero finite double.
+int lowest_bit_exponent(double x) {
+  uint64_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  const int biased = static_cast<int>((bits >> 52) & 0x7ff);
+  const uint64_t frac = bits & ((uint64_t(1) << 52) - 1);
+  if (biased == 0) return -1074 + __builtin_ctzll(frac);  // subnormal
+  return biased - 1075 + __builtin_ctzll(frac | (uint64_t(1) << 52));
+}
+
+// Copies n points of `dim` coordinates into q, scaled by the power of two that
+// brings them into [2^T_lo granularity, 2^T_hi magnitude] (no scaling when
+// already there). Counts an out-of-range evaluation when no power of two fits;
+// it then avoids overflow and may lose the lowest bits.
+void load_scaled(const double* const* p, int n, int dim, ScaleLimits lim, double (*q)[3]) {
+  int e_hi = INT32_MIN, e_lo = INT32_MAX;
+  for (int i = 0; i < n; ++i) {
+    for (int k = 0; k < dim; ++k) {
+      const double x = p[i][k];
+      q[i][k] = x;
+      if (x == 0.0) continue;
+      int e;
+      std::frexp(x, &e);  // |x| < 2^e
+      if (e > e_hi) e_hi = e;
+      const int l = lowest_bit_exponent(x);
+      if (l < e_lo) e_lo = l;
+    }
+  }
+  if (e_hi == INT32_MIN) return;  // all zero
+  const int s_min = lim.t_lo - e_lo, s_max = lim.t_hi - e_hi;
+  int s = 0;
+  if (s_min > s_max) {
+    ++g_counters.out_of_range;
+    s = s_max;
+  } else if (s_min > 0) {
+    s = s_min;
+  } else if (s_max < 0) {
+    s = s_max;
+  }
+  if (s == 0) return;
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < dim; ++k) q[i][k] = std::ldexp(q[i][k], s);
+}
+
+// Differences q[i] - q[last] for i < last, rounded; returns whether all of
+// them are exact.
+bool differences(const double (*q)[3], int last, int dim, double (*d)[3]) {
+  bool exact_all = true;
+  for (int i = 0; i < last; ++i) {
+    for (int k = 0; k < dim; ++k) {
+      d[i][k] = q[i][k] - q[last][k];
+      if (exact::diff_tail(q[i][k], q[last][k], d[i][k]) != 0.0) exact_all = false;
+    }
+  }
+  return exact_all;
+}
+
+// det | P ; Q ; R | of three 3-vectors of doubles, expanded along z over the
+// xy 2x2 minors: Pz (QxRy - QyRx) - Qz (PxRy - PyRx) + Rz (PxQy - PyQx).
+// Output capacity 24.
+int det3(const double* p, const double* q, const double* r, double* out) {
+  double qr[4], pr[4], pq[4], t1[8], t2[8], t3[8], u[16];
+  const int nqr = exact::two_two_diff(q[0], r[1], q[1], r[0], qr);
+  const int npr = exact::two_two_diff(p[0], r[1], p[1], r[0], pr);
+  const int npq = exact::two_two_diff(p[0], q[1], p[1], q[0], pq);
+  const int n1 = exact::scale(nqr, qr, p[2], t1);
+  const int n2 = exact::scale(npr, pr, -q[2], t2);
+  const int n3 = exact::scale(npq, pq, r[2], t3);
+  const int nu = exact::sum(n1, t1, n2, t2, u);
+  return exact::sum(nu, u, n3, t3, out);
+}
+
+// det | p 1 ; q 1 ; r 1 ; s 1 | (raw orient3d), expanded along the column of
+// ones: -[qrs] + [prs] - [pqs] + [pqr]. Output capacity 96.
+int raw_orient3d(const double* p, const double* q, const double* r, const double* s,
+                 double* out) {
+  double m[4][24], u[48], v[48];
+  const int n0 = det3(q, r, s, m[0]);
+  const int n1 = det3(p, r, s, m[1]);
+  const int n2 = det3(p, q, s, m[2]);
+  const int n3 = det3(p, q, r, m[3]);
+  exact::negate(n0, m[0]);
+  exact::negate(n2, m[2]);
+  const int nu = exact::sum(n0, m[0], n1, m[1], u);
+  const int nv = exact::sum(n2, m[2], n3, m[3], v);
+  return exact::sum(nu, u, nv, v, out);
+}
+
+// out = sign * (p_0^2 + ... + p_{dim-1}^2) * m, computed as a sum over k of
+// (m * p_k) * (+-p_k). Capacity of out: 4 * dim * n <= 4 * dim * N.
+template <int N>
+int times_lift(int n, const double* m, const double* p, int dim, bool negative, double* out) {
+  double t[2 * N], sq[3][4 * N], u[8 * N];
+  int nsq[3];
+  for (int k = 0; k < dim; ++k) {
+    const int nt = exact::scale(n, m, p[k], t);
+    nsq[k] = exact::scale(nt, t, negative ? -p[k] : p[k], sq[k]);
+  }
+  if (dim == 2) return exact::sum(nsq[0], sq[0], nsq[1], sq[1], out);
+  const int nu = exact::sum(nsq[0], sq[0], nsq[1], sq[1], u);
+  return exact::sum(nu, u, nsq[2], sq[2], out);
+}
+
+// 2D: det | p 1 ; q 1 ; r 1 | over the xy minors: [qr] - [pr] + [pq].
+// Output capacity 12.
+int raw_orient2d(const double* p, const double* q, const double* r, double* out) {
+  double qr[4], pr[4], pq[4], u[8];
+  const int nqr = exact::two_two_diff(q[0], r[1], q[1], r[0], qr);
+  const int npr = exact::two_two_diff(p[0], r[1], p[1], r[0], pr);
+  const int npq = exact::two_two_diff(p[0], q[1], p[1], q[0], pq);
+  exact::negate(npr, pr);
+  const int nu = exact::sum(nqr, qr, npr, pr, u);
+  return exact::sum(nu, u, npq, pq, out);
+}
+
+}  // namespace
+
+namespace detail {
+
+int orient3d_exact(const double* a, const double* b, const double* c, const double* d) {
+  ++g_counters.orient3d_exact;
+  const double* p[4] = {a, b, c, d};
+  double q[4][3], diff[3][3];
+  load_scaled(p, 4, 3, kOrient3dScale, q);
+  if (differences(q, 3, 3, diff)) {
+    double det[24];
+    return exact::sign(det3(diff[0], diff[1], diff[2], det), det);
+  }
+  double det[96];
+  return exact::sign(raw_orient3d(q[0], q[1], q[2], q[3], det), det);
+}
+
+int insphere_exact(const double* a, const double* b, const double* c, const double* d,
+                   const double* e) {
+  ++g_counters.insphere_exact;
+  const double* p[5] = {a, b, c, d, e};
+  double q[5][3], diff[4][3];
+  load_scaled(p, 5, 3, kInsphereScale, q);
+  if (differences(q, 4, 3, diff)) {
+    // Rows A..D = a..d - e: det | A |A|^2 ; ... | expanded along the lift
+    // column: -|A|^2 [BCD] + |B|^2 [ACD] - |C|^2 [ABD] + |D|^2 [ABC].
+    static constexpr int kOthers[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+    double m[24], terms[4][288], u[576], v[576], det[1152];
+    int nt[4];
+    for (int i = 0; i < 4; ++i) {
+      const int nm = det3(diff[kOthers[i][0]], diff[kOthers[i][1]], diff[kOthers[i][2]], m);
+      nt[i] = times_lift<24>(nm, m, diff[i], 3, i % 2 == 0, terms[i]);
+    }
+    const int nu = exact::sum(nt[0], terms[0], nt[1], terms[1], u);
+    const int nv = exact::sum(nt[2], terms[2], nt[3], terms[3], v);
+    return exact::sign(exact::sum(nu, u, nv, v, det), det);
+  }
+  // Raw form: det | p |p|^2 1 | over the five points, expanded along the lift
+  // column: sum_i (-1)^(i+1) |p_i|^2 orient3d(the other four, in order)
+  // (0-based i). It equals the difference form (subtract the last row, then
+  // the column operations |p|^2 - |e|^2 -> |p - e|^2).
+  static constexpr int kOthers[5][4] = {
+      {1, 2, 3, 4}, {0, 2, 3, 4}, {0, 1, 3, 4}, {0, 1, 2, 4}, {0, 1, 2, 3}};
+  double o[96], term[1152], acc[2][5760];
+  int nacc = 0, cur = 0;
+  for (int i = 0; i < 5; ++i) {
+    const int* k = kOthers[i];
+    const int no = raw_orient3d(q[k[0]], q[k[1]], q[k[2]], q[k[3]], o);
+    const int nterm = times_lift<96>(no, o, q[i], 3, i % 2 == 0, term);
+    nacc = exact::sum(nacc, acc[cur], nterm, term, acc[1 - cur]);
+    cur = 1 - cur;
+  }
+  return exact::sign(nacc, acc[cur]);
+}
+
+int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy) {
+  ++g_counters.orient2d_exact;
+  const double xy[3][2] = {{ax, ay}, {bx, by}, {cx, cy}};
+  const double* p[3] = {xy[0], xy[1], xy[2]};
+  double q[3][3], diff[2][3];
+  load_scaled(p, 3, 2, kOrient2dScale, q);
+  if (differences(q, 2, 2, diff)) {
+    double det[4];
+    return exact::sign(exact::two_two_diff(diff[0][0], diff[1][1], diff[0][1], diff[1][0], det),
+                       det);
+  }
+  double det[12];
+  return exact::sign(raw_orient2d(q[0], q[1], q[2], det), det);
+}
+
+}  // namespace detail
+
+namespace {
+
+// incircle filter constants (same scheme as predicates.hpp):
+//   det = (la*bc + lb*ca) + lc*ab, rows A..C = a..c - d, l = Ax^2 + Ay^2,
+//   minors 2 roundings, lifts 2, product 1, two sums: k = 7, g = 4;
+//   S <= 2 Mx My (la + lb + lc); (1+u)^11 - 1 < 11.0000001u;
+//   22u(1 + 8u) = 2.44249e-15 < 2.45e-15 (margin 0.068u). min(M) >= 2^-230
+//   keeps the bound normal and the underflow error (<= 2^-1069 (Mmax^2 + 1))
+//   below the margin; max(M) <= 2^240 rules out overflow.
+constexpr double kIncircleEps = 2.45e-15;
+constexpr double kIncircleLo = 0x1p-230, kIncircleHi = 0x1p+240;
+
+int incircle_exact(const double* a, const double* b, const double* c, const double* d) {
+  ++g_counters.incircle_exact;
+  const double* p[4] = {a, b, c, d};
+  double q[4][3], diff[3][3];
+  load_scaled(p, 4, 2, kIncircleScale, q);
+  if (differences(q, 3, 2, diff)) {
+    // la [BC] + lb [CA] + lc [AB], [PQ] = Px Qy - Py Qx.
+    double m[4], terms[3][32], u[64], det[96];
+    int nt[3];
+    for (int i = 0; i < 3; ++i) {
+      const double* s = diff[(i + 1) % 3];
+      const double* t = diff[(i + 2) % 3];
+      const int nm = exact::two_two_diff(s[0], t[1], s[1], t[0], m);
+      nt[i] = times_lift<4>(nm, m, diff[i], 2, false, terms[i]);
+    }
+    const int nu = exact::sum(nt[0], terms[0], nt[1], terms[1], u);
+    return exact::sign(exact::sum(nu, u, nt[2], terms[2], det), det);
+  }
+  // Raw form: sum_i (-1)^i |p_i|^2 orient2d(the other three) (0-based i).
+  static constexpr int kOthers[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+  double o[12], term[96], acc[2][384];
+  int nacc = 0, cur = 0;
+  for (int i = 0; i < 4; ++i) {
+    const int* k = kOthers[i];
+    const int no = raw_orient2d(q[k[0]], q[k[1]], q[k[2]], o);
+    const int nterm = times_lift<12>(no, o, q[i], 2, i % 2 == 1, term);
+    nacc = exact::sum(nacc, acc[cur], nterm, term, acc[1 - cur]);
+    cur = 1 - cur;
+  }
+  return exact::sign(nacc, acc[cur]);
+}
+
+}  // namespace
+
+int incircle(const double* a, const double* b, const double* c, const double* d) {
+  detail::count_call(g_counters.incircle_calls);
+  const double adx = a[0] - d[0], ady = a[1] - d[1];
+  const double bdx = b[0] - d[0], bdy = b[1] - d[1];
+  const double cdx = c[0] - d[0], cdy = c[1] - d[1];
+  const double bc = bdx * cdy - bdy * cdx;
+  const double ca = cdx * ady - cdy * adx;
+  const double ab = adx * bdy - ady * bdx;
+  const double la = adx * adx + ady * ady;
+  const double lb = bdx * bdx + bdy * bdy;
+  const double lc = cdx * cdx + cdy * cdy;
+  const double det = (la * bc + lb * ca) + lc * ab;
+  const double mx = detail::max3(std::fabs(adx), std::fabs(bdx), std::fabs(cdx));
+  const double my = detail::max3(std::fabs(ady), std::fabs(bdy), std::fabs(cdy));
+  const double lo = mx < my ? mx : my, hi = mx < my ? my : mx;
+  if (lo >= kIncircleLo && hi <= kIncircleHi) {
+    const double bound = kIncircleEps * mx * my * ((la + lb) + lc);
+    if (det > bound) return 1;
+    if (det < -bound) return -1;
+  }
+  return incircle_exact(a, b, c, d);
+}
+
+int orient2d_projected(const double* a, const double* b, const double* c, int drop) {
+  const int i = drop == 0 ? 1 : drop == 1 ? 2 : 0;
+  const int j = drop == 0 ? 2 : drop == 1 ? 0 : 1;
+  return detail::orient2d_xy(a[i], a[j], b[i], b[j], c[i], c[j]);
+}
+
+bool collinear3d(const double* a, const double* b, const double* c) {
+  // The cross product (b - a) x (c - a) has the three projected orientations
+  // as its components.
+  return orient2d_projected(a, b, c, 2) == 0 && orient2d_projected(a, b, c, 0) == 0 &&
+         orient2d_projected(a, b, c, 1) == 0;
+}
+
+int incircle_coplanar(const double* a, const double* b, const double* c, const double* d) {
+  // Rounded normal, only to pick a well-conditioned axis first.
+  const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  const double n[3] = {std::fabs(u[1] * v[2] - u[2] * v[1]), std::fabs(u[2] * v[0] - u[0] * v[2]),
+                       std::fabs(u[0] * v[1] - u[1] * v[0])};
+  int order[3] = {0, 1, 2};
+  for (int x = 0; x < 2; ++x)
+    for (int y = 0; y + 1 < 3 - x; ++y)
+      if (n[order[y]] < n[order[y + 1]]) {
+        const int t = order[y];
+        order[y] = order[y + 1];
+        order[y + 1] = t;
+      }
+  double span = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    span = detail::max3(span, std::fabs(u[k]), std::fabs(v[k]));
+  }
+  if (span == 0.0) return 0;
+  for (int r = 0; r < 3; ++r) {
+    // f = a moved along axis k: off the plane exactly when the normal's k-th
+    // component is nonzero, whatever f[k] rounds to, as long as f[k] != a[k].
+    const int k = order[r];
+    double f[3] = {a[0], a[1], a[2]};
+    f[k] = a[k] + span;
+    if (f[k] == a[k]) f[k] = a[k] + (span > std::fabs(a[k]) ? span : std::fabs(a[k]));
+    const int o = orient3d(a, b, c, f);
+    // The sphere through a, b, c, f cuts the plane in the circumcircle of
+    // a, b, c, so d (in the plane) is inside the circle iff inside the sphere.
+    if (o != 0) return o * insphere(a, b, c, f, d);
+  }
+  return 0;  // a, b, c collinear
+}
+
+}  // namespace pred
+}  // namespace cdt3d

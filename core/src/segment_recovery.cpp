@@ -1,0 +1,531 @@
+// Step 2: Delaunay segment recovery (Si & Gärtner 2005 §5).
+#include "segment_recovery.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "delaunay.hpp"
+#include "expansion.hpp"
+#include "predicates.hpp"
+
+namespace cdt3d {
+
+namespace {
+
+// A split bound: no input segment of a valid PLC needs anywhere near this many
+// points in practice (Theorem 3 bounds subsegment lengths from below by the
+// local feature size); reaching it means rounding or invalid input made the
+// loop cycle, and we stop with an error instead of looping forever.
+constexpr size_t kMaxSplitsPerSegment = 4096;
+
+// Exact sign of (a - v) . (b - v): > 0 when the angle avb is acute, 0 when
+// right, < 0 when obtuse. Differences are kept exact as two-term expansions.
+int dot_sign(const double* a, const double* v, const double* b) {
+  // Filter: each difference, product and sum rounds once, so the computed
+  // value is within 8 * 2^-53 * (sum of |products|) of the exact one.
+  double approx = 0, perm = 0;
+  for (int d = 0; d < 3; ++d) {
+    const double x = (a[d] - v[d]) * (b[d] - v[d]);
+    approx += x;
+    perm += std::fabs(x);
+  }
+  const double bound = 8 * 1.1102230246251565e-16 * perm;
+  if (approx > bound) return 1;
+  if (-approx > bound) return -1;
+  double total[24];
+  int n = 0;
+  for (int d = 0; d < 3; ++d) {
+    double x[2], y[2], t1[4], t2[4], prod[8], acc[24];
+    exact::two_diff(a[d], v[d], x[1], x[0]);
+    exact::two_diff(b[d], v[d], y[1], y[0]);
+    const int nx = x[1] == 0 ? 0 : (x[0] == 0 ? 1 : 2);  // zero-eliminated
+    const double* xs = nx == 1 ? x + 1 : x;
+    const int n1 = exact::scale(nx, xs, y[0], t1);
+    const int n2 = exact::scale(nx, xs, y[1], t2);
+    const int np = exact::sum(n1, t1, n2, t2, prod);
+    n = exact::sum(n, total, np, prod, acc);
+    std::copy(acc, acc + n, total);
+  }
+  return exact::sign(n, total);
+}
+
+struct Vec {
+  double x, y, z;
+};
+Vec at(const TetMesh& m, VertexId v) {
+  const double* p = m.point(v);
+  return {p[0], p[1], p[2]};
+}
+Vec sub(Vec a, Vec b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+double dot(Vec a, Vec b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+double dist(Vec a, Vec b) { return std::sqrt(dot(sub(a, b), sub(a, b))); }
+Vec cross(Vec a, Vec b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+// Radius of the smallest sphere through a, b and p (the circumcircle of the
+// triangle), used only to rank encroaching vertices (§5, reference point);
+// infinite when p is on the line ab. Floating point is fine here: it picks a
+// point, it decides no topology, and IEEE +,-,*,/,sqrt give the same result
+// natively and in WASM.
+double circumradius(Vec a, Vec b, Vec p) {
+  const double la = dist(b, p), lb = dist(a, p), lc = dist(a, b);
+  const Vec n = cross(sub(b, a), sub(p, a));
+  const double twice_area = std::sqrt(dot(n, n));
+  if (twice_area == 0) return HUGE_VAL;
+  return la * lb * lc / (2 * twice_area);
+}
+
+Status segment_error(ErrorCode code, const SegmentSet& segs, uint32_t s, const std::string& what) {
+  Status st;
+  st.error.code = code;
+  st.error.segment = s;
+  st.error.vertex = segs.input[s][0];
+  st.error.message = "segment recovery: segment " + std::to_string(s) + " (vertices " +
+                     std::to_string(segs.input[s][0]) + ", " + std::to_string(segs.input[s][1]) +
+                     "): " + what;
+  return st;
+}
+
+class SegmentRecovery {
+ public:
+  SegmentRecovery(TetMesh& mesh, SegmentSet& segs, SegmentRecoveryStats& stats)
+      : mesh_(mesh), segs_(segs), stats_(stats), inserter_(mesh) {}
+
+  Status run(const volatile bool* cancel);
+
+ private:
+  Status split(uint32_t s, VertexId u, VertexId w);
+  VertexId reference_point(VertexId a, VertexId b);
+  Status insert_on_segment(uint32_t s, VertexId u, VertexId w, Vec point, double t,
+                           VertexId origin, SplitRule rule);
+  double param(uint32_t s, VertexId v) const;
+  long chain_position(uint32_t s, VertexId v) const;
+  void queue_destroyed(VertexId v, std::vector<std::array<uint32_t, 3>>& queue);
+
+  TetMesh& mesh_;
+  SegmentSet& segs_;
+  SegmentRecoveryStats& stats_;
+  PointInserter inserter_;
+  std::vector<TetId> stack_;
+  std::vector<TetId> star_;
+  std::vector<uint32_t> vertex_mark_;  // per vertex: epoch when last seen
+  std::vector<VertexId> ring_;         // vertices of the last insertion's new tets, but v
+  std::vector<std::array<VertexId, 2>> ring_edges_;  // their edges not at v
+  std::vector<uint32_t> incident_start_, incident_;  // input vertex -> segments (CSR)
+};
+
+// Parameter of v along input segment s (0 at its first endpoint, 1 at the
+// second): the recorded intended value for Steiner vertices.
+double SegmentRecovery::param(uint32_t s, VertexId v) const {
+  if (v == segs_.input[s][0]) return 0;
+  if (v == segs_.input[s][1]) return 1;
+  const SegmentVertex* sv = segs_.on_segment(v);
+  return sv ? sv->t : 0.5;  // chains hold only endpoints and recorded vertices
+}
+
+// Distance from point p to segment ab (floating point; search order only).
+double distance_to_segment(Vec p, Vec a, Vec b) {
+  const Vec ab = sub(b, a), ap = sub(p, a);
+  const double len2 = dot(ab, ab);
+  double f = len2 > 0 ? dot(ap, ab) / len2 : 0;
+  f = std::min(1.0, std::max(0.0, f));
+  return dist(p, {a.x + f * ab.x, a.y + f * ab.y, a.z + f * ab.z});
+}
+
+// The reference point of missing segment ab (§5): among the vertices that
+// encroach upon ab (inside or on its diametral sphere, exact test), the one
+// whose smallest circumsphere with a and b is largest; ties go to the smaller
+// vertex id.
+//
+// Search: the circumradius of (a, b, p) grows with the angle apb, so every
+// vertex that beats the current best lies in the spindle {x : angle axb >
+// angle apb} around ab: a convex body inside the diametral ball and within
+// distance h = R - sqrt(R^2 - |ab|^2 / 4) of the segment (R: the best
+// circumradius so far; before any candidate, h = |ab| / 2). The tets meeting
+// a convex body that touches a form a face-connected set containing a tet of
+// a's star, so a breadth-first search from a's star that enters only tets
+// whose bounding box meets the box of that body finds every better vertex; h
+// only shrinks. The boxes are padded, so rounding only keeps too much; the
+// encroachment test itself is exact.
+VertexId SegmentRecovery::reference_point(VertexId a, VertexId b) {
+  const Vec pa = at(mesh_, a), pb = at(mesh_, b);
+  const double len = dist(pa, pb);
+  const double mid[3] = {0.5 * (pa.x + pb.x), 0.5 * (pa.y + pb.y), 0.5 * (pa.z + pb.z)};
+  const double seg_lo[3] = {std::min(pa.x, pb.x), std::min(pa.y, pb.y), std::min(pa.z, pb.z)};
+  const double seg_hi[3] = {std::max(pa.x, pb.x), std::max(pa.y, pb.y), std::max(pa.z, pb.z)};
+  double lo[3], hi[3];
+  auto set_box = [&](double reach) {
+    const double pad = 1e-9 * len + 1e-300;
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = std::max(mid[d] - 0.5 * len, seg_lo[d] - reach) - pad;
+      hi[d] = std::min(mid[d] + 0.5 * len, seg_hi[d] + reach) + pad;
+    }
+  };
+  set_box(0.5 * len);
+  VertexId best = kNone;
+  double best_r = -1;
+
+  double reach = 0.5 * len;
+  // Conservative test "tet t may meet the spindle": its bounding box meets
+  // the search box, and its bounding sphere (centroid, farthest vertex) comes
+  // within reach of the segment.
+  auto may_meet = [&](TetId t) {
+    if (mesh_.is_ghost(t)) return false;
+    Vec c = {0, 0, 0};
+    for (int d = 0; d < 3; ++d) {
+      double tlo = HUGE_VAL, thi = -HUGE_VAL;
+      for (int i = 0; i < 4; ++i) {
+        const double x = mesh_.point(mesh_.vertex(t, i))[d];
+        tlo = std::min(tlo, x), thi = std::max(thi, x);
+      }
+      if (tlo > hi[d] || thi < lo[d]) return false;
+    }
+    for (int i = 0; i < 4; ++i) {
+      const Vec p = at(mesh_, mesh_.vertex(t, i));
+      c = {c.x + 0.25 * p.x, c.y + 0.25 * p.y, c.z + 0.25 * p.z};
+    }
+    double rad = 0;
+    for (int i = 0; i < 4; ++i) rad = std::max(rad, dist(c, at(mesh_, mesh_.vertex(t, i))));
+    return distance_to_segment(c, pa, pb) - rad <= reach * (1 + 1e-9) + 1e-9 * len + 1e-300;
+  };
+  mesh_.vertex_star(a, star_);
+  const uint32_t epoch = mesh_.next_epoch();
+  stack_.clear();
+  for (TetId t : star_) {
+    mesh_.stamp(t, epoch);
+    stack_.push_back(t);
+  }
+  if (vertex_mark_.size() < mesh_.num_vertices()) vertex_mark_.resize(mesh_.num_vertices(), 0);
+  const uint32_t seen = epoch;  // vertex marks reuse the tet epoch counter
+  for (size_t k = 0; k < stack_.size(); ++k) {
+    const TetId t = stack_[k];
+    // Re-test: the spindle may have shrunk since t was queued.
+    if (!may_meet(t)) continue;
+    for (int i = 0; i < 4; ++i) {
+      const VertexId v = mesh_.vertex(t, i);
+      if (v != a && v != b && vertex_mark_[v] != seen) {
+        vertex_mark_[v] = seen;
+        // Encroaches: the angle avb is not acute, i.e. (a-v).(b-v) <= 0.
+        if (dot_sign(mesh_.point(a), mesh_.point(v), mesh_.point(b)) <= 0) {
+          const double rv = circumradius(pa, pb, at(mesh_, v));
+          if (rv > best_r || (rv == best_r && v < best)) {
+            best = v, best_r = rv;
+            reach = std::isinf(rv) ? 0 : rv - std::sqrt(std::max(0.0, rv * rv - 0.25 * len * len));
+            set_box(reach);
+          }
+        }
+      }
+    }
+    for (int i = 0; i < 4; ++i) {
+      const TetId n = mesh_.neighbor(t, i);
+      if (!mesh_.stamped(n, epoch)) {
+        mesh_.stamp(n, epoch);
+        if (may_meet(n)) stack_.push_back(n);
+      }
+    }
+  }
+  return best;
+}
+
+// Splits the missing subsegment (u, w) of input segment s by rule 1, 2 or 3.
+Status SegmentRecovery::split(uint32_t s, VertexId u, VertexId w) {
+  const VertexId s0 = segs_.input[s][0], s1 = segs_.input[s][1];
+  const bool acute0 = segs_.acute[s0] != 0, acute1 = segs_.acute[s1] != 0;
+
+  // §5: a segment with both ends acute becomes two type-2 segments by a
+  // vertex in between; we use its midpoint. Rounded to doubles (see
+  // insert_on_segment).
+  if (acute0 && acute1 && segs_.midpoint[s] == kNone) {
+    const Vec a = at(mesh_, s0), b = at(mesh_, s1);
+    const Vec mid = {0.5 * (a.x + b.x), 0.5 * (a.y + b.y), 0.5 * (a.z + b.z)};
+    return insert_on_segment(s, u, w, mid, 0.5, kNone, SplitRule::AcuteBoth);
+  }
+
+  // Orient the subsegment: e_i is the end nearer to the acute origin e_k.
+  VertexId origin = kNone;
+  if (acute0 && acute1) {
+    origin = param(s, u) + param(s, w) < 1.0 ? s0 : s1;  // which half of the midpoint split
+  } else if (acute0) {
+    origin = s0;
+  } else if (acute1) {
+    origin = s1;
+  }
+  VertexId ei = u, ej = w;
+  if (param(s, ei) > param(s, ej)) std::swap(ei, ej);  // now ei is nearer to s0
+  if (origin == s1) std::swap(ei, ej);
+
+  const VertexId p = reference_point(ei, ej);
+  if (p == kNone)
+    return segment_error(ErrorCode::Internal, segs_, s,
+                         "a missing subsegment has no encroaching vertex");
+  const Vec a = at(mesh_, ei), b = at(mesh_, ej), pp = at(mesh_, p);
+  const double len = dist(a, b);
+
+  if (origin == kNone) {
+    // Rule 1 (type-1): v = e_i e_j ∩ S(c, r).
+    const double dap = dist(a, pp), dbp = dist(b, pp);
+    double from_a;  // distance of v from e_i along e_i e_j
+    if (dap < 0.5 * len) {
+      from_a = dap;
+    } else if (dbp < 0.5 * len) {
+      from_a = len - dbp;
+    } else {
+      from_a = 0.5 * len;
+    }
+    const double f = from_a / len;
+    const Vec v = {a.x + f * (b.x - a.x), a.y + f * (b.y - a.y), a.z + f * (b.z - a.z)};
+    const double ti = param(s, ei), tj = param(s, ej);
+    return insert_on_segment(s, ei, ej, v, ti + f * (tj - ti), kNone, SplitRule::Rule1);
+  }
+
+  // Rules 2 and 3 (type-2): v on the ray from e_k = O(e_i) through e_j.
+  const Vec k = at(mesh_, origin);
+  const double lkj = dist(k, b);
+  const double tk = param(s, origin), tj = param(s, ej);
+  auto point_at = [&](double r) {
+    const double f = r / lkj;
+    return Vec{k.x + f * (b.x - k.x), k.y + f * (b.y - k.y), k.z + f * (b.z - k.z)};
+  };
+  const double r2 = dist(k, pp);
+  const Vec v2 = point_at(r2);
+  if (!(dist(v2, b) < dist(v2, pp))) {
+    return insert_on_segment(s, ei, ej, v2, tk + (r2 / lkj) * (tj - tk), origin, SplitRule::Rule2);
+  }
+  // Rule 3: v' = v2 was rejected.
+  const double dki = dist(k, a), div = dist(a, v2), dpv = dist(pp, v2);
+  const double r3 = dpv < 0.5 * div ? dki + div - dpv : dki + 0.5 * div;
+  return insert_on_segment(s, ei, ej, point_at(r3), tk + (r3 / lkj) * (tj - tk), origin,
+                           SplitRule::Rule3);
+}
+
+// Inserts the split point of subsegment (u, w) of segment s.
+//
+// Rounding: the point is computed in floating point and rounded to doubles,
+// so it lies near, not on, the segment's line. That is safe because (1) we
+// keep the intended parameter and the segment in a SegmentVertex, and the
+// chain order, not coordinates, says which vertices are on which segment;
+// (2) the Delaunay insertion uses exact predicates on the rounded point, so
+// D1 is exactly the Delaunay tetrahedralization of the vertices as stored;
+// (3) a rounded point that fails to land strictly between u and w (possible
+// only for subsegments a few ulps long) is replaced by the midpoint, and if
+// that too coincides with an end we stop with an error.
+Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Vec point,
+                                          double t, VertexId origin, SplitRule rule) {
+  std::vector<VertexId>& chain = segs_.chain[s];
+  if (chain.size() - 2 >= kMaxSplitsPerSegment)
+    return segment_error(ErrorCode::LimitReached, segs_, s,
+                         "more than " + std::to_string(kMaxSplitsPerSegment) +
+                             " splits; recovery does not terminate");
+  const Vec a = at(mesh_, u), b = at(mesh_, w);
+  auto strictly_between = [&](Vec v) {
+    return dot(sub(v, a), sub(b, a)) > 0 && dot(sub(v, b), sub(a, b)) > 0;
+  };
+  if (!strictly_between(point)) {
+    point = {0.5 * (a.x + b.x), 0.5 * (a.y + b.y), 0.5 * (a.z + b.z)};
+    t = 0.5 * (param(s, u) + param(s, w));
+    if (!strictly_between(point))
+      return segment_error(ErrorCode::LimitReached, segs_, s,
+                           "a subsegment is too short to split in double precision");
+  }
+
+  const double xyz[3] = {point.x, point.y, point.z};
+  InsertResult res;
+  Status st = inserter_.insert_point(xyz, mesh_.vtet[u], kVertexSteiner, &res);
+  if (!st.ok()) return st;
+  if (res.duplicate)
+    return segment_error(ErrorCode::InvalidPlc, segs_, s,
+                         "vertex " + std::to_string(res.vertex) + " lies on the segment");
+
+  // Keep the chain ordered from the segment's first to its second endpoint.
+  const long iu = chain_position(s, u), iw = chain_position(s, w);
+  chain.insert(chain.begin() + std::max(iu, iw), res.vertex);
+
+  if (segs_.steiner_of.size() <= res.vertex) segs_.steiner_of.resize(res.vertex + 1, kNone);
+  segs_.steiner_of[res.vertex] = static_cast<uint32_t>(segs_.steiner.size());
+  segs_.steiner.push_back({res.vertex, s, t, origin, rule});
+  if (rule == SplitRule::AcuteBoth) segs_.midpoint[s] = res.vertex;
+  switch (rule) {
+    case SplitRule::Rule1: ++stats_.rule1; break;
+    case SplitRule::Rule2: ++stats_.rule2; break;
+    case SplitRule::Rule3: ++stats_.rule3; break;
+    case SplitRule::AcuteBoth: ++stats_.acute_both; break;
+    case SplitRule::Protect: break;
+  }
+  stats_.max_splits = std::max(stats_.max_splits, chain.size() - 2);
+  return {};
+}
+
+// Position of v in the chain of segment s, or -1. Chains are ordered by
+// parameter, so a binary search finds the spot; equal parameters (possible
+// only after rounding on extremely short subsegments) fall back to a scan.
+long SegmentRecovery::chain_position(uint32_t s, VertexId v) const {
+  const std::vector<VertexId>& chain = segs_.chain[s];
+  const double t = param(s, v);
+  size_t lo = 0, hi = chain.size();
+  while (lo < hi) {
+    const size_t m = (lo + hi) / 2;
+    if (param(s, chain[m]) < t) lo = m + 1; else hi = m;
+  }
+  for (size_t i = lo; i < chain.size() && param(s, chain[i]) == t; ++i)
+    if (chain[i] == v) return static_cast<long>(i);
+  auto it = std::find(chain.begin(), chain.end(), v);
+  return it == chain.end() ? -1 : static_cast<long>(it - chain.begin());
+}
+
+// After inserting v, pushes every subsegment the insertion destroyed. The
+// Bowyer–Watson insertion creates only edges at v and deletes only edges
+// between vertices of its cavity, all of which are vertices of the new tets;
+// an edge between two of them survives if it lies on the cavity boundary (an
+// edge of a new tet not at v) or outside the cavity (find_edge decides).
+void SegmentRecovery::queue_destroyed(VertexId v, std::vector<std::array<uint32_t, 3>>& queue) {
+  const std::vector<TetId>& created = inserter_.new_tets();
+  ring_.clear();
+  ring_edges_.clear();
+  for (TetId t : created) {
+    VertexId w[3];
+    int n = 0;
+    for (int i = 0; i < 4; ++i) {
+      const VertexId x = mesh_.vertex(t, i);
+      if (x != v) w[n++] = x;
+    }
+    for (int i = 0; i < 3; ++i) {
+      if (w[i] != kInfinite) ring_.push_back(w[i]);
+      const VertexId x = w[i], y = w[(i + 1) % 3];
+      ring_edges_.push_back(x < y ? std::array<VertexId, 2>{x, y} : std::array<VertexId, 2>{y, x});
+    }
+  }
+  std::sort(ring_.begin(), ring_.end());
+  ring_.erase(std::unique(ring_.begin(), ring_.end()), ring_.end());
+  std::sort(ring_edges_.begin(), ring_edges_.end());
+  auto in_ring = [&](VertexId x) { return std::binary_search(ring_.begin(), ring_.end(), x); };
+
+  for (VertexId u : ring_) {
+    auto check = [&](uint32_t s) {
+      const long i = chain_position(s, u);
+      if (i < 0) return;
+      const std::vector<VertexId>& chain = segs_.chain[s];
+      for (long j : {i - 1, i + 1}) {
+        if (j < 0 || j >= static_cast<long>(chain.size())) continue;
+        const VertexId w = chain[j];
+        if (w == v || u > w || !in_ring(w)) continue;  // each pair once (u < w)
+        if (std::binary_search(ring_edges_.begin(), ring_edges_.end(), std::array<VertexId, 2>{u, w}))
+          continue;
+        if (mesh_.find_edge(u, w) == kNone) queue.push_back({u, w, s});
+      }
+    };
+    if (const SegmentVertex* sv = segs_.on_segment(u)) {
+      check(sv->segment);
+    } else if (u + 1 < incident_start_.size()) {
+      for (uint32_t k = incident_start_[u]; k < incident_start_[u + 1]; ++k) check(incident_[k]);
+    }
+  }
+}
+
+Status SegmentRecovery::run(const volatile bool* cancel) {
+  // Segments incident to each input vertex (CSR), for queue_destroyed.
+  const size_t nv = segs_.acute.size();
+  incident_start_.assign(nv + 1, 0);
+  for (const auto& e : segs_.input) ++incident_start_[e[0] + 1], ++incident_start_[e[1] + 1];
+  for (size_t v = 0; v < nv; ++v) incident_start_[v + 1] += incident_start_[v];
+  incident_.resize(incident_start_[nv]);
+  std::vector<uint32_t> fill(incident_start_.begin(), incident_start_.end() - 1);
+  for (uint32_t s = 0; s < segs_.input.size(); ++s)
+    for (VertexId e : segs_.input[s]) incident_[fill[e]++] = s;
+
+  // The repeat loop of the pseudo-code. Missing subsegments stay missing
+  // until split (insertions add edges only at the new vertex), and every
+  // subsegment an insertion destroys is queued again by queue_destroyed, so
+  // the second scan normally finds nothing; it is the loop's exit test.
+  std::vector<std::array<uint32_t, 3>> queue;
+  for (;;) {
+    missing_subsegments(mesh_, segs_, queue);
+    if (stats_.rounds == 0) stats_.missing_initially = queue.size();
+    if (queue.empty()) return {};
+    ++stats_.rounds;
+    for (size_t k = 0; k < queue.size(); ++k) {
+      if (cancel && *cancel) {
+        Status st;
+        st.error.code = ErrorCode::Cancelled;
+        st.error.message = "segment recovery cancelled";
+        return st;
+      }
+      const auto [u, w, s] = queue[k];
+      const long iu = chain_position(s, u), iw = chain_position(s, w);
+      if (iu < 0 || iw < 0 || (iu + 1 != iw && iw + 1 != iu)) continue;  // already split
+      Status st = split(s, u, w);
+      if (!st.ok()) return st;
+      const VertexId v = segs_.steiner.back().vertex;
+      queue_destroyed(v, queue);
+      // The two halves: v's neighbours are exactly the vertices of the new tets.
+      for (VertexId x : {u, w})
+        if (!std::binary_search(ring_.begin(), ring_.end(), x))
+          queue.push_back({std::min(x, v), std::max(x, v), s});
+    }
+  }
+}
+
+}  // namespace
+
+size_t SegmentSet::num_subsegments() const {
+  size_t n = 0;
+  for (const auto& c : chain) n += c.size() - 1;
+  return n;
+}
+
+void SegmentSet::subsegments(std::vector<std::array<uint32_t, 3>>& out) const {
+  out.clear();
+  for (uint32_t s = 0; s < chain.size(); ++s)
+    for (size_t i = 0; i + 1 < chain[s].size(); ++i) out.push_back({chain[s][i], chain[s][i + 1], s});
+}
+
+void init_segments(const Plc& plc, SegmentSet& segs) {
+  segs = SegmentSet();
+  segs.input = plc_segments(plc);
+  segs.chain.reserve(segs.input.size());
+  for (const auto& e : segs.input) segs.chain.push_back({e[0], e[1]});
+  segs.midpoint.assign(segs.input.size(), kNone);
+
+  // Acute vertices (§5): two incident segments at an angle below 90°, i.e. a
+  // positive dot product of their directions (exact sign).
+  std::vector<std::vector<VertexId>> nbr(plc.points.size());
+  for (const auto& e : segs.input) {
+    nbr[e[0]].push_back(e[1]);
+    nbr[e[1]].push_back(e[0]);
+  }
+  segs.acute.assign(plc.points.size(), 0);
+  for (VertexId v = 0; v < nbr.size(); ++v) {
+    const double* pv = &plc.points[v].x;
+    const auto& n = nbr[v];
+    for (size_t i = 0; i < n.size() && !segs.acute[v]; ++i)
+      for (size_t j = i + 1; j < n.size(); ++j)
+        if (dot_sign(&plc.points[n[i]].x, pv, &plc.points[n[j]].x) > 0) {
+          segs.acute[v] = 1;
+          break;
+        }
+  }
+}
+
+void missing_subsegments(TetMesh& mesh, const SegmentSet& segs,
+                         std::vector<std::array<uint32_t, 3>>& out) {
+  out.clear();
+  for (uint32_t s = 0; s < segs.chain.size(); ++s) {
+    const auto& c = segs.chain[s];
+    for (size_t i = 0; i + 1 < c.size(); ++i)
+      if (mesh.find_edge(c[i], c[i + 1]) == kNone) out.push_back({c[i], c[i + 1], s});
+  }
+}
+
+Status recover_segments(TetMesh& mesh, SegmentSet& segs, SegmentRecoveryStats* stats,
+                        const volatile bool* cancel) {
+  SegmentRecoveryStats local;
+  SegmentRecoveryStats& st = stats ? *stats : local;
+  st = SegmentRecoveryStats();
+  st.segments = segs.input.size();
+  for (uint8_t a : segs.acute) st.acute_vertices += a;
+  SegmentRecovery rec(mesh, segs, st);
+  return rec.run(cancel);
+}
+
+}  // namespace cdt3d

@@ -1,0 +1,87 @@
+// Step 2 (Si & Gärtner 2005 §5): make every segment of the PLC an edge of the
+// Delaunay tetrahedralization by splitting missing segments with rules 1–3.
+// The result D1 is still Delaunay (points are inserted by Bowyer–Watson) and
+// X1 is recorded here: every input segment as a chain of vertices.
+#pragma once
+
+#include <cdt3d/cdt3d.hpp>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "tet_mesh.hpp"
+
+namespace cdt3d {
+
+/// How a Steiner point on a segment was placed.
+enum class SplitRule : uint8_t {
+  Rule1 = 1,      ///< type-1 segment (§5 rule 1)
+  Rule2 = 2,      ///< type-2 segment, sphere around the acute vertex (rule 2)
+  Rule3 = 3,      ///< type-2 segment after rule 2 was rejected (rule 3)
+  AcuteBoth = 4,  ///< midpoint of a segment whose two ends are acute (§5)
+  Protect = 5,    ///< boundary protection point (step 3, §6)
+};
+
+/// What is known about a Steiner vertex that lies on an input segment. Its
+/// coordinates are rounded to doubles, so it is not exactly on the segment's
+/// line; every later decision about "which segment is this vertex on" uses
+/// this record, never coordinates.
+struct SegmentVertex {
+  VertexId vertex = kNone;
+  uint32_t segment = 0;   ///< input segment (index into SegmentSet::input)
+  double t = 0;           ///< intended parameter in (0, 1) from input[segment][0]
+  VertexId origin = kNone;  ///< O(v): the acute vertex of a type-2 split, else kNone
+  SplitRule rule = SplitRule::Rule1;
+};
+
+/// The segments of X1: each input segment of plc_segments() order and the
+/// vertices now on it, ordered from its first to its second endpoint.
+struct SegmentSet {
+  std::vector<std::array<VertexId, 2>> input;
+  std::vector<std::vector<VertexId>> chain;  ///< per input segment, >= 2 vertices
+  std::vector<uint8_t> acute;                ///< per PLC point: acute vertex (§5)
+  std::vector<VertexId> midpoint;            ///< per input segment: AcuteBoth split, or kNone
+  std::vector<SegmentVertex> steiner;        ///< Steiner vertices on segments, in insertion order
+  std::vector<uint32_t> steiner_of;          ///< per mesh vertex: index into steiner, or kNone
+
+  /// The record of vertex v if it is a Steiner vertex on a segment, else null.
+  const SegmentVertex* on_segment(VertexId v) const {
+    return v < steiner_of.size() && steiner_of[v] != kNone ? &steiner[steiner_of[v]] : nullptr;
+  }
+
+  /// Number of current subsegments.
+  size_t num_subsegments() const;
+  /// All current subsegments as (a, b, input segment).
+  void subsegments(std::vector<std::array<uint32_t, 3>>& out) const;
+};
+
+struct SegmentRecoveryStats {
+  size_t segments = 0;         ///< input segments
+  size_t acute_vertices = 0;
+  size_t missing_initially = 0;  ///< segments missing from D0
+  size_t rule1 = 0, rule2 = 0, rule3 = 0, acute_both = 0;
+  size_t max_splits = 0;       ///< largest number of points added on one input segment
+  size_t rounds = 0;           ///< passes of the outer repeat loop
+  size_t points() const { return rule1 + rule2 + rule3 + acute_both; }
+};
+
+/// Builds the SegmentSet of `plc` (all segments unsplit) and marks acute
+/// vertices: a vertex is acute when two of its segments meet at an angle
+/// smaller than 90° (exact sign of the dot product).
+void init_segments(const Plc& plc, SegmentSet& segs);
+
+/// Recovers every segment of `segs` in `mesh`, a Delaunay tetrahedralization
+/// whose vertex i is PLC point i (§5, "Delaunay segments recovery"). Inserted
+/// vertices get kind kVertexSteiner and a SegmentVertex record.
+/// Errors: InvalidPlc when a vertex lies on a segment (the split point would
+/// coincide with it), LimitReached when one segment needs too many splits,
+/// Cancelled when *cancel becomes true. Errors name the segment.
+Status recover_segments(TetMesh& mesh, SegmentSet& segs, SegmentRecoveryStats* stats = nullptr,
+                        const volatile bool* cancel = nullptr);
+
+/// Subsegments of `segs` that are not edges of `mesh` (a, b, input segment).
+void missing_subsegments(TetMesh& mesh, const SegmentSet& segs,
+                         std::vector<std::array<uint32_t, 3>>& out);
+
+}  // namespace cdt3d

@@ -1,0 +1,46 @@
+// Insertion order for incremental Delaunay: biased randomized insertion order
+// (BRIO, Amenta–Choi–Rote 2003) with Hilbert order inside each round.
+// Deterministic: own PRNG, ties broken by vertex id; same order on every
+// platform and standard library.
+#pragma once
+
+#include <cdt3d/cdt3d.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace cdt3d {
+
+/// splitmix64 (Steele, Lea, Flood 2014): small, fast, identical everywhere.
+struct Rng {
+  uint64_t state;
+  explicit Rng(uint64_t seed = 0x243f6a8885a308d3ull) : state(seed) {}
+  uint64_t next() {
+    uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+  }
+  /// Uniform-enough integer in [0, n) (multiply-shift; n < 2^32).
+  uint32_t below(uint32_t n) {
+    return static_cast<uint32_t>(((next() >> 32) * static_cast<uint64_t>(n)) >> 32);
+  }
+};
+
+/// Position of the integer point (x, y, z), each < 2^bits, along the 3D
+/// Hilbert curve of order `bits` (bits <= 21): a 3*bits-bit key.
+uint64_t hilbert_key(uint32_t x, uint32_t y, uint32_t z, int bits);
+
+/// Sorts vertex ids in place along the Hilbert curve of the bounding cube of
+/// the given vertices (ties by id).
+void hilbert_sort(const double* coords, VertexId* first, VertexId* last);
+
+/// BRIO order of `vertices`: a seeded shuffle splits them into rounds whose
+/// sizes grow geometrically (each round about 1/ratio = 4 times the previous
+/// one, the first at most ~1000 points); each round is sorted along one
+/// Hilbert curve over the bounding cube of all the vertices.
+void brio_order(const double* coords, const std::vector<VertexId>& vertices, uint64_t seed,
+                std::vector<VertexId>& order);
+
+}  // namespace cdt3d

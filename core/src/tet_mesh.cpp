@@ -1,0 +1,229 @@
+// TetMesh storage helpers: slot allocation, epochs, star traversal, edge and
+// face lookup, compaction and export. See tet_mesh.hpp for the invariants.
+#include "tet_mesh.hpp"
+
+#include <algorithm>
+
+namespace cdt3d {
+
+namespace {
+
+// Grows a vector's capacity by 1.25x when full: with ~100 MB arrays the
+// standard library's 2x growth would double the peak memory for a moment.
+template <typename T>
+void grow_gently(std::vector<T>& v, size_t extra) {
+  if (v.size() + extra > v.capacity()) {
+    size_t want = v.capacity() + v.capacity() / 4 + extra + 64;
+    v.reserve(want);
+  }
+}
+
+}  // namespace
+
+size_t TetMesh::num_real_tets() const {
+  size_t n = 0;
+  const size_t slots = num_tet_slots();
+  for (size_t t = 0; t < slots; ++t)
+    if (!(tflag[t] & kTetDead) && tv[4 * t + 3] != kInfinite) ++n;
+  return n;
+}
+
+size_t TetMesh::num_ghost_tets() const {
+  size_t n = 0;
+  const size_t slots = num_tet_slots();
+  for (size_t t = 0; t < slots; ++t)
+    if (!(tflag[t] & kTetDead) && tv[4 * t + 3] == kInfinite) ++n;
+  return n;
+}
+
+void TetMesh::clear() {
+  coords.clear();
+  vkind.clear();
+  vtet.clear();
+  tv.clear();
+  tadj.clear();
+  tstamp.clear();
+  tflag.clear();
+  free_tets.clear();
+  epoch = 0;
+  live_tets = 0;
+}
+
+void TetMesh::reserve(size_t vertices, size_t tets) {
+  coords.reserve(3 * vertices);
+  vkind.reserve(vertices);
+  vtet.reserve(vertices);
+  tv.reserve(4 * tets);
+  tadj.reserve(4 * tets);
+  tstamp.reserve(tets);
+  tflag.reserve(tets);
+}
+
+VertexId TetMesh::add_vertex(const double* xyz, uint8_t kind) {
+  grow_gently(coords, 3);
+  grow_gently(vkind, 1);
+  grow_gently(vtet, 1);
+  const VertexId v = static_cast<VertexId>(num_vertices());
+  coords.push_back(xyz[0]);
+  coords.push_back(xyz[1]);
+  coords.push_back(xyz[2]);
+  vkind.push_back(kind);
+  vtet.push_back(kNone);
+  return v;
+}
+
+TetId TetMesh::alloc_tet() {
+  ++live_tets;
+  if (!free_tets.empty()) {
+    const TetId t = free_tets.back();
+    free_tets.pop_back();
+    tflag[t] = 0;
+    return t;
+  }
+  grow_gently(tv, 4);
+  grow_gently(tadj, 4);
+  grow_gently(tstamp, 1);
+  grow_gently(tflag, 1);
+  const TetId t = static_cast<TetId>(num_tet_slots());
+  tv.resize(tv.size() + 4, kNone);
+  tadj.resize(tadj.size() + 4, kNone);
+  tstamp.push_back(0);
+  tflag.push_back(0);
+  return t;
+}
+
+void TetMesh::free_tet(TetId t) {
+  --live_tets;
+  tflag[t] = kTetDead;
+  free_tets.push_back(t);
+}
+
+uint32_t TetMesh::next_epoch() {
+  if (epoch == 0xffffffffu) {  // wrapped: forget every old stamp
+    std::fill(tstamp.begin(), tstamp.end(), 0u);
+    epoch = 0;
+  }
+  return ++epoch;
+}
+
+void TetMesh::vertex_star(VertexId v, std::vector<TetId>& out) {
+  out.clear();
+  if (v >= num_vertices() || vtet[v] == kNone) return;
+  const uint32_t e = next_epoch();
+  out.push_back(vtet[v]);
+  stamp(vtet[v], e);
+  // Breadth-first over the tets around v: cross only faces containing v.
+  for (size_t k = 0; k < out.size(); ++k) {
+    const TetId t = out[k];
+    const int iv = index_in_tet(t, v);
+    for (int i = 0; i < 4; ++i) {
+      if (i == iv) continue;
+      const TetId n = neighbor(t, i);
+      if (!stamped(n, e)) {
+        stamp(n, e);
+        out.push_back(n);
+      }
+    }
+  }
+}
+
+void TetMesh::vertex_neighbors(VertexId v, std::vector<VertexId>& out) {
+  std::vector<TetId> star;
+  vertex_star(v, star);
+  out.clear();
+  for (TetId t : star)
+    for (int i = 0; i < 4; ++i) {
+      const VertexId w = vertex(t, i);
+      if (w != v && w != kInfinite) out.push_back(w);
+    }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+TetId TetMesh::find_edge(VertexId a, VertexId b) {
+  if (a == kInfinite) std::swap(a, b);
+  if (a >= num_vertices() || vtet[a] == kNone || a == b) return kNone;
+  // Star walk as in vertex_star, stopping at the first tet containing b.
+  const uint32_t e = next_epoch();
+  std::vector<TetId> queue;
+  queue.push_back(vtet[a]);
+  stamp(vtet[a], e);
+  for (size_t k = 0; k < queue.size(); ++k) {
+    const TetId t = queue[k];
+    if (index_in_tet(t, b) >= 0) return t;
+    const int ia = index_in_tet(t, a);
+    for (int i = 0; i < 4; ++i) {
+      if (i == ia) continue;
+      const TetId n = neighbor(t, i);
+      if (!stamped(n, e)) {
+        stamp(n, e);
+        queue.push_back(n);
+      }
+    }
+  }
+  return kNone;
+}
+
+HalfFace TetMesh::find_face(VertexId a, VertexId b, VertexId c) {
+  if (a == kInfinite) std::swap(a, c);
+  if (a >= num_vertices() || vtet[a] == kNone) return kNone;
+  std::vector<TetId> star;
+  vertex_star(a, star);
+  for (TetId t : star) {
+    const int ib = index_in_tet(t, b), ic = index_in_tet(t, c);
+    if (ib < 0 || ic < 0) continue;
+    const int ia = index_in_tet(t, a);
+    return make_hf(t, 6 - ia - ib - ic);
+  }
+  return kNone;
+}
+
+void TetMesh::compact() {
+  const size_t slots = num_tet_slots();
+  std::vector<TetId> remap(slots, kNone);
+  TetId next = 0;
+  for (size_t t = 0; t < slots; ++t)
+    if (!(tflag[t] & kTetDead)) remap[t] = next++;
+  for (size_t t = 0; t < slots; ++t) {
+    const TetId nt = remap[t];
+    if (nt == kNone) continue;
+    for (int i = 0; i < 4; ++i) {
+      const HalfFace hf = tadj[4 * t + i];
+      tv[4 * static_cast<size_t>(nt) + i] = tv[4 * t + i];
+      tadj[4 * static_cast<size_t>(nt) + i] = make_hf(remap[hf_tet(hf)], hf_face(hf));
+    }
+    tstamp[nt] = tstamp[t];
+    tflag[nt] = tflag[t];
+  }
+  tv.resize(4 * static_cast<size_t>(next));
+  tadj.resize(4 * static_cast<size_t>(next));
+  tstamp.resize(next);
+  tflag.resize(next);
+  free_tets.clear();
+  for (TetId& t : vtet)
+    if (t != kNone) t = remap[t];
+  live_tets = next;
+}
+
+void TetMesh::real_tets(std::vector<uint32_t>& out) const {
+  out.clear();
+  const size_t slots = num_tet_slots();
+  for (size_t t = 0; t < slots; ++t)
+    if (!(tflag[t] & kTetDead) && tv[4 * t + 3] != kInfinite)
+      out.insert(out.end(), tv.begin() + 4 * t, tv.begin() + 4 * t + 4);
+}
+
+void TetMesh::hull_faces(std::vector<uint32_t>& out) const {
+  out.clear();
+  const size_t slots = num_tet_slots();
+  for (size_t t = 0; t < slots; ++t) {
+    if ((tflag[t] & kTetDead) || tv[4 * t + 3] != kInfinite) continue;
+    // Face 3 of a ghost is counterclockwise seen from inside the hull;
+    // reverse it to face outward.
+    out.push_back(tv[4 * t + 0]);
+    out.push_back(tv[4 * t + 2]);
+    out.push_back(tv[4 * t + 1]);
+  }
+}
+
+}  // namespace cdt3d

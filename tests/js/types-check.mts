@@ -1,0 +1,78 @@
+// Compiled (never run) by types.test.mjs with `tsc --noEmit --strict`: uses
+// every declaration of wasm/cdt3d.d.ts through the package name, and checks
+// that misuse is rejected (@ts-expect-error fails the build when no error).
+import { createCdt3d, Cdt3dError } from 'cdt3d';
+import type {
+  Bytes,
+  Cdt3d,
+  Cdt3dErrorCode,
+  Cdt3dErrorJSON,
+  Cdt3dErrorLocation,
+  CreateCdt3dOptions,
+  MemoryUsage,
+  PlcInfo,
+} from 'cdt3d';
+
+const options: CreateCdt3dOptions = {
+  wasmBinary: new Uint8Array(8),
+  locateFile: (path: string, prefix: string) => prefix + path,
+};
+const cdt: Cdt3d = await createCdt3d();
+await createCdt3d(options);
+await createCdt3d({ wasmBinary: new ArrayBuffer(8) });
+
+const version: string = cdt.version;
+const codes: readonly Cdt3dErrorCode[] = cdt.errorCodes;
+
+const inputs: Bytes[] = [new Uint8Array(4), new ArrayBuffer(4), new DataView(new ArrayBuffer(4)), new SharedArrayBuffer(4)];
+for (const bytes of inputs) {
+  const info: PlcInfo = cdt.readPlc(bytes, 'model.off');
+  const file: string = info.file;
+  const counts: number[] = [
+    info.fileVertices, info.points, info.welded, info.unreferenced, info.facets, info.triangles,
+    info.loops, info.segments, info.holes, info.regions,
+  ];
+  const [x, y, z]: [number, number, number] = info.bboxMin;
+  const max: readonly number[] = info.bboxMax;
+  void [file, counts, x, y, z, max];
+}
+
+const memory: MemoryUsage = cdt.memoryUsage();
+const heap: number = memory.heapBytes + memory.allocatedBytes;
+
+try {
+  cdt.readPlc(new Uint8Array(0), 'empty.stl');
+} catch (e) {
+  if (e instanceof Cdt3dError) {
+    const code: Cdt3dErrorCode = e.code;
+    const where: Cdt3dErrorLocation = e;
+    const json: Cdt3dErrorJSON = e.toJSON();
+    const message: string = e.message;
+    const n: number = e.line + e.record + e.facet + e.vertex + e.otherFacet;
+    const rebuilt = new Cdt3dError(json.code, json.message, json);
+    const base: Error = rebuilt;
+    void [code, where, message, n, base, where.file];
+  }
+}
+new Cdt3dError('parse', 'Bad token.');
+new Cdt3dError('internal', 'outer', { line: 3, cause: new Error('inner') });
+
+// Misuse the declarations must reject.
+// @ts-expect-error bytes must be binary data
+cdt.readPlc('solid x', 'x.stl');
+// @ts-expect-error the file name is required
+cdt.readPlc(new Uint8Array(4));
+// @ts-expect-error the file name is a string
+cdt.readPlc(new Uint8Array(4), 3);
+// @ts-expect-error not an error code
+new Cdt3dError('no-such-code', 'x');
+// @ts-expect-error version is read-only
+cdt.version = '1';
+// @ts-expect-error no such field
+cdt.readPlc(new Uint8Array(4), 'a.off').tetrahedra;
+// @ts-expect-error wasmBinary is bytes
+await createCdt3d({ wasmBinary: 'cdt3d.wasm' });
+// @ts-expect-error createCdt3d is async
+const notYet: Cdt3d = createCdt3d();
+
+void [version, codes, heap, notYet];
