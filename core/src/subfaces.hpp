@@ -1,0 +1,33 @@
+// The subfaces of X1/X2 (Si & Gärtner 2005 §2, §7): every facet of the PLC as
+// a 2D constrained Delaunay triangulation of its vertices — its loop
+// vertices, the Steiner vertices now on its boundary segments, and vertices
+// added inside it — respecting its loops and holes.
+#pragma once
+
+#include <cdt3d/cdt3d.hpp>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "segment_recovery.hpp"
+#include "tet_mesh.hpp"
+
+namespace cdt3d {
+
+struct Subfaces {
+  std::vector<std::array<VertexId, 3>> tri;  ///< mesh vertex ids
+  std::vector<uint32_t> facet;               ///< input facet index per subface
+};
+
+/// Triangulates every facet of `plc` (facet_triangulate.cpp). Loop edges are
+/// replaced by the chains of `segs` (a loop edge (a, b) is input segment s
+/// with chain a ... b or b ... a). `interior[f]` (optional, may be shorter
+/// than the facet count) lists mesh vertices lying inside facet f (isolated
+/// points of a .poly facet, protecting points of step 3). Coordinates come
+/// from `mesh`. Decisions use exact orientation tests in the coordinate plane
+/// that drops the largest component of the facet normal.
+Status triangulate_facets(const Plc& plc, const SegmentSet& segs, const TetMesh& mesh,
+                          const std::vector<std::vector<VertexId>>& interior, Subfaces& out);
+
+}  // namespace cdt3d
