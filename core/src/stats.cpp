@@ -1,0 +1,78 @@
+// Quality statistics: dihedral angles and radius-edge ratios of the output
+// tets, as TetGen and Gmsh users expect to see them. Floating point only:
+// these numbers are reported, never used to decide anything.
+#include "stats.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cdt3d {
+
+namespace {
+
+struct V3 {
+  double x, y, z;
+};
+V3 sub(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+V3 cross(V3 a, V3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
+double dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+double norm(V3 a) { return std::sqrt(dot(a, a)); }
+
+// Upper bounds of the radius-edge histogram bins (the last bin is open).
+constexpr double kRatioBins[9] = {1, 1.5, 2, 3, 5, 10, 20, 50, 100};
+
+}  // namespace
+
+void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
+  const double pi = 3.14159265358979323846;
+  double min_dihedral = 180, max_dihedral = 0;
+  stats.radius_edge_histogram.fill(0);
+  const size_t n = mesh.tets.size() / 4;
+  for (size_t t = 0; t < n; ++t) {
+    V3 p[4];
+    for (int i = 0; i < 4; ++i) {
+      const double* c = &mesh.points[3 * static_cast<size_t>(mesh.tets[4 * t + i])];
+      p[i] = {c[0], c[1], c[2]};
+    }
+    // Face normals (face i opposite vertex i), all pointing outward or all
+    // inward: the dihedral angle at the edge shared by faces i and j is
+    // pi minus the angle between their normals.
+    V3 nrm[4];
+    for (int i = 0; i < 4; ++i) {
+      const V3 a = p[(i + 1) % 4], b = p[(i + 2) % 4], c = p[(i + 3) % 4];
+      V3 m = cross(sub(b, a), sub(c, a));
+      if (dot(m, sub(p[i], a)) > 0) m = {-m.x, -m.y, -m.z};  // outward
+      nrm[i] = m;
+    }
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) {
+        const double d = norm(nrm[i]) * norm(nrm[j]);
+        if (d == 0) continue;
+        const double c = std::max(-1.0, std::min(1.0, dot(nrm[i], nrm[j]) / d));
+        const double angle = 180 - std::acos(c) * 180 / pi;
+        min_dihedral = std::min(min_dihedral, angle);
+        max_dihedral = std::max(max_dihedral, angle);
+      }
+    // Radius-edge ratio: circumradius over the shortest edge.
+    const V3 a = sub(p[0], p[3]), b = sub(p[1], p[3]), c = sub(p[2], p[3]);
+    const double det = dot(a, cross(b, c));
+    double shortest = HUGE_VAL;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) shortest = std::min(shortest, norm(sub(p[i], p[j])));
+    double ratio = HUGE_VAL;
+    if (det != 0 && shortest > 0) {
+      const V3 bc = cross(b, c), ca = cross(c, a), ab = cross(a, b);
+      const double la = dot(a, a), lb = dot(b, b), lc = dot(c, c);
+      const V3 num = {la * bc.x + lb * ca.x + lc * ab.x, la * bc.y + lb * ca.y + lc * ab.y,
+                      la * bc.z + lb * ca.z + lc * ab.z};
+      ratio = norm(num) / (2 * std::fabs(det)) / shortest;
+    }
+    size_t bin = 0;
+    while (bin < 9 && ratio >= kRatioBins[bin]) ++bin;
+    ++stats.radius_edge_histogram[bin];
+  }
+  stats.min_dihedral = n ? min_dihedral : 0;
+  stats.max_dihedral = n ? max_dihedral : 0;
+}
+
+}  // namespace cdt3d
