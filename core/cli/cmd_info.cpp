@@ -4,12 +4,11 @@
 // message (Error::to_string) goes to stderr. --json prints exactly one JSON
 // object on stdout in both cases, with the field names of the WASM readPlc()
 // result. Exit codes: 0 success, 1 input error, 2 usage error.
+#include <cdt3d/cdt3d.hpp>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <string>
-
-#include <cdt3d/cdt3d.hpp>
 
 #include "cli.hpp"
 
@@ -27,14 +26,22 @@ void info_usage(std::FILE* out) {
 
 const char* format_name(FileFormat f) {
   switch (f) {
-    case FileFormat::Stl: return "STL";
-    case FileFormat::Off: return "OFF";
-    case FileFormat::Obj: return "OBJ";
-    case FileFormat::Ply: return "PLY";
-    case FileFormat::Poly: return "TetGen .poly";
-    case FileFormat::Smesh: return "TetGen .smesh";
-    case FileFormat::Node: return "TetGen .node";
-    case FileFormat::Unknown: break;
+    case FileFormat::Stl:
+      return "STL";
+    case FileFormat::Off:
+      return "OFF";
+    case FileFormat::Obj:
+      return "OBJ";
+    case FileFormat::Ply:
+      return "PLY";
+    case FileFormat::Poly:
+      return "TetGen .poly";
+    case FileFormat::Smesh:
+      return "TetGen .smesh";
+    case FileFormat::Node:
+      return "TetGen .node";
+    case FileFormat::Unknown:
+      break;
   }
   return "unknown";
 }
@@ -44,11 +51,21 @@ std::string json_string(const std::string& s) {
   for (char ch : s) {
     const unsigned char c = static_cast<unsigned char>(ch);
     switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\r': out += "\\r"; break;
-      case '\t': out += "\\t"; break;
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
       default:
         if (c < 0x20 || c == 0x7f) {
           char buf[8];
@@ -77,9 +94,9 @@ void print_json_error(const Error& e) {
       "{\"ok\":false,\"error\":{\"code\":%s,\"message\":%s,\"file\":%s,\"line\":%lld,"
       "\"record\":%lld,\"facet\":%lld,\"vertex\":%lld,\"otherFacet\":%lld}}\n",
       json_string(error_code_name(e.code)).c_str(), json_string(e.message).c_str(),
-      json_string(e.file).c_str(), static_cast<long long>(e.line),
-      static_cast<long long>(e.record), static_cast<long long>(e.facet),
-      static_cast<long long>(e.vertex), static_cast<long long>(e.other_facet));
+      json_string(e.file).c_str(), static_cast<long long>(e.line), static_cast<long long>(e.record),
+      static_cast<long long>(e.facet), static_cast<long long>(e.vertex),
+      static_cast<long long>(e.other_facet));
 }
 
 void print_json_info(const Plc& plc, const PlcInfo& info) {

@@ -1,11 +1,10 @@
 // PLC entry points: format detection by extension, read_plc dispatch (then
 // check_plc), reading a file from disk, and the summary used by `cdt3d info`.
 #include <algorithm>
+#include <cdt3d/cdt3d.hpp>
 #include <cstdio>
 #include <exception>
 #include <new>
-
-#include <cdt3d/cdt3d.hpp>
 
 #include "io/read_common.hpp"
 
@@ -40,7 +39,15 @@ Status dispatch(const uint8_t* data, size_t size, const std::string& file_name, 
     data = &kNothing;
     size = 0;
   }
-  switch (format_from_name(file_name)) {
+  const FileFormat format = format_from_name(file_name);
+  // A UTF-8 byte order mark before a text format is not content. (A binary
+  // STL header may hold any bytes: read_stl handles its own case.)
+  if (format != FileFormat::Stl && size >= 3 && data[0] == 0xEF && data[1] == 0xBB &&
+      data[2] == 0xBF) {
+    data += 3;
+    size -= 3;
+  }
+  switch (format) {
     case FileFormat::Stl:
       return io::read_stl(data, size, file_name, out);
     case FileFormat::Off:
@@ -90,8 +97,7 @@ Status read_plc(const uint8_t* data, size_t size, const std::string& file_name, 
     return io::fail(ErrorCode::OutOfMemory, "Out of memory while reading the file.", file_name);
   } catch (const std::exception& e) {
     out = Plc();
-    return io::fail(ErrorCode::Internal, std::string("Unexpected failure: ") + e.what(),
-                    file_name);
+    return io::fail(ErrorCode::Internal, std::string("Unexpected failure: ") + e.what(), file_name);
   }
 #else
   return read_and_check(data, size, file_name, out);

@@ -4,12 +4,11 @@
 // duplicate facets, proper explicit segments. The first problem found is
 // reported, naming the facet and its source line or record.
 #include <algorithm>
+#include <cdt3d/cdt3d.hpp>
 #include <cmath>
 #include <numeric>
 #include <string>
 #include <vector>
-
-#include <cdt3d/cdt3d.hpp>
 
 #include "predicates.hpp"
 
@@ -40,11 +39,11 @@ Status check_point(const Plc& plc, const Vec3& p, const char* kind, size_t index
   for (int k = 0; k < 3; ++k) {
     if (!bad_coord(c[k])) continue;
     const bool nan = !std::isfinite(c[k]);
-    Status s = error(plc, nan ? ErrorCode::NonFinite : ErrorCode::CoordinateRange,
-                     std::string(kind) + " " + std::to_string(index) +
-                         (nan ? " has a non-finite " : " has a ") +
-                         std::string(1, static_cast<char>('x' + k)) +
-                         (nan ? " coordinate." : " coordinate beyond the supported magnitude 1e50."));
+    Status s = error(
+        plc, nan ? ErrorCode::NonFinite : ErrorCode::CoordinateRange,
+        std::string(kind) + " " + std::to_string(index) + (nan ? " has a non-finite " : " has a ") +
+            std::string(1, static_cast<char>('x' + k)) +
+            (nan ? " coordinate." : " coordinate beyond the supported magnitude 1e50."));
     s.error.vertex = vertex;
     return s;
   }
@@ -112,7 +111,8 @@ Status check_facet(const Plc& plc, size_t fi, std::vector<VertexId>& scratch) {
   const Facet& f = plc.facets[fi];
   const size_t n_points = plc.points.size();
   if (f.loops.empty()) {
-    return facet_error(plc, fi, ErrorCode::DegenerateFacet, "Facet " + std::to_string(fi) + " has no polygon.");
+    return facet_error(plc, fi, ErrorCode::DegenerateFacet,
+                       "Facet " + std::to_string(fi) + " has no polygon.");
   }
   for (size_t li = 0; li < f.loops.size(); ++li) {
     const auto& loop = f.loops[li];
@@ -129,7 +129,8 @@ Status check_facet(const Plc& plc, size_t fi, std::vector<VertexId>& scratch) {
     if (loop.size() < 3) {
       return facet_error(plc, fi, ErrorCode::DegenerateFacet,
                          name() + " has " + std::to_string(loop.size()) +
-                             (loop.size() == 1 ? " vertex" : " vertices") + "; at least 3 are needed.");
+                             (loop.size() == 1 ? " vertex" : " vertices") +
+                             "; at least 3 are needed.");
     }
     VertexId repeated = kNone;
     if (loop.size() == 3) {
@@ -211,10 +212,11 @@ Status check_duplicates(const Plc& plc) {
     }
     loops.assign(f.loops.begin(), f.loops.end());
     for (auto& l : loops) std::sort(l.begin(), l.end());
-    std::sort(loops.begin(), loops.end(), [](const std::vector<VertexId>& x, const std::vector<VertexId>& y) {
-      if (x.size() != y.size()) return x.size() < y.size();
-      return x < y;
-    });
+    std::sort(loops.begin(), loops.end(),
+              [](const std::vector<VertexId>& x, const std::vector<VertexId>& y) {
+                if (x.size() != y.size()) return x.size() < y.size();
+                return x < y;
+              });
     for (const auto& l : loops) {
       keys.push_back(static_cast<uint32_t>(l.size()));
       keys.insert(keys.end(), l.begin(), l.end());

@@ -2,9 +2,7 @@
 // a 200k-triangle binary STL generated in memory (its read time is printed,
 // never asserted).
 #include <catch2/catch.hpp>
-
 #include <cdt3d/cdt3d.hpp>
-
 #include <chrono>
 #include <cstdio>
 #include <cstring>

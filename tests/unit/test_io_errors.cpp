@@ -2,9 +2,7 @@
 // record), plus hostile inputs (absurd counts, every truncation, random byte
 // damage) that must fail cleanly: no crash, no hang, no huge allocation.
 #include <catch2/catch.hpp>
-
 #include <cdt3d/cdt3d.hpp>
-
 #include <cstring>
 #include <limits>
 #include <string>
@@ -48,7 +46,8 @@ std::vector<uint8_t> stl_binary(uint32_t declared, const std::vector<float>& coo
 
 const std::vector<float> kTri = {0, 0, 0, 1, 0, 0, 0, 1, 0};
 
-const char* kTetOff = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+const char* kTetOff =
+    "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
 
 void expect(const Status& s, ErrorCode code, int64_t line) {
   INFO(s.error.to_string());
@@ -107,11 +106,13 @@ TEST_CASE("Error: truncated input names the line or record", "[io][errors]") {
     CHECK(s.error.record == 0);
   }
   SECTION("ASCII STL ends inside a facet") {
-    expect(read_text("solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n", "t.stl"),
-           ErrorCode::Truncated, 5);
+    expect(
+        read_text("solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n", "t.stl"),
+        ErrorCode::Truncated, 5);
   }
   SECTION("PLY header without end_header") {
-    expect(read_text("ply\nformat ascii 1.0\nelement vertex 1\n", "t.ply"), ErrorCode::Truncated, 3);
+    expect(read_text("ply\nformat ascii 1.0\nelement vertex 1\n", "t.ply"), ErrorCode::Truncated,
+           3);
   }
   SECTION("binary PLY ends inside the vertex element") {
     std::string h =
@@ -222,7 +223,8 @@ TEST_CASE("Error: vertex index out of range names facet and line", "[io][errors]
   CHECK(s.error.facet == 1);
   s = read_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf -4 -2 -1\n", "i.obj");
   expect(s, ErrorCode::IndexOutOfRange, 4);
-  s = read_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "i.obj");  // forward reference never defined
+  s = read_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n",
+                "i.obj");  // forward reference never defined
   expect(s, ErrorCode::IndexOutOfRange, 4);
   CHECK(s.error.facet == 0);
   s = read_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999\n", "i.obj");
@@ -338,8 +340,9 @@ TEST_CASE("Hostile headers never allocate what the file cannot hold", "[io][erro
   CHECK(read_text("4294967294 3 0 0\n1 0 0 0\n", "h.poly").error.code == ErrorCode::Truncated);
   CHECK(read_text("3 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4294967294 0\n1\n", "h.poly").error.code ==
         ErrorCode::Truncated);
-  CHECK(read_text("3 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n1 0\n4294967294 0 0\n", "h.poly").error.code ==
-        ErrorCode::Truncated);
+  CHECK(
+      read_text("3 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n1 0\n4294967294 0 0\n", "h.poly").error.code ==
+      ErrorCode::Truncated);
   // Binary PLY: huge element counts and list lengths against a tiny body.
   std::string h =
       "ply\nformat binary_little_endian 1.0\nelement vertex 4294967294\nproperty float x\n"
@@ -396,7 +399,9 @@ std::vector<std::pair<std::string, std::vector<uint8_t>>> samples() {
     out.emplace_back(name, std::vector<uint8_t>(t.begin(), t.end()));
   };
   text("s.off", kTetOff);
-  text("s.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1/1 2/1 4/1\nf 2//1 3//1 4//1\nf -4 -1 -2\n");
+  text(
+      "s.obj",
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1/1 2/1 4/1\nf 2//1 3//1 4//1\nf -4 -1 -2\n");
   text("s.stl",
        "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
        "endloop\nendfacet\nendsolid s\n");
@@ -407,7 +412,9 @@ std::vector<std::pair<std::string, std::vector<uint8_t>>> samples() {
   text("s.poly",
        "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n4 1\n1 0 1\n3 1 3 2\n2 0 2\n3 1 2 4\n1 4\n"
        "2 1\n3 2 3 4\n2 2 3\n1 0.3 0.3 0.4\n1 0 0\n3 1 4 3\n1\n1 5 5 5\n1\n1 0.1 0.1 0.1 1 0.5\n");
-  text("s.smesh", "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n4 1\n3 1 3 2 1\n3 1 2 4\n3 2 3 4\n3 1 4 3\n0\n0\n");
+  text("s.smesh",
+       "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n4 1\n3 1 3 2 1\n3 1 2 4\n3 2 3 4\n3 1 4 "
+       "3\n0\n0\n");
   out.emplace_back("b.stl", stl_binary(2, {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}));
   std::string h =
       "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
@@ -422,13 +429,15 @@ std::vector<std::pair<std::string, std::vector<uint8_t>>> samples() {
 
 }  // namespace
 
-TEST_CASE("Every truncation of a valid file fails cleanly or still reads", "[io][errors][hostile]") {
+TEST_CASE("Every truncation of a valid file fails cleanly or still reads",
+          "[io][errors][hostile]") {
   for (const auto& sample : samples()) {
     Plc plc;
     INFO(sample.first);
     REQUIRE(read_plc(sample.second.data(), sample.second.size(), sample.first, plc).ok());
     for (size_t n = 0; n < sample.second.size(); ++n) {
-      std::vector<uint8_t> cut(sample.second.begin(), sample.second.begin() + static_cast<std::ptrdiff_t>(n));
+      std::vector<uint8_t> cut(sample.second.begin(),
+                               sample.second.begin() + static_cast<std::ptrdiff_t>(n));
       check_clean_failure(cut, sample.first);
     }
   }
@@ -454,7 +463,8 @@ TEST_CASE("Random byte damage never crashes a reader", "[io][errors][hostile]") 
             bytes.erase(bytes.begin() + static_cast<std::ptrdiff_t>(at));
             break;
           default:
-            bytes.insert(bytes.begin() + static_cast<std::ptrdiff_t>(at), specials[rng.next() % sizeof specials]);
+            bytes.insert(bytes.begin() + static_cast<std::ptrdiff_t>(at),
+                         specials[rng.next() % sizeof specials]);
             break;
         }
         if (bytes.empty()) bytes.push_back('0');

@@ -1,9 +1,7 @@
 // Readers, one test case per format: inputs built in memory, counts, welding,
 // provenance (line / record) and index remapping checked exactly.
 #include <catch2/catch.hpp>
-
 #include <cdt3d/cdt3d.hpp>
-
 #include <cstring>
 #include <string>
 #include <vector>
@@ -122,7 +120,8 @@ TEST_CASE("OFF: header, comments anywhere, polygons, per-face colours", "[io][of
     CHECK(plc.facets[0].line == 8);
   }
   SECTION("no keyword, a record continued on the next line") {
-    const std::string text = "4 4 0\n0 0\n0\n1 0 0\n0 1 0\n0 0 1\n3 0 2\n1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+    const std::string text =
+        "4 4 0\n0 0\n0\n1 0 0\n0 1 0\n0 0 1\n3 0 2\n1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
     REQUIRE(read_text(text, "t.off", plc).ok());
     check_tet(plc);
     CHECK(plc.facets[0].loops[0] == std::vector<VertexId>{0, 2, 1});
@@ -233,11 +232,23 @@ TEST_CASE("STL ASCII: welded corners, several solids, facet lines", "[io][stl]")
   CHECK(plc.facets[1].line == 9);
 
   SECTION("two solids in one file, upper-case keywords, no final endsolid") {
-    std::string two = text + "SOLID second\nFACET NORMAL 1 2 3\nOUTER LOOP\nVERTEX 5 5 5\nVERTEX 6 5 5\n"
-                             "VERTEX 5 6 5\nENDLOOP\nENDFACET\n";
+    std::string two = text +
+                      "SOLID second\nFACET NORMAL 1 2 3\nOUTER LOOP\nVERTEX 5 5 5\nVERTEX 6 5 5\n"
+                      "VERTEX 5 6 5\nENDLOOP\nENDFACET\n";
     REQUIRE(read_text(two, "t.stl", plc).ok());
     CHECK(plc.facets.size() == 5);
     CHECK(plc.points.size() == 7);
+  }
+  SECTION("a UTF-8 byte order mark is skipped") {
+    REQUIRE(read_text("\xEF\xBB\xBF" + text, "t.stl", plc).ok());
+    CHECK(plc.facets[0].line == 2);
+    REQUIRE(read_text(std::string("\xEF\xBB\xBF") + kTetOff, "t.off", plc).ok());
+    CHECK(plc.facets.size() == 4);
+  }
+  SECTION("NUL padding after endsolid is ignored") {
+    std::string padded = text + std::string(200, '\0');
+    REQUIRE(read_text(padded, "t.stl", plc).ok());
+    CHECK(plc.facets.size() == 4);
   }
   SECTION("a degenerate normal is ignored") {
     const std::string t1 =
@@ -327,23 +338,23 @@ namespace {
 // PLY with a vertex element (x y z among other properties) and a face element,
 // written in the given binary byte order.
 std::vector<uint8_t> binary_ply(bool big_endian) {
-  std::string header =
-      std::string("ply\nformat ") + (big_endian ? "binary_big_endian" : "binary_little_endian") +
-      " 1.0\ncomment made in a test\n"
-      "element vertex 4\n"
-      "property uchar flag\n"
-      "property double x\n"
-      "property float y\n"
-      "property list uchar short junk\n"
-      "property int z\n"
-      "element material 2\n"
-      "property list int uint names\n"
-      "property double shine\n"
-      "element face 4\n"
-      "property int id\n"
-      "property list uint8 uint32 vertex_indices\n"
-      "property uchar red\n"
-      "end_header\n";
+  std::string header = std::string("ply\nformat ") +
+                       (big_endian ? "binary_big_endian" : "binary_little_endian") +
+                       " 1.0\ncomment made in a test\n"
+                       "element vertex 4\n"
+                       "property uchar flag\n"
+                       "property double x\n"
+                       "property float y\n"
+                       "property list uchar short junk\n"
+                       "property int z\n"
+                       "element material 2\n"
+                       "property list int uint names\n"
+                       "property double shine\n"
+                       "element face 4\n"
+                       "property int id\n"
+                       "property list uint8 uint32 vertex_indices\n"
+                       "property uchar red\n"
+                       "end_header\n";
   std::vector<uint8_t> b(header.begin(), header.end());
   auto put = [&b, big_endian](const void* p, size_t n) {
     const uint8_t* q = static_cast<const uint8_t*>(p);

@@ -1,8 +1,6 @@
 // check_plc on PLCs built in code, plc_info and plc_segments.
 #include <catch2/catch.hpp>
-
 #include <cdt3d/cdt3d.hpp>
-
 #include <cmath>
 #include <limits>
 

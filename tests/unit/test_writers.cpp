@@ -1,9 +1,7 @@
 // Writers: each output is read back by a small reader written here and
 // compared exactly (coordinates must survive the text round trip bit for bit).
 #include <catch2/catch.hpp>
-
 #include <cdt3d/cdt3d.hpp>
-
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -17,11 +15,21 @@ namespace {
 TetMeshData sample_mesh(bool with_data) {
   TetMeshData m;
   // Awkward doubles: not representable in decimal with few digits.
-  m.points = {0.1,        1.0 / 3.0, -2.5e-7,            //
-              1e-300,     -0.0,      7.0,                //
-              123456.789, 2.0 / 3.0, 1e15 + 0.5,         //
-              -1.0,       3.14159265358979311600, 0.0,   //
-              5e-324,     -1e40,     0.30000000000000004};
+  m.points = {0.1,
+              1.0 / 3.0,
+              -2.5e-7,  //
+              1e-300,
+              -0.0,
+              7.0,  //
+              123456.789,
+              2.0 / 3.0,
+              1e15 + 0.5,  //
+              -1.0,
+              3.14159265358979311600,
+              0.0,  //
+              5e-324,
+              -1e40,
+              0.30000000000000004};
   m.tets = {0, 1, 2, 3, 1, 2, 3, 4};
   m.faces = {0, 1, 2, 1, 2, 4, 3, 2, 1};
   if (with_data) {
@@ -185,7 +193,8 @@ TEST_CASE("A .node written by write_node reads back through read_plc", "[writers
   TetMeshData m = sample_mesh(false);
   const std::string text = write_node(m);
   Plc plc;
-  const Status s = read_plc(reinterpret_cast<const uint8_t*>(text.data()), text.size(), "m.node", plc);
+  const Status s =
+      read_plc(reinterpret_cast<const uint8_t*>(text.data()), text.size(), "m.node", plc);
   INFO(s.error.to_string());
   REQUIRE(s.ok());
   REQUIRE(plc.points.size() == 5);

@@ -31,8 +31,8 @@ Status corner_index(const Token& t, uint64_t vertices_so_far, const std::string&
   }
   if (i == 0 || resolved < 0 || static_cast<uint64_t>(resolved) >= kMaxItems) {
     Status e = fail(ErrorCode::IndexOutOfRange,
-                    "Vertex index " + std::to_string(i) + " is out of range: " +
-                        std::to_string(vertices_so_far) +
+                    "Vertex index " + std::to_string(i) +
+                        " is out of range: " + std::to_string(vertices_so_far) +
                         " vertices are defined at this point (indices start at 1, negative "
                         "ones count back from the last).",
                     file, t.line);

@@ -45,14 +45,15 @@ Status read_off(const uint8_t* data, size_t size, const std::string& file, Plc& 
   if (size == 0) return fail(ErrorCode::Empty, "The file is empty.", file);
   TextReader r(reinterpret_cast<const char*>(data), size, '#');
   Token t;
-  if (!r.next(t)) return fail(ErrorCode::Empty, "The file holds only comments and white space.", file);
+  if (!r.next(t))
+    return fail(ErrorCode::Empty, "The file holds only comments and white space.", file);
 
   bool dims_error = false;
   uint64_t nv = 0, nf = 0;
   int64_t line = t.line;
   if (is_off_keyword(t, dims_error)) {
     if (dims_error) {
-      return fail(ErrorCode::Parse, "Only 3D OFF files are supported (found '" + t.str() + "').",
+      return fail(ErrorCode::Parse, "Only 3D OFF files are supported (found " + quote(t) + ").",
                   file, t.line);
     }
     const TextReader::Mark after_keyword = r.mark();

@@ -41,11 +41,11 @@ bool type_from_token(const Token& t, PType& out) {
     PType type;
   };
   static const Name kNames[] = {
-      {"char", PType::I8},    {"int8", PType::I8},      {"uchar", PType::U8},
-      {"uint8", PType::U8},   {"short", PType::I16},    {"int16", PType::I16},
-      {"ushort", PType::U16}, {"uint16", PType::U16},   {"int", PType::I32},
-      {"int32", PType::I32},  {"uint", PType::U32},     {"uint32", PType::U32},
-      {"float", PType::F32},  {"float32", PType::F32},  {"double", PType::F64},
+      {"char", PType::I8},    {"int8", PType::I8},     {"uchar", PType::U8},
+      {"uint8", PType::U8},   {"short", PType::I16},   {"int16", PType::I16},
+      {"ushort", PType::U16}, {"uint16", PType::U16},  {"int", PType::I32},
+      {"int32", PType::I32},  {"uint", PType::U32},    {"uint32", PType::U32},
+      {"float", PType::F32},  {"float32", PType::F32}, {"double", PType::F64},
       {"float64", PType::F64}};
   for (const Name& n : kNames) {
     if (t.is(n.name)) {
@@ -65,6 +65,7 @@ struct Property {
 
 struct Element {
   std::string name;
+  std::string label;  // the name quoted and made printable, for messages
   uint64_t count = 0;
   std::vector<Property> props;
   int64_t line = 0;
@@ -207,7 +208,7 @@ class PlyReader {
         } else if (a.is("binary_big_endian")) {
           format_ = Format::BigEndian;
         } else {
-          return parse_error("Unknown PLY format '" + a.str() + "'.", a.line);
+          return parse_error("Unknown PLY format " + quote(a) + ".", a.line);
         }
         have_format = true;
       } else if (t.is("element")) {
@@ -217,12 +218,14 @@ class PlyReader {
         }
         Element e;
         e.name = name.str();
+        e.label = quote(name);
         e.line = t.line;
         Status s = count_from_token(count, e.count, file_, "element count");
         if (!s.ok()) return s;
         elements_.push_back(std::move(e));
       } else if (t.is("property")) {
-        if (elements_.empty()) return parse_error("A 'property' line before any 'element'.", t.line);
+        if (elements_.empty())
+          return parse_error("A 'property' line before any 'element'.", t.line);
         Property p;
         Token type, name;
         if (!r.next_on_line(type)) return parse_error("A 'property' line needs a type.", t.line);
@@ -233,22 +236,22 @@ class PlyReader {
                                t.line);
           }
           if (!type_from_token(ct, p.count_type) || is_float(p.count_type)) {
-            return parse_error("Bad list count type '" + ct.str() + "'.", ct.line);
+            return parse_error("Bad list count type " + quote(ct) + ".", ct.line);
           }
           if (!type_from_token(it, p.type)) {
-            return parse_error("Unknown property type '" + it.str() + "'.", it.line);
+            return parse_error("Unknown property type " + quote(it) + ".", it.line);
           }
           p.list = true;
         } else {
           if (!type_from_token(type, p.type)) {
-            return parse_error("Unknown property type '" + type.str() + "'.", type.line);
+            return parse_error("Unknown property type " + quote(type) + ".", type.line);
           }
           if (!r.next_on_line(name)) return parse_error("A property needs a name.", t.line);
         }
         p.name = name.str();
         elements_.back().props.push_back(std::move(p));
       } else {
-        return parse_error("Unknown PLY header line '" + t.str().substr(0, 40) + "'.", t.line);
+        return parse_error("Unknown PLY header keyword " + quote(t) + ".", t.line);
       }
       r.skip_line();
     }
@@ -265,7 +268,8 @@ class PlyReader {
           const Property& p = el.props[k];
           for (int a = 0; a < 3; ++a) {
             if (p.name == std::string(1, static_cast<char>('x' + a))) {
-              if (p.list) return parse_error("The vertex property '" + p.name + "' is a list.", el.line);
+              if (p.list)
+                return parse_error("The vertex property '" + p.name + "' is a list.", el.line);
               xyz_[a] = static_cast<int>(k);
             }
           }
@@ -300,8 +304,8 @@ class PlyReader {
 
   Status truncated(const Element& el, uint64_t rec, int64_t line) const {
     return fail(ErrorCode::Truncated,
-                "The file ends inside " + el.name + " " + std::to_string(rec) + " (the header "
-                "declares " + std::to_string(el.count) + ").",
+                "The file ends inside record " + std::to_string(rec) + " of element " + el.label +
+                    " (the header declares " + std::to_string(el.count) + " records).",
                 file_, line, line < 0 ? static_cast<int64_t>(rec) : -1);
   }
 
@@ -364,7 +368,8 @@ class PlyReader {
         if (!c.read(p.count_type, v)) return truncated(el, rec, -1);
         if (v.i < 0) {
           return fail(ErrorCode::Parse,
-                      "Negative list length in " + el.name + " " + std::to_string(rec) + ".",
+                      "Negative list length in record " + std::to_string(rec) + " of element " +
+                          el.label + ".",
                       file_, -1, record);
         }
         const uint64_t n = static_cast<uint64_t>(v.i);
@@ -398,8 +403,8 @@ class PlyReader {
       double d = 0;
       const NumParse p = parse_double(t.p, t.n, d);
       if (p == NumParse::Bad) {
-        return parse_error("Expected a number in " + el.name + " " + std::to_string(rec) +
-                               ", found '" + t.str().substr(0, 40) + "'.",
+        return parse_error("Expected a number in record " + std::to_string(rec) + " of element " +
+                               el.label + ", found " + quote(t) + ".",
                            t.line);
       }
       BinaryCursor::set_float(p == NumParse::Ok ? d : NAN, v);
@@ -416,7 +421,8 @@ class PlyReader {
     const Element& el = elements_[e];
     if (el.props.empty()) return Status::success();
     if (!text_) {
-      text_.reset(new TextReader(reinterpret_cast<const char*>(data_), size_, 0, body_, body_line_));
+      text_.reset(
+          new TextReader(reinterpret_cast<const char*>(data_), size_, 0, body_, body_line_));
     }
     TextReader& r = *text_;
     reserve(e, 2 * el.props.size(), r.remaining());
@@ -435,7 +441,9 @@ class PlyReader {
                             xyz_[2] == static_cast<int>(k))) {
             if (!r.next(t)) return truncated(el, rec, r.last_line());
             if (first_line < 0) first_line = t.line;
-            const int a = xyz_[0] == static_cast<int>(k) ? 0 : xyz_[1] == static_cast<int>(k) ? 1 : 2;
+            const int a = xyz_[0] == static_cast<int>(k)   ? 0
+                          : xyz_[1] == static_cast<int>(k) ? 1
+                                                           : 2;
             Status s = parse_coord(t, xyz[a], file_, Subject{"vertex", record});
             if (!s.ok()) return s;
           } else {
@@ -449,7 +457,8 @@ class PlyReader {
         if (!s.ok()) return s;
         if (first_line < 0) first_line = t.line;
         if (v.i < 0) {
-          return parse_error("Negative list length in " + el.name + " " + std::to_string(rec) + ".",
+          return parse_error("Negative list length in record " + std::to_string(rec) +
+                                 " of element " + el.label + ".",
                              t.line);
         }
         const uint64_t n = static_cast<uint64_t>(v.i);

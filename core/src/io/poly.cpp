@@ -20,8 +20,7 @@ namespace {
 
 class TetgenReader {
  public:
-  TetgenReader(const uint8_t* data, size_t size, const std::string& file, FileFormat kind,
-               Plc& out)
+  TetgenReader(const uint8_t* data, size_t size, const std::string& file, FileFormat kind, Plc& out)
       : r_(reinterpret_cast<const char*>(data), size, '#'),
         file_(file),
         kind_(kind),
@@ -29,7 +28,8 @@ class TetgenReader {
         b_(out, file, 0) {}
 
   Status read() {
-    if (r_.at_end()) return fail(ErrorCode::Empty, "The file holds only comments and white space.", file_);
+    if (r_.at_end())
+      return fail(ErrorCode::Empty, "The file holds only comments and white space.", file_);
     Status s = read_nodes();
     if (!s.ok() || kind_ == FileFormat::Node) return s.ok() ? b_.finish() : s;
     s = read_facets();
@@ -60,13 +60,15 @@ class TetgenReader {
     s = optional_int(dim, present, "dimension");
     if (!s.ok()) return s;
     if (dim != 3) {
-      return fail(ErrorCode::Parse,
-                  "Only 3D node lists are supported (the dimension is " + std::to_string(dim) + ").",
-                  file_, line);
+      return fail(
+          ErrorCode::Parse,
+          "Only 3D node lists are supported (the dimension is " + std::to_string(dim) + ").", file_,
+          line);
     }
     r_.skip_line();  // attribute count and marker flag: the values are skipped per node
     if (n == 0) {
-      if (kind_ == FileFormat::Node) return fail(ErrorCode::Empty, "The node list is empty.", file_, line);
+      if (kind_ == FileFormat::Node)
+        return fail(ErrorCode::Empty, "The node list is empty.", file_, line);
       return fail(ErrorCode::Parse,
                   "The node count is 0, which in TetGen means the nodes are in a separate "
                   ".node file; cdt3d reads a single file, so list the nodes in this one.",
@@ -112,10 +114,10 @@ class TetgenReader {
   Status read_polygon(uint64_t n, int64_t line, std::vector<VertexId>& loop) {
     const int64_t facet = static_cast<int64_t>(out_.facets.size());
     if (n > r_.remaining() / 2 + 1) {
-      Status e = fail(ErrorCode::Truncated,
-                      "A polygon declares " + std::to_string(n) +
-                          " corners but the file ends before.",
-                      file_, line);
+      Status e =
+          fail(ErrorCode::Truncated,
+               "A polygon declares " + std::to_string(n) + " corners but the file ends before.",
+               file_, line);
       e.error.facet = facet;
       return e;
     }
@@ -164,7 +166,8 @@ class TetgenReader {
     s = optional_int(markers, present, "facet marker flag");
     if (!s.ok()) return s;
     r_.skip_line();
-    out_.facets.reserve(static_cast<size_t>(n < r_.remaining() / 4 + 1 ? n : r_.remaining() / 4 + 1));
+    out_.facets.reserve(
+        static_cast<size_t>(n < r_.remaining() / 4 + 1 ? n : r_.remaining() / 4 + 1));
     std::vector<VertexId> loop;
     for (uint64_t f = 0; f < n; ++f) {
       Facet facet;
@@ -284,8 +287,8 @@ class TetgenReader {
         const NumParse np = parse_double(t.p, t.n, v);
         if (np != NumParse::Ok) {
           return fail(np == NumParse::Bad ? ErrorCode::Parse : ErrorCode::NonFinite,
-                      "Region " + std::to_string(i) + " has an invalid attribute or volume '" +
-                          t.str().substr(0, 40) + "'.",
+                      "Region " + std::to_string(i) + " has an invalid attribute or volume " +
+                          quote(t) + ".",
                       file_, t.line);
         }
         *field = v;

@@ -253,7 +253,6 @@ Status expect_token(TextReader& r, Token& t, const std::string& file, const char
               file, r.last_line());
 }
 
-namespace {
 std::string quote(const Token& t) {
   std::string s = t.n > 40 ? std::string(t.p, 40) + "..." : t.str();
   for (char& c : s) {
@@ -261,7 +260,6 @@ std::string quote(const Token& t) {
   }
   return "'" + s + "'";
 }
-}  // namespace
 
 namespace {
 
@@ -304,10 +302,10 @@ Status parse_coord(const Token& t, double& out, const std::string& file, Subject
     case NumParse::Ok:
       return Status::success();
     case NumParse::NonFinite:
-      return located(fail(ErrorCode::NonFinite,
-                          "Non-finite coordinate " + quote(t) + " for " + describe(who) + ".",
-                          file, t.line),
-                     who);
+      return located(
+          fail(ErrorCode::NonFinite,
+               "Non-finite coordinate " + quote(t) + " for " + describe(who) + ".", file, t.line),
+          who);
     case NumParse::Overflow:
       return located(fail(ErrorCode::CoordinateRange,
                           "The coordinate " + quote(t) + " of " + describe(who) +
@@ -317,11 +315,11 @@ Status parse_coord(const Token& t, double& out, const std::string& file, Subject
     case NumParse::Bad:
       break;
   }
-  return located(fail(ErrorCode::Parse,
-                      "Expected a number for a coordinate of " + describe(who) + ", found " +
-                          quote(t) + ".",
-                      file, t.line),
-                 who);
+  return located(
+      fail(ErrorCode::Parse,
+           "Expected a number for a coordinate of " + describe(who) + ", found " + quote(t) + ".",
+           file, t.line),
+      who);
 }
 
 Status expect_coord(TextReader& r, double& out, const std::string& file, Subject who) {
@@ -351,8 +349,7 @@ Status int_from_token(const Token& t, int64_t& out, const std::string& file, con
               t.line);
 }
 
-Status count_from_token(const Token& t, uint64_t& out, const std::string& file,
-                        const char* what) {
+Status count_from_token(const Token& t, uint64_t& out, const std::string& file, const char* what) {
   int64_t v = 0;
   Status s = int_from_token(t, v, file, what);
   if (!s.ok()) return s;
@@ -512,8 +509,7 @@ void PlcBuilder::add_isolated(uint32_t a, int64_t line, int64_t record) {
   isolated_.push_back(Ref{a, a, line, record});
 }
 
-Status PlcBuilder::out_of_range(uint64_t index, int64_t line, int64_t record,
-                                int64_t facet) const {
+Status PlcBuilder::out_of_range(uint64_t index, int64_t line, int64_t record, int64_t facet) const {
   Status s = fail(ErrorCode::IndexOutOfRange,
                   "Vertex index " + std::to_string(static_cast<int64_t>(index) + base_) +
                       " is out of range: the file has " + std::to_string(remap_.size()) +

@@ -5,7 +5,6 @@
 #pragma once
 
 #include <cdt3d/cdt3d.hpp>
-
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -55,8 +54,8 @@ struct Token {
   int64_t line = 0;  ///< 1-based line of the token
 
   std::string str() const { return std::string(p, n); }
-  bool is(const char* word) const;        ///< exact match
-  bool is_nocase(const char* word) const; ///< ASCII case-insensitive match
+  bool is(const char* word) const;         ///< exact match
+  bool is_nocase(const char* word) const;  ///< ASCII case-insensitive match
 };
 
 /// Splits text into whitespace-separated tokens. `comment` (0 for none) starts
@@ -104,6 +103,10 @@ class TextReader {
   int64_t last_line_;
   char comment_;
 };
+
+/// A token for messages: in single quotes, cut at 40 characters, with
+/// control and non-ASCII bytes shown as '?'.
+std::string quote(const Token& t);
 
 /// Reads the next token of a record that may continue on following lines;
 /// a Truncated error naming the last line when the input ends.

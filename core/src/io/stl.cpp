@@ -25,7 +25,9 @@ double le_float(const uint8_t* p) {
   return static_cast<double>(f);
 }
 
-bool is_space(uint8_t c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
+bool is_space(uint8_t c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
+}
 
 // Control bytes that never occur in an ASCII STL but nearly always in the
 // float data of a binary one.
@@ -53,16 +55,15 @@ Status read_binary(const uint8_t* data, size_t size, const std::string& file, Pl
     const uint64_t ends_in = (size - 84) / 50;
     return fail(ErrorCode::Truncated,
                 "The binary STL header declares " + std::to_string(count) + " triangles (" +
-                    std::to_string(expected) + " bytes) but the file has " +
-                    std::to_string(size) + " bytes: it ends inside triangle " +
-                    std::to_string(ends_in) + ".",
+                    std::to_string(expected) + " bytes) but the file has " + std::to_string(size) +
+                    " bytes: it ends inside triangle " + std::to_string(ends_in) + ".",
                 file, -1, static_cast<int64_t>(ends_in));
   }
   if (size > expected) {
     return fail(ErrorCode::Truncated,
                 "The binary STL header declares " + std::to_string(count) + " triangles (" +
-                    std::to_string(expected) + " bytes) but the file has " +
-                    std::to_string(size) + " bytes: the sizes disagree.",
+                    std::to_string(expected) + " bytes) but the file has " + std::to_string(size) +
+                    " bytes: the sizes disagree.",
                 file, -1, static_cast<int64_t>(count));
   }
   if (3 * count > kMaxItems) {
@@ -98,8 +99,7 @@ Status expect_word(TextReader& r, const char* word, const std::string& file) {
   if (!s.ok()) return s;
   if (t.is_nocase(word)) return Status::success();
   return fail(ErrorCode::Parse,
-              std::string("Expected '") + word + "' in the ASCII STL, found '" +
-                  (t.n > 40 ? std::string(t.p, 40) + "..." : t.str()) + "'.",
+              std::string("Expected '") + word + "' in the ASCII STL, found " + quote(t) + ".",
               file, t.line);
 }
 
@@ -116,7 +116,11 @@ Status read_ascii(const uint8_t* data, size_t size, const std::string& file, Plc
   while (r.next(t)) {
     if (t.is_nocase("endsolid")) {
       r.skip_line();
-      if (!r.next(t)) break;
+      // Some exporters pad the file with NUL bytes after the last solid.
+      bool padding = true;
+      for (size_t i = r.pos(); i < size && padding; ++i)
+        padding = data[i] == 0 || is_space(data[i]);
+      if (padding || !r.next(t)) break;
       if (!t.is_nocase("solid")) {
         return fail(ErrorCode::Parse, "Expected 'solid' or the end of the file after 'endsolid'.",
                     file, t.line);
@@ -126,9 +130,8 @@ Status read_ascii(const uint8_t* data, size_t size, const std::string& file, Plc
     }
     if (!t.is_nocase("facet")) {
       return fail(ErrorCode::Parse,
-                  "Expected 'facet' or 'endsolid' in the ASCII STL, found '" +
-                      (t.n > 40 ? std::string(t.p, 40) + "..." : t.str()) + "'.",
-                  file, t.line);
+                  "Expected 'facet' or 'endsolid' in the ASCII STL, found " + quote(t) + ".", file,
+                  t.line);
     }
     const int64_t facet_line = t.line;
     r.skip_line();  // "normal nx ny nz": ignored (often not even unit length)
@@ -176,15 +179,16 @@ Status read_stl(const uint8_t* data, size_t size, const std::string& file, Plc& 
     return read_binary(data, size, file, out);
   }
   size_t i = 0;
+  const bool bom = size >= 3 && data[0] == 0xEF && data[1] == 0xBB && data[2] == 0xBF;
+  if (bom) i = 3;
   while (i < size && is_space(data[i])) ++i;
   if (i == size) return fail(ErrorCode::Empty, "The file holds only white space.", file);
-  const bool solid = size - i >= 5 && (data[i] == 's' || data[i] == 'S') &&
-                     (data[i + 1] == 'o' || data[i + 1] == 'O') &&
-                     (data[i + 2] == 'l' || data[i + 2] == 'L') &&
-                     (data[i + 3] == 'i' || data[i + 3] == 'I') &&
-                     (data[i + 4] == 'd' || data[i + 4] == 'D');
+  const bool solid =
+      size - i >= 5 && (data[i] == 's' || data[i] == 'S') &&
+      (data[i + 1] == 'o' || data[i + 1] == 'O') && (data[i + 2] == 'l' || data[i + 2] == 'L') &&
+      (data[i + 3] == 'i' || data[i + 3] == 'I') && (data[i + 4] == 'd' || data[i + 4] == 'D');
   if (!solid) return read_binary(data, size, file, out);
-  Status s = read_ascii(data, size, file, out);
+  Status s = bom ? read_ascii(data + 3, size - 3, file, out) : read_ascii(data, size, file, out);
   const bool ascii_ok = s.ok() && !out.facets.empty();
   if (!ascii_ok && size >= 84 && has_control_bytes(data, size, 84)) {
     // "solid..." header on a binary file whose size disagrees with its count.

@@ -4,7 +4,6 @@
 // multiple of 3 or 4) are ignored; per-element arrays are used only when their
 // size matches the element count.
 #include <cdt3d/cdt3d.hpp>
-
 #include <cmath>
 #include <cstdio>
 #include <string>
