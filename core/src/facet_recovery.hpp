@@ -26,9 +26,10 @@ struct FacetRecoveryStats {
 
 /// Makes every subface a face of `mesh`. On success `mesh` is a valid
 /// tetrahedralization of the same hull containing every subface (and still
-/// every subsegment). Errors: Internal naming the facet when a region cannot
+/// every subsegment). A fallback that adds a Steiner point splits the
+/// subfaces it lies on (they are updated in place). Errors: Internal naming the facet when a region cannot
 /// be recovered, Cancelled when *cancel becomes true.
-Status recover_facets(TetMesh& mesh, const Subfaces& subfaces, FacetRecoveryStats* stats = nullptr,
+Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* stats = nullptr,
                       const volatile bool* cancel = nullptr);
 
 }  // namespace cdt3d

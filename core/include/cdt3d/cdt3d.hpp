@@ -188,4 +188,67 @@ std::string write_vtk(const TetMeshData& m);
 /// Medit .mesh (MeshVersionFormatted 2).
 std::string write_medit(const TetMeshData& m);
 
+// ---------------------------------------------------------------------------
+// Constrained Delaunay tetrahedralization
+// ---------------------------------------------------------------------------
+
+/// Where a Steiner point lies and which step added it.
+enum class SteinerKind : uint8_t {
+  Segment = 1,  ///< on an input segment (segment recovery, boundary protection)
+  Facet = 2,    ///< inside an input facet (boundary protection on a subface)
+  Volume = 3,   ///< in the volume (break point of degeneracy removal)
+};
+
+/// Phase names reported to the progress callback, in order.
+enum class Phase { Delaunay, Segments, Degeneracy, Facets, Carve, Done };
+const char* phase_name(Phase phase);  ///< "delaunay", "segments", ...
+
+struct Options {
+  bool keep_convex_hull = false;  ///< keep the tets outside the PLC (like tetgen -c)
+  bool validate = false;          ///< run validate() on the result (and after each phase)
+  int verbosity = 0;              ///< 0 quiet; 1 phase summary on stderr
+  Phase stop_after = Phase::Done; ///< stop after this phase (debugging); result holds that mesh
+  /// Progress: called with the current phase and a fraction in [0, 1]. May be empty.
+  void (*progress)(void* user, Phase phase, double fraction) = nullptr;
+  void* progress_user = nullptr;
+  /// Cancellation: checked regularly; when it becomes true the call returns
+  /// ErrorCode::Cancelled.
+  const volatile bool* cancel = nullptr;
+};
+
+struct Statistics {
+  size_t input_points = 0, input_facets = 0, input_segments = 0;
+  size_t points = 0, tets = 0, faces = 0;
+  size_t steiner_segment = 0, steiner_facet = 0, steiner_volume = 0;
+  size_t rule1 = 0, rule2 = 0, rule3 = 0, acute_both = 0;  ///< segment recovery (§5)
+  size_t max_splits = 0;           ///< most points on one input segment
+  size_t perturbations = 0, break_points = 0, protect_segment = 0, protect_facet = 0;  ///< §6
+  size_t missing_subfaces = 0, regions = 0, cavities = 0, largest_cavity = 0, fallbacks = 0;  ///< §7
+  double ms_read = 0, ms_delaunay = 0, ms_segments = 0, ms_degeneracy = 0, ms_facets = 0,
+         ms_carve = 0, ms_total = 0;
+  double min_dihedral = 0, max_dihedral = 0;  ///< degrees, over the output tets
+  std::array<size_t, 10> radius_edge_histogram{};  ///< ratio bins [1,1.5,2,3,5,10,20,50,100,inf)
+};
+
+/// The CDT. Point i < input_points is PLC point i; the others are Steiner points.
+struct Result {
+  Status status;
+  TetMeshData mesh;                   ///< faces = constrained faces (subfaces), face_markers = facet marker
+  std::vector<uint32_t> face_facet;   ///< input facet index per face
+  size_t input_points = 0;
+  std::vector<SteinerKind> steiner_kind;  ///< per Steiner point (index - input_points)
+  std::vector<int64_t> steiner_parent;    ///< input segment (Segment) or facet (Facet) index, -1 (Volume)
+  Statistics stats;
+};
+
+/// Runs the four steps of Si & Gärtner (2005) and carves the exterior.
+Result tetrahedralize(const Plc& plc, const Options& options = {});
+
+/// Checks a result against its PLC with exact predicates: valid
+/// tetrahedralization (positive tets, face-adjacency consistent, no gaps
+/// inside the domain), every input facet exactly covered by constrained
+/// faces, every segment a chain of edges, constrained Delaunay property
+/// (every interior face that is not constrained is locally Delaunay).
+Status validate(const Plc& plc, const Result& result);
+
 }  // namespace cdt3d
