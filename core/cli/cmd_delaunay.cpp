@@ -4,11 +4,10 @@
 // POINTS is a TetGen .node file (read by our own streaming reader, which keeps
 // duplicate points and counts them) or any model read_plc_file() accepts
 // (only its points are used). With -o, writes PREFIX.node (every input point,
-// in input order) and PREFIX.ele (the tets), both numbered from 1 as in
-// TetGen's default output; each tet is positively oriented in the sense of
-// Shewchuk's orient3d (tet_mesh.hpp). Statistics go to stdout.
+// in input order, duplicates included) and PREFIX.ele (the tets), both
+// numbered from 1 as in TetGen's default output, tets oriented as TetGen
+// writes them ((b - a) x (c - a) . (d - a) > 0). Statistics go to stdout.
 #include <cdt3d/cdt3d.hpp>
-
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -29,7 +28,8 @@ void usage(std::FILE* out) {
                "usage: cdt3d delaunay POINTS [-o PREFIX] [--json]\n"
                "  POINTS     .node point file, or a model (.off .stl .obj .ply .poly .smesh)\n"
                "  -o PREFIX  write PREFIX.node and PREFIX.ele (TetGen format, numbered from 1)\n"
-               "  --json     print {\"points\",\"duplicates\",\"vertices\",\"tets\",\"hullFaces\",\"ms\"}\n");
+               "  --json     print "
+               "{\"points\",\"duplicates\",\"vertices\",\"tets\",\"hullFaces\",\"ms\"}\n");
 }
 
 bool ends_with_nocase(const std::string& s, const char* suffix) {
@@ -159,6 +159,15 @@ int run_delaunay(int argc, char** argv) {
               st.points ? double(st.walk_steps) / double(st.points) : 0.0);
   std::printf("cavity tets    %.2f per point\n",
               st.points ? double(st.cavity_tets) / double(st.points) : 0.0);
+  const pred::Counters& pc = pred::counters();
+  std::printf(
+      "insphere       %.2f per point, %.4f%% exact\n",
+      st.points ? double(pc.insphere_calls) / double(st.points) : 0.0,
+      pc.insphere_calls ? 100.0 * double(pc.insphere_exact) / double(pc.insphere_calls) : 0.0);
+  std::printf(
+      "orient3d       %.2f per point, %.4f%% exact\n",
+      st.points ? double(pc.orient3d_calls) / double(st.points) : 0.0,
+      pc.orient3d_calls ? 100.0 * double(pc.orient3d_exact) / double(pc.orient3d_calls) : 0.0);
   if (peak >= 0)
     std::printf("peak memory    %.1f MiB\n", peak);
   else

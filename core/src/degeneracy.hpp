@@ -23,6 +23,7 @@ struct DegeneracyStats {
   size_t protect_segment = 0;  ///< boundary protection points on segments
   size_t protect_facet = 0;    ///< boundary protection points on subfaces
   size_t rounds = 0;           ///< passes of the outer repeat loop
+  size_t resplit = 0;          ///< segment points added by re-running segment recovery (§6, step 3)
 };
 
 /// A local degeneracy: the vertices of two adjacent real tets (sorted), all

@@ -80,7 +80,11 @@ PointInserter::PointInserter(TetMesh& mesh, uint64_t seed)
 // inside its circumsphere under SoS; for a ghost tet, p strictly beyond its
 // hull face, or on the face's plane and inside its circumcircle under SoS
 // (the limit of the circumsphere of a tet whose apex goes to infinity).
-bool PointInserter::in_conflict(TetId t, const double* p, VertexId v) const {
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((always_inline))
+#endif
+inline bool
+PointInserter::in_conflict(TetId t, const double* p, VertexId v) const {
   const VertexId* w = &mesh_.tv[4 * static_cast<size_t>(t)];
   const double* a = mesh_.point(w[0]);
   const double* b = mesh_.point(w[1]);
@@ -89,10 +93,10 @@ bool PointInserter::in_conflict(TetId t, const double* p, VertexId v) const {
     const double* d = mesh_.point(w[3]);
     const int s = pred::insphere(a, b, c, d, p);
     if (s != 0) return s > 0;
-    return pred::insphere_sos(a, b, c, d, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(w[3]),
-                              sos(v)) > 0;
+    return pred::insphere_sos(a, b, c, d, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(w[3]), sos(v)) >
+           0;
   }
-  const int o = fast::orient3d(a, b, c, p);
+  const int o = pred::orient3d(a, b, c, p);
   if (o != 0) return o > 0;
   return pred::incircle_coplanar_sos(a, b, c, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(v)) > 0;
 }
@@ -111,7 +115,8 @@ Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result
   TetMesh& m = mesh_;
   new_tets_.clear();
   cavity_.clear();
-  if (v >= m.num_vertices()) return make_error(ErrorCode::InvalidArgument, "Vertex id out of range.");
+  if (v >= m.num_vertices())
+    return make_error(ErrorCode::InvalidArgument, "Vertex id out of range.");
   if (m.vtet[v] != kNone)
     return make_error(ErrorCode::InvalidArgument, "Vertex is already in the triangulation.", v);
   if (m.live_tets == 0)
@@ -134,9 +139,10 @@ Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result
   // transient flag bits mark "in the cavity" and "tested, not in conflict"
   // (a byte per tet is denser in cache than the epoch stamps).
   uint8_t* flag = m.tflag.data();
+  // The located tet is in conflict without a test: p lies in its closure and
+  // is not a vertex (strictly inside its circumsphere), or strictly beyond
+  // the hull face of a ghost.
   const TetId t0 = loc.tet;
-  if (!in_conflict(t0, p, v))
-    return make_error(ErrorCode::Internal, "delaunay: located tet is not in conflict.", v);
   boundary_.clear();
   cavity_.push_back(t0);
   flag[t0] |= kTetInCavity;
@@ -232,7 +238,8 @@ Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result
     });
     for (size_t q = 0; q + 1 < recs_.size(); q += 2) {
       if (recs_[q].lo != recs_[q + 1].lo || recs_[q].hi != recs_[q + 1].hi)
-        return make_error(ErrorCode::Internal, "delaunay: cavity boundary is not a closed surface.", v);
+        return make_error(ErrorCode::Internal, "delaunay: cavity boundary is not a closed surface.",
+                          v);
       m.glue(recs_[q].hf, recs_[q + 1].hf);
     }
   }
@@ -483,9 +490,16 @@ Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<Vert
       hint = ins.last_tet();
   }
 
-  // Translate the work mesh back to the caller's vertex ids.
-  for (VertexId& x : w.tv)
-    if (x < n) x = order[x];
+  // Translate the work mesh back to the caller's vertex ids (and count the
+  // ghost tets on the way).
+  size_t ghosts = 0;
+  const size_t slots = w.num_tet_slots();
+  for (size_t t = 0; t < slots; ++t) {
+    VertexId* x = &w.tv[4 * t];
+    for (int i = 0; i < 4; ++i)
+      if (x[i] < n) x[i] = order[x[i]];
+    if (x[3] == kInfinite && !(w.tflag[t] & kTetDead)) ++ghosts;
+  }
   m.tv = std::move(w.tv);
   m.tadj = std::move(w.tadj);
   m.tstamp = std::move(w.tstamp);
@@ -500,14 +514,15 @@ Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<Vert
   if (to_vertex && !dups.empty()) {
     std::sort(dups.begin(), dups.end());
     for (size_t k = 0; k < n; ++k) {
-      auto it = std::lower_bound(dups.begin(), dups.end(), std::make_pair(vertices[k], VertexId(0)));
+      auto it =
+          std::lower_bound(dups.begin(), dups.end(), std::make_pair(vertices[k], VertexId(0)));
       if (it != dups.end() && it->first == vertices[k]) (*to_vertex)[k] = it->second;
     }
   }
   st.ms_insert = ms_since(t_insert);
   st.duplicates = dups.size();
   st.vertices = n - dups.size();
-  st.hull_faces = m.num_ghost_tets();
+  st.hull_faces = ghosts;
   st.tets = m.live_tets - st.hull_faces;
   st.walk_steps = ins.walk_steps;
   st.cavity_tets = ins.cavity_tets;

@@ -77,8 +77,7 @@ inline void split(double a, double& hi, double& lo) {
 }
 
 /// p + e == a * b exactly, p = fl(a * b), with b already split as bhi + blo.
-inline void two_product_presplit(double a, double b, double bhi, double blo, double& p,
-                                 double& e) {
+inline void two_product_presplit(double a, double b, double bhi, double blo, double& p, double& e) {
   p = a * b;
   double ahi, alo;
   split(a, ahi, alo);
@@ -192,6 +191,41 @@ inline int two_two_diff(double a, double b, double c, double d, double* h) {
   const int nx = x[1] == 0.0 ? 0 : (x[0] == 0.0 ? 1 : 2);
   const int ny = y[1] == 0.0 ? 0 : (y[0] == 0.0 ? 1 : 2);
   return sum(nx, nx == 1 ? x + 1 : x, ny, ny == 1 ? y + 1 : y, h);
+}
+
+/// h = e with fewer components: the same value as a nonoverlapping
+/// expansion whose components are, in practice, about as few as the value's
+/// bit span allows (Shewchuk's compression). Capacity of h: n. Returns the
+/// length of h. Renormalizes top-down (carrying the sum of the larger
+/// components and keeping a component only when it leaves a remainder), then
+/// bottom-up the same way.
+inline int compress(int n, const double* e, double* h) {
+  if (n == 0) return 0;
+  // Top-down pass into h[bottom..n): h[n-1] is the largest part.
+  int bottom = n - 1;
+  double q = e[n - 1];
+  for (int i = n - 2; i >= 0; --i) {
+    double s, t;
+    fast_two_sum(q, e[i], s, t);
+    if (t != 0.0) {
+      h[bottom--] = s;
+      q = t;
+    } else {
+      q = s;
+    }
+  }
+  h[bottom] = q;
+  // Bottom-up pass: each part absorbs what lies below it, emitting the
+  // roundoffs as the new small components from index 0 upwards.
+  int top = 0;
+  for (int i = bottom + 1; i < n; ++i) {
+    double s, t;
+    fast_two_sum(h[i], q, s, t);
+    if (t != 0.0) h[top++] = t;
+    q = s;
+  }
+  if (q != 0.0) h[top++] = q;
+  return top;
 }
 
 /// Negates e in place.

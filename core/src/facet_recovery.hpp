@@ -13,22 +13,53 @@
 
 namespace cdt3d {
 
+/// Statistics of recover_facets (also filled when it fails: what was done).
 struct FacetRecoveryStats {
   size_t subfaces = 0;
-  size_t missing_initially = 0;   ///< subfaces not in D2
+  size_t missing_initially = 0;   ///< subfaces not in D2 (after subface_flips)
   size_t regions = 0;             ///< missing regions recovered
-  size_t cavities = 0;            ///< cavities retetrahedralized
-  size_t expansions = 0;          ///< cavity expansion steps
+  size_t cavities = 0;            ///< cavities retetrahedralized (two per region, usually)
+  size_t expansions = 0;          ///< tets taken in by cavity expansion (§7 step 1)
   size_t largest_cavity = 0;      ///< most faces of one cavity
-  size_t fallbacks = 0;           ///< regions recovered by the documented fallback
-  size_t steiner_points = 0;      ///< points added by the fallback (if any)
+  size_t fallbacks = 0;           ///< regions recovered by a fallback (see recover_facets)
+  size_t steiner_points = 0;      ///< points added by a fallback (none so far: no such fallback)
+  size_t subface_flips = 0;       ///< facet diagonals flipped first (flip_subfaces_toward_mesh)
 };
+
+/// The first pass of recover_facets. For an edge of the subfaces that is
+/// missing from the mesh and is not a segment (two subfaces of one facet
+/// share it), the diagonal of their quadrilateral is flipped when
+///  * the four points are exactly co-circular and the symbolic perturbation
+///    of the mesh (ordered by vertex id) prefers the other diagonal, or
+///  * the quadrilateral is strictly convex and the fourth point lies inside
+///    the circle of a subface in the facet's own plane (a triangulation that
+///    is Delaunay only in a projection to a coordinate plane), or
+///  * the quadrilateral is strictly convex and the mesh already holds the
+///    two other triangles (nearly planar facets: rounded Steiner vertices).
+/// The subfaces still triangulate the same facet regions. Returns the number
+/// of flips; `subfaces` is updated in place.
+size_t flip_subfaces_toward_mesh(TetMesh& mesh, Subfaces& subfaces);
 
 /// Makes every subface a face of `mesh`. On success `mesh` is a valid
 /// tetrahedralization of the same hull containing every subface (and still
-/// every subsegment). A fallback that adds a Steiner point splits the
-/// subfaces it lies on (they are updated in place). Errors: Internal naming the facet when a region cannot
-/// be recovered, Cancelled when *cancel becomes true.
+/// every subsegment); subfaces may have been flipped in place (see
+/// flip_subfaces_toward_mesh). Missing regions are recovered by cavity
+/// retetrahedralization (cavity.hpp); subfaces destroyed meanwhile are queued
+/// again. Fallbacks, counted in stats.fallbacks:
+///  1. inside a region: a cavity whose subface of Ω (or another face that
+///     must not be expanded across) is missing from its Delaunay
+///     tetrahedralization keeps the Delaunay tets away from it and fills the
+///     rest by constrained gift-wrapping (the cavity.hpp fallback). The mesh
+///     stays a valid constrained tetrahedralization; it can miss the
+///     constrained Delaunay property by rounding near folds of facets made
+///     nearly planar by rounded Steiner vertices;
+///  2. a region whose recovery fails is restored (the mesh is only changed
+///     by a successful recovery) and retried after the rest of the queue,
+///     then subface by subface.
+/// Errors name the facet: Internal when a subface still cannot be recovered
+/// (no Steiner point fallback is implemented), LimitReached when a bound is
+/// reached, Cancelled when *cancel becomes true; InvalidArgument or
+/// DegenerateFacet for bad subfaces.
 Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* stats = nullptr,
                       const volatile bool* cancel = nullptr);
 

@@ -24,7 +24,8 @@ TetId any_live_tet(const TetMesh& mesh) {
 
 Location locate_point(const TetMesh& mesh, const double* p, TetId hint, Rng& rng) {
   Location loc;
-  if (hint == kNone || hint >= mesh.num_tet_slots() || mesh.is_dead(hint)) hint = any_live_tet(mesh);
+  if (hint == kNone || hint >= mesh.num_tet_slots() || mesh.is_dead(hint))
+    hint = any_live_tet(mesh);
   if (hint == kNone) return loc;
   TetId t = mesh.is_ghost(hint) ? mesh.neighbor(hint, 3) : hint;
   TetId came_from = kNone;
@@ -44,7 +45,7 @@ Location locate_point(const TetMesh& mesh, const double* p, TetId hint, Rng& rng
       const double* a = mesh.point(w[kFaceVertex[i][0]]);
       const double* b = mesh.point(w[kFaceVertex[i][1]]);
       const double* c = mesh.point(w[kFaceVertex[i][2]]);
-      if (fast::orient3d(a, b, c, p) < 0) {  // p strictly beyond face i
+      if (pred::orient3d(a, b, c, p) < 0) {  // p strictly beyond face i
         next = n;
         break;
       }

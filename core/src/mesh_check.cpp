@@ -62,7 +62,8 @@ Status check_mesh(const TetMesh& m) {
     const bool ghost = w[3] == kInfinite;
     for (int i = 0; i < 4; ++i) {
       if (w[i] == kInfinite) {
-        if (i != 3) return fail("mesh: " + tet_name(m, t) + " has the infinite vertex before position 3.");
+        if (i != 3)
+          return fail("mesh: " + tet_name(m, t) + " has the infinite vertex before position 3.");
       } else if (w[i] >= nv) {
         return fail("mesh: " + tet_name(m, t) + " has a vertex id out of range.");
       } else if (m.vtet[w[i]] == kNone) {
@@ -74,7 +75,8 @@ Status check_mesh(const TetMesh& m) {
     for (int i = 0; i < 4; ++i) {
       const HalfFace hf = m.tadj[4 * t + i];
       if (hf == kNone || hf_tet(hf) >= slots)
-        return fail("mesh: " + tet_name(m, t) + " face " + std::to_string(i) + " has no neighbour.");
+        return fail("mesh: " + tet_name(m, t) + " face " + std::to_string(i) +
+                    " has no neighbour.");
       const size_t n = hf_tet(hf);
       if (m.tflag[n] & kTetDead)
         return fail("mesh: " + tet_name(m, t) + " is glued to dead tet " + std::to_string(n) + ".");
@@ -119,7 +121,8 @@ Status check_mesh(const TetMesh& m) {
     const TetId t = m.vtet[v];
     if (t == kNone) continue;
     if (m.vkind[v] == kVertexDuplicate || m.vkind[v] == kVertexNotInserted)
-      return fail("mesh: vertex " + std::to_string(v) + " is not inserted but has a tet.", int64_t(v));
+      return fail("mesh: vertex " + std::to_string(v) + " is not inserted but has a tet.",
+                  int64_t(v));
     if (t >= slots || (m.tflag[t] & kTetDead) || m.index_in_tet(t, VertexId(v)) < 0)
       return fail("mesh: vtet of vertex " + std::to_string(v) + " is not an incident live tet.",
                   int64_t(v));

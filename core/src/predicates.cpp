@@ -10,14 +10,19 @@
 //     bit to underflow; T_hi keeps every partial sum below 2^996, so the
 //     Veltkamp split never overflows. Inside the documented range, s = 0.
 //  2. If every coordinate difference against the last point is exact in
-//     double (two-diff tail 0: always the case for the integer and
-//     power-of-two grids that make inputs degenerate), evaluate the
-//     difference form of the determinant on those doubles: short expansions.
+//     double (two-diff tail 0: the case for integer and power-of-two grids,
+//     for i * h grids, and for any coordinates sharing one binade, the usual
+//     sources of exact degeneracy), evaluate the difference form of the
+//     determinant on those doubles: short expansions (~300 ns for insphere
+//     on small lattice coordinates).
 //  3. Otherwise evaluate the raw homogeneous form (the determinant with a
 //     column of ones, and the lifted column |p|^2 for in-circle/sphere),
-//     whose entries are the coordinates themselves: longer expansions, but
-//     only products of an expansion by a double, so sizes are fixed and the
-//     buffers live on the stack (at most ~120 KB, in insphere).
+//     whose entries are the coordinates themselves: longer expansions
+//     (several microseconds for insphere on full 53-bit significands).
+// Only products of an expansion by a double are used, so every length has a
+// fixed bound and the buffers live on the stack (about 170 KB at most, in
+// insphere_exact; the wasm build has a 5 MB stack). Intermediate expansions
+// are compressed, which keeps them to a few components in practice.
 #include "predicates.hpp"
 
 #include <cmath>
@@ -43,10 +48,10 @@ using detail::g_counters;
 struct ScaleLimits {
   int t_lo, t_hi;
 };
-constexpr ScaleLimits kOrient2dScale{-537, 490};   // 6 (2M)^2 < 2^996
-constexpr ScaleLimits kOrient3dScale{-358, 320};   // 24 (2M)^3 < 2^996
-constexpr ScaleLimits kIncircleScale{-268, 240};   // 192 (2M)^4 < 2^996
-constexpr ScaleLimits kInsphereScale{-214, 190};   // 2304 (2M)^5 < 2^996
+constexpr ScaleLimits kOrient2dScale{-537, 490};  // 6 (2M)^2 < 2^996
+constexpr ScaleLimits kOrient3dScale{-358, 320};  // 24 (2M)^3 < 2^996
+constexpr ScaleLimits kIncircleScale{-268, 240};  // 192 (2M)^4 < 2^996
+constexpr ScaleLimits kInsphereScale{-214, 190};  // 2304 (2M)^5 < 2^996
 
 // Exponent of the lowest set bit of a nonzero finite double.
 int lowest_bit_exponent(double x) {
@@ -109,10 +114,10 @@ bool differences(const double (*q)[3], int last, int dim, double (*d)[3]) {
 // xy 2x2 minors: Pz (QxRy - QyRx) - Qz (PxRy - PyRx) + Rz (PxQy - PyQx).
 // Output capacity 24.
 int det3(const double* p, const double* q, const double* r, double* out) {
-  double qr[4], pr[4], pq[4], t1[8], t2[8], t3[8], u[16];
-  const int nqr = exact::two_two_diff(q[0], r[1], q[1], r[0], qr);
-  const int npr = exact::two_two_diff(p[0], r[1], p[1], r[0], pr);
-  const int npq = exact::two_two_diff(p[0], q[1], p[1], q[0], pq);
+  double qr[4], pr[4], pq[4], t[4], t1[8], t2[8], t3[8], u[16];
+  const int nqr = exact::compress(exact::two_two_diff(q[0], r[1], q[1], r[0], t), t, qr);
+  const int npr = exact::compress(exact::two_two_diff(p[0], r[1], p[1], r[0], t), t, pr);
+  const int npq = exact::compress(exact::two_two_diff(p[0], q[1], p[1], q[0], t), t, pq);
   const int n1 = exact::scale(nqr, qr, p[2], t1);
   const int n2 = exact::scale(npr, pr, -q[2], t2);
   const int n3 = exact::scale(npq, pq, r[2], t3);
@@ -120,35 +125,81 @@ int det3(const double* p, const double* q, const double* r, double* out) {
   return exact::sum(nu, u, n3, t3, out);
 }
 
-// det | p 1 ; q 1 ; r 1 ; s 1 | (raw orient3d), expanded along the column of
-// ones: -[qrs] + [prs] - [pqs] + [pqr]. Output capacity 96.
-int raw_orient3d(const double* p, const double* q, const double* r, const double* s,
-                 double* out) {
-  double m[4][24], u[48], v[48];
-  const int n0 = det3(q, r, s, m[0]);
-  const int n1 = det3(p, r, s, m[1]);
-  const int n2 = det3(p, q, s, m[2]);
-  const int n3 = det3(p, q, r, m[3]);
-  exact::negate(n0, m[0]);
-  exact::negate(n2, m[2]);
-  const int nu = exact::sum(n0, m[0], n1, m[1], u);
-  const int nv = exact::sum(n2, m[2], n3, m[3], v);
+// The xy minors of every pair and the xyz minors of every triple of up to
+// five raw points, shared by the raw orient3d of each four of them:
+// [ijk] = z_i [jk] - z_j [ik] + z_k [ij], [ij] = x_i y_j - y_i x_j.
+struct RawMinors {
+  int pair[5][5];
+  int triple[5][5][5];
+  int n2[10], n3[10];
+  double m2[10][4];
+  double m3[10][24];
+};
+
+void raw_minors(const double (*q)[3], int n, RawMinors& r) {
+  int np = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j) {
+      double t[4];
+      r.pair[i][j] = np;
+      r.n2[np] =
+          exact::compress(exact::two_two_diff(q[i][0], q[j][1], q[i][1], q[j][0], t), t, r.m2[np]);
+      ++np;
+    }
+  int nt = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j)
+      for (int k = j + 1; k < n; ++k) {
+        const int jk = r.pair[j][k], ik = r.pair[i][k], ij = r.pair[i][j];
+        double t1[8], t2[8], t3[8], u[16], v[24];
+        const int n1 = exact::scale(r.n2[jk], r.m2[jk], q[i][2], t1);
+        const int n2 = exact::scale(r.n2[ik], r.m2[ik], -q[j][2], t2);
+        const int n3 = exact::scale(r.n2[ij], r.m2[ij], q[k][2], t3);
+        const int nu = exact::sum(n1, t1, n2, t2, u);
+        r.triple[i][j][k] = nt;
+        r.n3[nt] = exact::compress(exact::sum(nu, u, n3, t3, v), v, r.m3[nt]);
+        ++nt;
+      }
+}
+
+// det | p 1 ; q 1 ; r 1 ; s 1 | (raw orient3d) for point indices p < q < r
+// < s, expanded along the column of ones: -[qrs] + [prs] - [pqs] + [pqr].
+// Output capacity 96.
+int raw_orient3d(const RawMinors& m, int p, int q, int r, int s, double* out) {
+  double neg[2][24], u[48], v[48];
+  const int a = m.triple[q][r][s], b = m.triple[p][r][s];
+  const int c = m.triple[p][q][s], d = m.triple[p][q][r];
+  for (int i = 0; i < m.n3[a]; ++i) neg[0][i] = -m.m3[a][i];
+  for (int i = 0; i < m.n3[c]; ++i) neg[1][i] = -m.m3[c][i];
+  const int nu = exact::sum(m.n3[a], neg[0], m.n3[b], m.m3[b], u);
+  const int nv = exact::sum(m.n3[c], neg[1], m.n3[d], m.m3[d], v);
   return exact::sum(nu, u, nv, v, out);
 }
 
-// out = sign * (p_0^2 + ... + p_{dim-1}^2) * m, computed as a sum over k of
-// (m * p_k) * (+-p_k). Capacity of out: 4 * dim * n <= 4 * dim * N.
+// out = sign * (p_0^2 + ... + p_{dim-1}^2) * m. The lift is formed exactly
+// (at most 2 dim components, compressed: usually 2 or 3), then m is scaled by
+// each of its components and the products summed. Capacity of out: 4 dim N.
 template <int N>
 int times_lift(int n, const double* m, const double* p, int dim, bool negative, double* out) {
-  double t[2 * N], sq[3][4 * N], u[8 * N];
-  int nsq[3];
-  for (int k = 0; k < dim; ++k) {
-    const int nt = exact::scale(n, m, p[k], t);
-    nsq[k] = exact::scale(nt, t, negative ? -p[k] : p[k], sq[k]);
+  double sq[3][2], l4[4], l6[6], lift[6];
+  for (int k = 0; k < dim; ++k) exact::two_square(p[k], sq[k][1], sq[k][0]);
+  int nl = exact::sum(2, sq[0], 2, sq[1], l4);
+  const double* raw_lift = l4;
+  if (dim == 3) {
+    nl = exact::sum(nl, l4, 2, sq[2], l6);
+    raw_lift = l6;
   }
-  if (dim == 2) return exact::sum(nsq[0], sq[0], nsq[1], sq[1], out);
-  const int nu = exact::sum(nsq[0], sq[0], nsq[1], sq[1], u);
-  return exact::sum(nu, u, nsq[2], sq[2], out);
+  nl = exact::compress(nl, raw_lift, lift);
+  if (negative) exact::negate(nl, lift);
+  double t[2 * N], acc[2][12 * N];
+  int nacc = 0, cur = 0;
+  for (int j = 0; j < nl; ++j) {
+    const int nt = exact::scale(n, m, lift[j], t);
+    double* dst = j + 1 == nl ? out : acc[1 - cur];
+    nacc = exact::sum(nacc, acc[cur], nt, t, dst);
+    cur = 1 - cur;
+  }
+  return nacc;
 }
 
 // 2D: det | p 1 ; q 1 ; r 1 | over the xy minors: [qr] - [pr] + [pq].
@@ -176,8 +227,10 @@ int orient3d_exact(const double* a, const double* b, const double* c, const doub
     double det[24];
     return exact::sign(det3(diff[0], diff[1], diff[2], det), det);
   }
+  RawMinors m;
+  raw_minors(q, 4, m);
   double det[96];
-  return exact::sign(raw_orient3d(q[0], q[1], q[2], q[3], det), det);
+  return exact::sign(raw_orient3d(m, 0, 1, 2, 3, det), det);
 }
 
 int insphere_exact(const double* a, const double* b, const double* c, const double* d,
@@ -190,10 +243,11 @@ int insphere_exact(const double* a, const double* b, const double* c, const doub
     // Rows A..D = a..d - e: det | A |A|^2 ; ... | expanded along the lift
     // column: -|A|^2 [BCD] + |B|^2 [ACD] - |C|^2 [ABD] + |D|^2 [ABC].
     static constexpr int kOthers[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
-    double m[24], terms[4][288], u[576], v[576], det[1152];
+    double m3[24], m[24], terms[4][288], u[576], v[576], det[1152];
     int nt[4];
     for (int i = 0; i < 4; ++i) {
-      const int nm = det3(diff[kOthers[i][0]], diff[kOthers[i][1]], diff[kOthers[i][2]], m);
+      const int nm = exact::compress(
+          det3(diff[kOthers[i][0]], diff[kOthers[i][1]], diff[kOthers[i][2]], m3), m3, m);
       nt[i] = times_lift<24>(nm, m, diff[i], 3, i % 2 == 0, terms[i]);
     }
     const int nu = exact::sum(nt[0], terms[0], nt[1], terms[1], u);
@@ -206,16 +260,18 @@ int insphere_exact(const double* a, const double* b, const double* c, const doub
   // the column operations |p|^2 - |e|^2 -> |p - e|^2).
   static constexpr int kOthers[5][4] = {
       {1, 2, 3, 4}, {0, 2, 3, 4}, {0, 1, 3, 4}, {0, 1, 2, 4}, {0, 1, 2, 3}};
-  double o[96], term[1152], acc[2][5760];
-  int nacc = 0, cur = 0;
+  RawMinors m;
+  raw_minors(q, 5, m);
+  double o[96], oc[96], term[1152], acc[2][5760];
+  int nacc = 0;
   for (int i = 0; i < 5; ++i) {
     const int* k = kOthers[i];
-    const int no = raw_orient3d(q[k[0]], q[k[1]], q[k[2]], q[k[3]], o);
-    const int nterm = times_lift<96>(no, o, q[i], 3, i % 2 == 0, term);
-    nacc = exact::sum(nacc, acc[cur], nterm, term, acc[1 - cur]);
-    cur = 1 - cur;
+    const int no = exact::compress(raw_orient3d(m, k[0], k[1], k[2], k[3], o), o, oc);
+    const int nterm = times_lift<96>(no, oc, q[i], 3, i % 2 == 0, term);
+    nacc = exact::sum(nacc, acc[0], nterm, term, acc[1]);
+    nacc = exact::compress(nacc, acc[1], acc[0]);
   }
-  return exact::sign(nacc, acc[cur]);
+  return exact::sign(nacc, acc[0]);
 }
 
 int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy) {
@@ -241,11 +297,12 @@ namespace {
 //   det = (la*bc + lb*ca) + lc*ab, rows A..C = a..c - d, l = Ax^2 + Ay^2,
 //   minors 2 roundings, lifts 2, product 1, two sums: k = 7, g = 4;
 //   S <= 2 Mx My (la + lb + lc); (1+u)^11 - 1 < 11.0000001u;
-//   22u(1 + 8u) = 2.44249e-15 < 2.45e-15 (margin 0.068u). min(M) >= 2^-230
-//   keeps the bound normal and the underflow error (<= 2^-1069 (Mmax^2 + 1))
-//   below the margin; max(M) <= 2^240 rules out overflow.
+//   22u(1 + 8u) = 2.44249e-15 < 2.45e-15 (margin 0.068u). Column sums as in
+//   predicates.hpp: every M >= 2^-230 (s >= 2^-228) keeps the bound normal
+//   and the underflow error (<= 2^-1069 (Mmax^2 + 1)) below the margin;
+//   s_x + s_y <= 2^240 rules out overflow.
 constexpr double kIncircleEps = 2.45e-15;
-constexpr double kIncircleLo = 0x1p-230, kIncircleHi = 0x1p+240;
+constexpr double kIncircleLo = 0x1p-228, kIncircleHi = 0x1p+240;
 
 int incircle_exact(const double* a, const double* b, const double* c, const double* d) {
   ++g_counters.incircle_exact;
@@ -267,16 +324,16 @@ int incircle_exact(const double* a, const double* b, const double* c, const doub
   }
   // Raw form: sum_i (-1)^i |p_i|^2 orient2d(the other three) (0-based i).
   static constexpr int kOthers[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
-  double o[12], term[96], acc[2][384];
-  int nacc = 0, cur = 0;
+  double o[12], oc[12], term[96], acc[2][384];
+  int nacc = 0;
   for (int i = 0; i < 4; ++i) {
     const int* k = kOthers[i];
-    const int no = raw_orient2d(q[k[0]], q[k[1]], q[k[2]], o);
-    const int nterm = times_lift<12>(no, o, q[i], 2, i % 2 == 1, term);
-    nacc = exact::sum(nacc, acc[cur], nterm, term, acc[1 - cur]);
-    cur = 1 - cur;
+    const int no = exact::compress(raw_orient2d(q[k[0]], q[k[1]], q[k[2]], o), o, oc);
+    const int nterm = times_lift<12>(no, oc, q[i], 2, i % 2 == 1, term);
+    nacc = exact::sum(nacc, acc[0], nterm, term, acc[1]);
+    nacc = exact::compress(nacc, acc[1], acc[0]);
   }
-  return exact::sign(nacc, acc[cur]);
+  return exact::sign(nacc, acc[0]);
 }
 
 }  // namespace
@@ -293,14 +350,12 @@ int incircle(const double* a, const double* b, const double* c, const double* d)
   const double lb = bdx * bdx + bdy * bdy;
   const double lc = cdx * cdx + cdy * cdy;
   const double det = (la * bc + lb * ca) + lc * ab;
-  const double mx = detail::max3(std::fabs(adx), std::fabs(bdx), std::fabs(cdx));
-  const double my = detail::max3(std::fabs(ady), std::fabs(bdy), std::fabs(cdy));
-  const double lo = mx < my ? mx : my, hi = mx < my ? my : mx;
-  if (lo >= kIncircleLo && hi <= kIncircleHi) {
-    const double bound = kIncircleEps * mx * my * ((la + lb) + lc);
-    if (det > bound) return 1;
-    if (det < -bound) return -1;
-  }
+  const double sx = (std::fabs(adx) + std::fabs(bdx)) + std::fabs(cdx);
+  const double sy = (std::fabs(ady) + std::fabs(bdy)) + std::fabs(cdy);
+  const double bound = kIncircleEps * sx * sy * ((la + lb) + lc);
+  const bool decided = (std::fabs(det) > bound) & (sx >= kIncircleLo) & (sy >= kIncircleLo) &
+                       (sx + sy <= kIncircleHi);
+  if (decided) return detail::sign_of(det);
   return incircle_exact(a, b, c, d);
 }
 
@@ -332,9 +387,7 @@ int incircle_coplanar(const double* a, const double* b, const double* c, const d
         order[y + 1] = t;
       }
   double span = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    span = detail::max3(span, std::fabs(u[k]), std::fabs(v[k]));
-  }
+  for (int k = 0; k < 3; ++k) span = std::fmax(span, std::fmax(std::fabs(u[k]), std::fabs(v[k])));
   if (span == 0.0) return 0;
   for (int r = 0; r < 3; ++r) {
     // f = a moved along axis k: off the plane exactly when the normal's k-th

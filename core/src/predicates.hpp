@@ -4,11 +4,14 @@
 //
 // Each predicate is the sign of a polynomial in the coordinates. It first
 // evaluates the polynomial in doubles and compares the result against a
-// rigorous semi-static error bound (computed from the largest absolute
-// coordinate differences, the Meyer–Pion idea, with constants derived below
-// for our exact evaluation order). Only when the bound cannot decide does it
-// call the exact stage (predicates.cpp), which evaluates the same polynomial
-// with floating-point expansions (expansion.hpp) and never rounds.
+// rigorous semi-static error bound (computed from the absolute coordinate
+// differences of each column, the Meyer–Pion idea, with constants derived
+// below for our exact evaluation order). Only when the bound cannot decide
+// does it call the exact stage (predicates.cpp), which evaluates the same
+// polynomial with floating-point expansions (expansion.hpp) and never rounds.
+// The filters are valid for any finite or non-finite input (they defer to
+// the exact stage outside their own limits); the range below concerns the
+// exact stage only.
 //
 // Supported range (exactness guarantee). Every predicate returns the sign of
 // the exact real determinant when each coordinate of the points involved is
@@ -18,7 +21,8 @@
 // hi - lo <= 404 for insphere (508 incircle, 678 orient3d, 1027 orient2d),
 // where 2^hi bounds the largest |coordinate| and 2^lo is the lowest set bit
 // of any nonzero coordinate. For |x| in [1e-50, 1e50]: hi <= 167 and
-// lo >= -219 (ulp of 2^-167), so hi - lo <= 386. Points outside this rule
+// lo >= -219 (ulp of 2^-167), so hi - lo <= 386 (the auxiliary point of
+// incircle_coplanar adds at most one bit to hi). Points outside this rule
 // (for instance a subnormal coordinate next to a coordinate of 1) still get
 // an answer, usually right but not guaranteed, and counters().out_of_range
 // counts them.
@@ -92,8 +96,7 @@ bool collinear3d(const double* a, const double* b, const double* c);
 /// point with the larger id counts as slightly farther out, and the query e
 /// is outside when its id is the largest. See sos.cpp for the derivation.
 int insphere_sos(const double* a, const double* b, const double* c, const double* d,
-                 const double* e, uint32_t ia, uint32_t ib, uint32_t ic, uint32_t id,
-                 uint32_t ie);
+                 const double* e, uint32_t ia, uint32_t ib, uint32_t ic, uint32_t id, uint32_t ie);
 
 /// Perturbed "in circle of a hull face" test used for ghost tets: for e coplanar
 /// with a, b, c (orient3d == 0), decides whether e is in conflict with the
@@ -108,9 +111,8 @@ int insphere_sos(const double* a, const double* b, const double* c, const double
 /// answer is insphere_sos(a, b, c, q, e) for any such q, which no longer
 /// depends on q nor on the id of the infinite vertex (sos.cpp). Never 0 when
 /// a, b, c are not collinear.
-int incircle_coplanar_sos(const double* a, const double* b, const double* c,
-                          const double* e, uint32_t ia, uint32_t ib, uint32_t ic,
-                          uint32_t ie);
+int incircle_coplanar_sos(const double* a, const double* b, const double* c, const double* e,
+                          uint32_t ia, uint32_t ib, uint32_t ic, uint32_t ie);
 
 /// Counters for filter efficiency (not thread-safe; for statistics only).
 /// *_exact counts the calls the filter could not decide (always on).
@@ -146,20 +148,6 @@ int insphere_exact(const double* a, const double* b, const double* c, const doub
 int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy);
 inline int orient2d_xy(double ax, double ay, double bx, double by, double cx, double cy);
 
-inline double max3(double a, double b, double c) {
-  const double m = a > b ? a : b;
-  return m > c ? m : c;
-}
-inline double min3(double a, double b, double c) {
-  const double m = a < b ? a : b;
-  return m < c ? m : c;
-}
-inline double max4(double a, double b, double c, double d) {
-  const double m = a > b ? a : b;
-  const double n = c > d ? c : d;
-  return m > n ? m : n;
-}
-
 // Filter constants. Notation: u = 2^-53 (unit roundoff); fl(x op y) =
 // (x op y)(1 + t) with |t| <= u as long as nothing underflows. The computed
 // coordinate differences D' = fl(p - q) satisfy |D - D'| <= u |D'| (half an
@@ -172,24 +160,33 @@ inline double max4(double a, double b, double c, double d) {
 // one). Replacing D' by the exact D adds one factor (1 + t) per factor of the
 // monomial (its degree g). Hence
 //     |computed - exact| <= ((1 + u)^(k + g) - 1) * S,   S = sum |m|,
-// and S is bounded through the column maxima M_x = max |D'_x| (over the rows)
-// etc. The bound actually tested is computed in doubles (a few more factors
+// and S is bounded through the column maxima M_x = max |D'_x| over the rows.
+// The filter uses the column sums s_x = fl(sum |D'_x|) instead, which are at
+// least M_x (rounding is monotonic and M_x is a double) and at most
+// n M_x (1 + nu) for n rows: no comparisons or selects, which matters in
+// WebAssembly, where V8 turns each f64 select or max into a branch that
+// mispredicts on random data (a max-based filter ran 10x slower there).
+// The bound actually tested is computed in doubles (a few more factors
 // (1 - u)) and its constant is rounded up with a margin (>= 0.09u of S); the
 // margin also absorbs the absolute error of underflowing products (each at
 // most 2^-1075, times at most the product of the remaining factors), which is
-// why the filter requires min(M) >= kLo: that keeps the margin above it and
-// keeps the bound itself a normal number. max(M) <= kHi rules out overflow
-// (and catches inf/NaN, since comparisons with NaN are false). Outside those
+// why the filter requires every s >= kLo (so every M >= kLo / n / (1 + nu)):
+// that keeps the margin above it and keeps the bound a normal number (for
+// orient3d/orient2d a single test on the product of the sums suffices).
+// s_x + s_y + s_z <= kHi bounds every entry and rules out overflow (and
+// catches inf/NaN, since comparisons with NaN are false). Outside those
 // limits, or when |computed| <= bound, the exact stage decides.
 //
 // orient3d: det = Ax(ByCz - BzCy) + Bx(CyAz - CzAy) + Cx(AyBz - AzBy),
 //   summed left to right: k = 5 (mul, sub, mul, add, add), g = 3;
 //   S <= 6 Mx My Mz (six monomials |x y z|); (1+u)^8 - 1 < 8.0000001u;
 //   48u(1 + 1e-6) = 5.3291e-15 < 5.34e-15 (margin 0.098u).
-//   Underflow: at most 9 products, error <= 2^-1074 * (6 Mmax + 3); with
-//   min(M) >= 2^-300 this is far below 0.098u * Mx My Mz.
+//   Underflow needs only one test here: with every entry <= 2^300 the at most
+//   9 products err by <= 2^-1075 (6 * 2^300 * 1.01 + 3) < 2^-772 in all,
+//   below the margin 0.098u P once P = fl(fl(sx sy) sz) >= 2^-700; and then
+//   sx sy >= 2^-700 / 2^302 did not underflow, nor does the bound.
 inline constexpr double kOrient3dEps = 5.34e-15;
-inline constexpr double kOrient3dLo = 0x1p-300, kOrient3dHi = 0x1p+300;
+inline constexpr double kOrient3dLo = 0x1p-700, kOrient3dHi = 0x1p+300;
 // insphere (rows A..D = a..d minus e, lifts l = Ax^2 + Ay^2 + Az^2):
 //   det = (ld*abc - lc*dab) + (lb*cda - la*bcd), 3x3 minors from 2x2 xy
 //   minors as in the code: minor path 5, lift path 3, product 1, two more
@@ -198,15 +195,18 @@ inline constexpr double kOrient3dLo = 0x1p-300, kOrient3dHi = 0x1p+300;
 //   1.06582e-14 < 1.07e-14 (margin 0.37u). The sum of the lifts used in the
 //   bound is computed, (1 - u)^-6 covered by the margin.
 //   Underflow: about 40 products, each error amplified by at most 7 Mmax^3
-//   (a lift times a z, or a 3x3 minor); sum(l) >= Mmax^2, so with
-//   min(M) >= 2^-190 (Mmin^5 * 2^-47 > 2^-1022: bound normal) the margin
-//   0.37u * Mx My Mz sum(l) dominates.
+//   (a lift times a z, or a 3x3 minor); sum(l) >= Mmax^2, so once every
+//   M >= 2^-189 (s >= 2^-187; then Mmin^5 * 2^-47 > 2^-1022: bound normal)
+//   the margin 0.37u Mx My Mz sum(l) dominates.
 inline constexpr double kInsphereEps = 1.07e-14;
-inline constexpr double kInsphereLo = 0x1p-190, kInsphereHi = 0x1p+200;
+inline constexpr double kInsphereLo = 0x1p-187, kInsphereHi = 0x1p+200;
 // orient2d: det = Ax By - Ay Bx: k = 2, g = 2, S <= 2 Mx My;
-//   8u(1 + 1e-6) = 8.8818e-16 < 9e-16 (margin 0.1u).
+//   8u(1 + 1e-6) = 8.8818e-16 < 9e-16 (margin 0.1u); as for orient3d, one
+//   test P = fl(sx sy) >= 2^-900 (the two products err by <= 2^-1074 in all).
 inline constexpr double kOrient2dEps = 9.0e-16;
-inline constexpr double kOrient2dLo = 0x1p-450, kOrient2dHi = 0x1p+500;
+inline constexpr double kOrient2dLo = 0x1p-900, kOrient2dHi = 0x1p+500;
+
+inline int sign_of(double x) { return (x > 0.0) - (x < 0.0); }
 
 }  // namespace detail
 
@@ -215,16 +215,15 @@ inline int orient3d(const double* a, const double* b, const double* c, const dou
   const double adx = a[0] - d[0], ady = a[1] - d[1], adz = a[2] - d[2];
   const double bdx = b[0] - d[0], bdy = b[1] - d[1], bdz = b[2] - d[2];
   const double cdx = c[0] - d[0], cdy = c[1] - d[1], cdz = c[2] - d[2];
-  const double det = adx * (bdy * cdz - bdz * cdy) + bdx * (cdy * adz - cdz * ady) +
-                     cdx * (ady * bdz - adz * bdy);
-  const double mx = detail::max3(std::fabs(adx), std::fabs(bdx), std::fabs(cdx));
-  const double my = detail::max3(std::fabs(ady), std::fabs(bdy), std::fabs(cdy));
-  const double mz = detail::max3(std::fabs(adz), std::fabs(bdz), std::fabs(cdz));
-  const double lo = detail::min3(mx, my, mz), hi = detail::max3(mx, my, mz);
-  if (lo >= detail::kOrient3dLo && hi <= detail::kOrient3dHi) {
-    const double bound = detail::kOrient3dEps * mx * my * mz;
-    if (std::fabs(det) > bound) return (det > 0.0) - (det < 0.0);
-  }
+  const double det =
+      adx * (bdy * cdz - bdz * cdy) + bdx * (cdy * adz - cdz * ady) + cdx * (ady * bdz - adz * bdy);
+  const double sx = (std::fabs(adx) + std::fabs(bdx)) + std::fabs(cdx);
+  const double sy = (std::fabs(ady) + std::fabs(bdy)) + std::fabs(cdy);
+  const double sz = (std::fabs(adz) + std::fabs(bdz)) + std::fabs(cdz);
+  const double p = sx * sy * sz;
+  const bool decided = (std::fabs(det) > detail::kOrient3dEps * p) & (p >= detail::kOrient3dLo) &
+                       (sx + sy + sz <= detail::kOrient3dHi);
+  if (decided) return detail::sign_of(det);
   return detail::orient3d_exact(a, b, c, d);
 }
 
@@ -250,33 +249,28 @@ inline int insphere(const double* a, const double* b, const double* c, const dou
   const double lc = cex * cex + cey * cey + cez * cez;
   const double ld = dex * dex + dey * dey + dez * dez;
   const double det = (ld * abc - lc * dab) + (lb * cda - la * bcd);
-  const double mx =
-      detail::max4(std::fabs(aex), std::fabs(bex), std::fabs(cex), std::fabs(dex));
-  const double my =
-      detail::max4(std::fabs(aey), std::fabs(bey), std::fabs(cey), std::fabs(dey));
-  const double mz =
-      detail::max4(std::fabs(aez), std::fabs(bez), std::fabs(cez), std::fabs(dez));
-  const double lo = detail::min3(mx, my, mz), hi = detail::max3(mx, my, mz);
-  if (lo >= detail::kInsphereLo && hi <= detail::kInsphereHi) {
-    const double bound = detail::kInsphereEps * mx * my * mz * ((la + lb) + (lc + ld));
-    if (std::fabs(det) > bound) return (det > 0.0) - (det < 0.0);
-  }
+  const double sx = (std::fabs(aex) + std::fabs(bex)) + (std::fabs(cex) + std::fabs(dex));
+  const double sy = (std::fabs(aey) + std::fabs(bey)) + (std::fabs(cey) + std::fabs(dey));
+  const double sz = (std::fabs(aez) + std::fabs(bez)) + (std::fabs(cez) + std::fabs(dez));
+  const double bound = detail::kInsphereEps * sx * sy * sz * ((la + lb) + (lc + ld));
+  const bool decided = (std::fabs(det) > bound) & (sx >= detail::kInsphereLo) &
+                       (sy >= detail::kInsphereLo) & (sz >= detail::kInsphereLo) &
+                       (sx + sy + sz <= detail::kInsphereHi);
+  if (decided) return detail::sign_of(det);
   return detail::insphere_exact(a, b, c, d, e);
 }
 
-inline int detail::orient2d_xy(double ax, double ay, double bx, double by, double cx,
-                               double cy) {
+inline int detail::orient2d_xy(double ax, double ay, double bx, double by, double cx, double cy) {
   count_call(g_counters.orient2d_calls);
   const double acx = ax - cx, acy = ay - cy;
   const double bcx = bx - cx, bcy = by - cy;
   const double det = acx * bcy - acy * bcx;
-  const double mx = std::fabs(acx) > std::fabs(bcx) ? std::fabs(acx) : std::fabs(bcx);
-  const double my = std::fabs(acy) > std::fabs(bcy) ? std::fabs(acy) : std::fabs(bcy);
-  const double lo = mx < my ? mx : my, hi = mx < my ? my : mx;
-  if (lo >= kOrient2dLo && hi <= kOrient2dHi) {
-    const double bound = kOrient2dEps * mx * my;
-    if (std::fabs(det) > bound) return (det > 0.0) - (det < 0.0);
-  }
+  const double sx = std::fabs(acx) + std::fabs(bcx);
+  const double sy = std::fabs(acy) + std::fabs(bcy);
+  const double p = sx * sy;
+  const bool decided =
+      (std::fabs(det) > kOrient2dEps * p) & (p >= kOrient2dLo) & (sx + sy <= kOrient2dHi);
+  if (decided) return sign_of(det);
   return orient2d_exact(ax, ay, bx, by, cx, cy);
 }
 

@@ -28,8 +28,7 @@ namespace cdt3d {
 namespace pred {
 
 int insphere_sos(const double* a, const double* b, const double* c, const double* d,
-                 const double* e, uint32_t ia, uint32_t ib, uint32_t ic, uint32_t id,
-                 uint32_t ie) {
+                 const double* e, uint32_t ia, uint32_t ib, uint32_t ic, uint32_t id, uint32_t ie) {
   const int s = insphere(a, b, c, d, e);
   if (s != 0) return s;
   ++detail::g_counters.sos_ties;
@@ -68,9 +67,8 @@ int insphere_sos(const double* a, const double* b, const double* c, const double
 // replaced by e, relative to the face; for e itself, "outside". tau is exact
 // from the projection on a coordinate plane where the face does not degenerate
 // (the projected orientations share the factor sign(n[drop])).
-int incircle_coplanar_sos(const double* a, const double* b, const double* c,
-                          const double* e, uint32_t ia, uint32_t ib, uint32_t ic,
-                          uint32_t ie) {
+int incircle_coplanar_sos(const double* a, const double* b, const double* c, const double* e,
+                          uint32_t ia, uint32_t ib, uint32_t ic, uint32_t ie) {
   const int o = orient3d(a, b, c, e);
   if (o != 0) return o;
   const int s = incircle_coplanar(a, b, c, e);

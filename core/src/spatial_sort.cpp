@@ -9,8 +9,8 @@ namespace cdt3d {
 namespace {
 
 constexpr int kMaxHilbertBits = 21;  // 3 * 21 = 63-bit keys
+constexpr int kBrioHilbertBits = 9;  // 4 bits of round + 3 * 9 fit in 32 bits
 constexpr size_t kFirstRound = 1000;
-constexpr size_t kRoundGrowth = 4;
 
 struct Keyed {
   uint64_t key;
@@ -27,7 +27,7 @@ struct KeyedLess {
 // grows with the bits), at most 21 bits per axis.
 int hilbert_bits(size_t n) {
   int log2n = 0;
-  while (log2n < 40 && (size_t(1) << log2n) < n) ++log2n;
+  while (log2n < 40 && (uint64_t(1) << log2n) < uint64_t(n)) ++log2n;
   return std::min(kMaxHilbertBits, std::max(6, (log2n + 2) / 3 + 5));
 }
 
@@ -37,9 +37,9 @@ struct Quantizer {
   double scale = 0;
   int bits = kMaxHilbertBits;
 
-  void fit(const double* coords, const VertexId* first, const VertexId* last) {
+  void fit(const double* coords, const VertexId* first, const VertexId* last, int max_bits) {
     if (first == last) return;
-    bits = hilbert_bits(size_t(last - first));
+    bits = std::min(max_bits, hilbert_bits(size_t(last - first)));
     double hi[3];
     for (int k = 0; k < 3; ++k) lo[k] = hi[k] = coords[3 * size_t(*first) + k];
     for (const VertexId* p = first; p != last; ++p)
@@ -66,11 +66,11 @@ struct Quantizer {
   }
 };
 
-}  // namespace
-
 // Skilling's transform (AIP Conf. Proc. 707, 2004): turn the axes into the
 // "transposed" Hilbert index by undoing the per-level rotations/reflections,
 // then Gray-encode; finally interleave the bits, most significant level first.
+}  // namespace
+
 uint64_t hilbert_key(uint32_t x, uint32_t y, uint32_t z, int bits) {
   uint32_t a[3] = {x, y, z};
   const uint32_t top = 1u << (bits - 1);
@@ -101,7 +101,7 @@ uint64_t hilbert_key(uint32_t x, uint32_t y, uint32_t z, int bits) {
 
 void hilbert_sort(const double* coords, VertexId* first, VertexId* last) {
   Quantizer qz;
-  qz.fit(coords, first, last);
+  qz.fit(coords, first, last, kMaxHilbertBits);
   std::vector<Keyed> keyed;
   keyed.reserve(size_t(last - first));
   for (VertexId* p = first; p != last; ++p) keyed.push_back({qz.key(coords, *p), *p});
@@ -109,34 +109,61 @@ void hilbert_sort(const double* coords, VertexId* first, VertexId* last) {
   for (size_t i = 0; i < keyed.size(); ++i) first[i] = keyed[i].v;
 }
 
+namespace {
+
+// LSD radix sort of 64-bit records on bits [lo, hi) (11 bits per pass);
+// stable, so records equal there keep their order.
+void radix_sort(std::vector<uint64_t>& a, int lo, int hi) {
+  constexpr int kDigit = 11;
+  constexpr size_t kBuckets = size_t(1) << kDigit;
+  std::vector<uint64_t> tmp(a.size());
+  std::vector<size_t> count(kBuckets);
+  for (int shift = lo; shift < hi; shift += kDigit) {
+    std::fill(count.begin(), count.end(), 0);
+    for (uint64_t r : a) ++count[(r >> shift) & (kBuckets - 1)];
+    if (std::find(count.begin(), count.end(), a.size()) != count.end()) continue;  // one digit
+    size_t sum = 0;
+    for (size_t& c : count) {
+      const size_t here = c;
+      c = sum;
+      sum += here;
+    }
+    for (uint64_t r : a) tmp[count[(r >> shift) & (kBuckets - 1)]++] = r;
+    a.swap(tmp);
+  }
+}
+
+}  // namespace
+
 void brio_order(const double* coords, const std::vector<VertexId>& vertices, uint64_t seed,
                 std::vector<VertexId>& order) {
   const size_t n = vertices.size();
   order.clear();
   if (n == 0) return;
   Quantizer qz;
-  qz.fit(coords, vertices.data(), vertices.data() + n);
-  std::vector<Keyed> keyed(n);
-  for (size_t i = 0; i < n; ++i) keyed[i] = {qz.key(coords, vertices[i]), vertices[i]};
+  qz.fit(coords, vertices.data(), vertices.data() + n, kBrioHilbertBits);
 
-  // Fisher–Yates with our own generator (std::shuffle differs between
-  // standard libraries).
+  // Rounds as levels: a point falls in level j with probability (3/4) 4^-j
+  // (two leading zero bits of a random word per level), level 0 being the
+  // last round; levels from `top` up form the first round, of about
+  // kFirstRound points. Each record is (round, Hilbert index) in its high
+  // 32 bits and the position in `vertices` in its low 32 bits, so ties go
+  // by position.
+  int top = 0;
+  while (top < 15 && (uint64_t(n) >> (2 * (top + 1))) >= kFirstRound) ++top;
+  const int hbits = 3 * qz.bits;
   Rng rng(seed);
-  for (size_t i = n - 1; i > 0; --i) {
-    const size_t j = rng.below(static_cast<uint32_t>(i + 1));
-    std::swap(keyed[i], keyed[j]);
+  std::vector<uint64_t> rec(n);
+  for (size_t i = 0; i < n; ++i) {
+    uint64_t r = rng.next();
+    int level = 0;
+    while (level < top && (r >> 62) == 0) r <<= 2, ++level;
+    const uint64_t key = (uint64_t(top - level) << hbits) | qz.key(coords, vertices[i]);
+    rec[i] = (key << 32) | i;
   }
-
-  // Round boundaries, from the last (largest) round down to the first.
-  std::vector<size_t> bounds{n};
-  while (bounds.back() > kFirstRound) bounds.push_back(bounds.back() / kRoundGrowth);
-  bounds.push_back(0);
-  std::reverse(bounds.begin(), bounds.end());
-  for (size_t r = 0; r + 1 < bounds.size(); ++r)
-    std::sort(keyed.begin() + bounds[r], keyed.begin() + bounds[r + 1], KeyedLess());
-
+  radix_sort(rec, 32, 32 + hbits + 4);
   order.resize(n);
-  for (size_t i = 0; i < n; ++i) order[i] = keyed[i].v;
+  for (size_t i = 0; i < n; ++i) order[i] = vertices[uint32_t(rec[i])];
 }
 
 }  // namespace cdt3d

@@ -5,7 +5,6 @@
 #pragma once
 
 #include <cdt3d/cdt3d.hpp>
-
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -36,10 +35,11 @@ uint64_t hilbert_key(uint32_t x, uint32_t y, uint32_t z, int bits);
 /// the given vertices (ties by id).
 void hilbert_sort(const double* coords, VertexId* first, VertexId* last);
 
-/// BRIO order of `vertices`: a seeded shuffle splits them into rounds whose
-/// sizes grow geometrically (each round about 1/ratio = 4 times the previous
-/// one, the first at most ~1000 points); each round is sorted along one
-/// Hilbert curve over the bounding cube of all the vertices.
+/// BRIO order of `vertices`: each vertex draws its round at random (seeded),
+/// the last round holding about 3/4 of them, each earlier one a quarter of
+/// the next, the first about 1000 (Amenta, Choi, Rote 2003); inside a round
+/// the vertices follow one Hilbert curve over the bounding cube of all of
+/// them. Stable radix sort: equal keys keep the order of `vertices`.
 void brio_order(const double* coords, const std::vector<VertexId>& vertices, uint64_t seed,
                 std::vector<VertexId>& order);
 

@@ -85,8 +85,8 @@ TetId TetMesh::alloc_tet() {
   grow_gently(tstamp, 1);
   grow_gently(tflag, 1);
   const TetId t = static_cast<TetId>(num_tet_slots());
-  tv.resize(tv.size() + 4, kNone);
-  tadj.resize(tadj.size() + 4, kNone);
+  for (int i = 0; i < 4; ++i) tv.push_back(kNone);
+  for (int i = 0; i < 4; ++i) tadj.push_back(kNone);
   tstamp.push_back(0);
   tflag.push_back(0);
   return t;
@@ -145,7 +145,8 @@ TetId TetMesh::find_edge(VertexId a, VertexId b) {
   if (a >= num_vertices() || vtet[a] == kNone || a == b) return kNone;
   // Star walk as in vertex_star, stopping at the first tet containing b.
   const uint32_t e = next_epoch();
-  std::vector<TetId> queue;
+  std::vector<TetId>& queue = scratch;
+  queue.clear();
   queue.push_back(vtet[a]);
   stamp(vtet[a], e);
   for (size_t k = 0; k < queue.size(); ++k) {
@@ -167,9 +168,8 @@ TetId TetMesh::find_edge(VertexId a, VertexId b) {
 HalfFace TetMesh::find_face(VertexId a, VertexId b, VertexId c) {
   if (a == kInfinite) std::swap(a, c);
   if (a >= num_vertices() || vtet[a] == kNone) return kNone;
-  std::vector<TetId> star;
-  vertex_star(a, star);
-  for (TetId t : star) {
+  vertex_star(a, scratch);
+  for (TetId t : scratch) {
     const int ib = index_in_tet(t, b), ic = index_in_tet(t, c);
     if (ib < 0 || ic < 0) continue;
     const int ia = index_in_tet(t, a);

@@ -24,7 +24,6 @@
 #pragma once
 
 #include <cdt3d/cdt3d.hpp>
-
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -68,16 +67,17 @@ enum VertexKind : uint8_t {
 /// Index-based tetrahedral mesh. Plain data with small helpers; see the
 /// invariants at the top of this file.
 struct TetMesh {
-  std::vector<double> coords;     ///< 3 per vertex
-  std::vector<uint8_t> vkind;     ///< per vertex, VertexKind
-  std::vector<TetId> vtet;        ///< per vertex: one incident live tet, or kNone
-  std::vector<VertexId> tv;       ///< 4 per tet slot
-  std::vector<HalfFace> tadj;     ///< 4 per tet slot: mirror half-face
-  std::vector<uint32_t> tstamp;   ///< per tet slot: visit stamp (compare to an epoch)
-  std::vector<uint8_t> tflag;     ///< per tet slot: TetFlag bits
-  std::vector<TetId> free_tets;   ///< dead slots, reused last-in first-out
-  uint32_t epoch = 0;             ///< last epoch handed out by next_epoch()
-  size_t live_tets = 0;           ///< real + ghost tets alive
+  std::vector<double> coords;    ///< 3 per vertex
+  std::vector<uint8_t> vkind;    ///< per vertex, VertexKind
+  std::vector<TetId> vtet;       ///< per vertex: one incident live tet, or kNone
+  std::vector<VertexId> tv;      ///< 4 per tet slot
+  std::vector<HalfFace> tadj;    ///< 4 per tet slot: mirror half-face
+  std::vector<uint32_t> tstamp;  ///< per tet slot: visit stamp (compare to an epoch)
+  std::vector<uint8_t> tflag;    ///< per tet slot: TetFlag bits
+  std::vector<TetId> free_tets;  ///< dead slots, reused last-in first-out
+  uint32_t epoch = 0;            ///< last epoch handed out by next_epoch()
+  size_t live_tets = 0;          ///< real + ghost tets alive
+  std::vector<TetId> scratch;    ///< reused by find_edge/find_face (no allocation per query)
 
   // --- sizes -------------------------------------------------------------
   size_t num_vertices() const { return coords.size() / 3; }

@@ -1,9 +1,8 @@
 // Step 1: Delaunay tetrahedralization. Each case validates the mesh
 // (check_mesh, check_delaunay), the Euler characteristic of the real
 // simplices, that the hull faces bound every point, and determinism.
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -31,7 +30,8 @@ std::vector<double> integer_sphere(int r) {
   for (int x = -r; x <= r; ++x)
     for (int y = -r; y <= r; ++y)
       for (int z = -r; z <= r; ++z)
-        if (x * x + y * y + z * z == r * r) pts.insert(pts.end(), {double(x), double(y), double(z)});
+        if (x * x + y * y + z * z == r * r)
+          pts.insert(pts.end(), {double(x), double(y), double(z)});
   return pts;
 }
 
@@ -88,8 +88,8 @@ void check_hull_bounds_points(const TetMesh& m) {
   for (VertexId v = 0; v < m.num_vertices(); v += VertexId(stride)) {
     if (m.vtet[v] == kNone) continue;
     for (size_t k = 0; k < hull.size(); k += 3)
-      if (pred::orient3d(m.point(hull[k]), m.point(hull[k + 1]), m.point(hull[k + 2]),
-                         m.point(v)) < 0)
+      if (pred::orient3d(m.point(hull[k]), m.point(hull[k + 1]), m.point(hull[k + 2]), m.point(v)) <
+          0)
         ++bad;
   }
   CHECK(bad == 0);
@@ -167,7 +167,7 @@ TEST_CASE("insertion order does not change the triangulation", "[delaunay]") {
 }
 
 TEST_CASE("integer points on spheres (co-spherical)", "[delaunay]") {
-  for (int r : {3, 5, 7, 13, 25}) {
+  for (int r : {3, 5, 7, 13, 25, 65, 85}) {
     INFO("r = " << r);
     std::vector<double> pts = integer_sphere(r);
     TetMesh m;
@@ -189,7 +189,7 @@ TEST_CASE("points on a sphere scaled by powers of two", "[delaunay]") {
 }
 
 TEST_CASE("regular grids (heavily degenerate)", "[delaunay]") {
-  for (int n : {2, 3, 4, 5, 8, 12}) {
+  for (int n : {2, 3, 4, 5, 8, 12, 16}) {
     INFO("n = " << n);
     const std::vector<double> pts = grid(n, n, n);
     TetMesh m;
@@ -246,7 +246,8 @@ TEST_CASE("degenerate inputs are reported", "[delaunay]") {
 
   std::vector<double> plane;  // x + y + z = 10 on integers: exact
   for (int i = 0; i < 10; ++i)
-    for (int j = 0; j < 10; ++j) plane.insert(plane.end(), {double(i), double(j), double(10 - i - j)});
+    for (int j = 0; j < 10; ++j)
+      plane.insert(plane.end(), {double(i), double(j), double(10 - i - j)});
   CHECK(code(plane) == ErrorCode::Coplanar);
   CHECK(code(grid(7, 7, 1)) == ErrorCode::Coplanar);
 
@@ -331,25 +332,49 @@ TEST_CASE("subset triangulation keeps global ids", "[delaunay]") {
   CHECK(map == subset);
 }
 
-TEST_CASE("fast filters agree with the exact predicates", "[delaunay]") {
-  Rng rng(2024);
-  // Near-degenerate: points on a coarse grid nudged by a few ulps.
-  auto coord = [&]() {
-    double x = double(rng.below(5));
-    for (uint32_t k = rng.below(4); k > 0; --k) x = std::nextafter(x, rng.below(2) ? 10.0 : -10.0);
-    return x;
+// The Delaunay tetrahedralization under the perturbation is unique, so these
+// numbers depend neither on the insertion order nor on the platform: the
+// native (libstdc++, x86-64) and WASM (libc++, wasm32) builds must agree.
+// The hash is FNV-1a over the sorted list of sorted tets.
+TEST_CASE("pinned tet counts and canonical hashes", "[delaunay]") {
+  struct Case {
+    const char* name;
+    std::vector<double> pts;
+    size_t tets, hull, duplicates;
+    uint64_t hash;
   };
-  int disagreements = 0;
-  for (int it = 0; it < 20000; ++it) {
-    double p[5][3];
-    for (auto& q : p)
-      for (double& x : q) x = coord();
-    if (fast::orient3d(p[0], p[1], p[2], p[3]) != pred::orient3d(p[0], p[1], p[2], p[3]))
-      ++disagreements;
-    const int f = fast::insphere_filter(p[0], p[1], p[2], p[3], p[4]);
-    if (f != 0 && f != pred::insphere(p[0], p[1], p[2], p[3], p[4])) ++disagreements;
+  std::vector<double> slab;
+  Rng r(9);
+  for (int i = 0; i < 5000; ++i)
+    slab.insert(slab.end(), {double(r.below(20)), double(r.below(20)), r.below(3) * 0.5});
+  std::vector<Case> cases = {
+      {"random20k", random_cube(20000, 5), 133653, 280, 0, 0x923524aa45abac4eull},
+      {"grid10", grid(10, 10, 10), 4374, 972, 0, 0x55820baff47d3853ull},
+      {"sphere25", integer_sphere(25), 648, 296, 0, 0x2e1a56936e262cf7ull},
+      {"slab with duplicates", slab, 4231, 1706, 3825, 0xe1445adf55507b04ull},
+  };
+  for (const Case& c : cases) {
+    INFO(c.name);
+    TetMesh m;
+    DelaunayStats st;
+    REQUIRE(delaunay_tetrahedralize(m, c.pts.data(), c.pts.size() / 3, nullptr, &st).ok());
+    CHECK(st.tets == c.tets);
+    CHECK(st.hull_faces == c.hull);
+    CHECK(st.duplicates == c.duplicates);
+    std::vector<uint32_t> t;
+    m.real_tets(t);
+    std::vector<std::array<uint32_t, 4>> canon;
+    for (size_t k = 0; k < t.size(); k += 4) {
+      std::array<uint32_t, 4> x = {t[k], t[k + 1], t[k + 2], t[k + 3]};
+      std::sort(x.begin(), x.end());
+      canon.push_back(x);
+    }
+    std::sort(canon.begin(), canon.end());
+    uint64_t h = 1469598103934665603ull;
+    for (const auto& x : canon)
+      for (uint32_t v : x) h = (h ^ v) * 1099511628211ull;
+    CHECK(h == c.hash);
   }
-  CHECK(disagreements == 0);
 }
 
 TEST_CASE(".node points: parse and errors", "[delaunay]") {
@@ -375,6 +400,42 @@ TEST_CASE(".node points: parse and errors", "[delaunay]") {
   CHECK(parse_node_points("", 0, "e.node", c).error.code == ErrorCode::Empty);
 }
 
+TEST_CASE("write_node_ele writes TetGen files numbered from 1", "[delaunay]") {
+  namespace fs = std::filesystem;
+  std::vector<double> pts = random_cube(200, 8);
+  pts.insert(pts.end(), {pts[0], pts[1], pts[2]});  // a duplicate is still listed
+  TetMesh m;
+  REQUIRE(delaunay_tetrahedralize(m, pts.data(), 201).ok());
+  const fs::path prefix = fs::temp_directory_path() / "cdt3d_test_write_node_ele";
+  REQUIRE(write_node_ele(m, prefix.string()).ok());
+  std::vector<double> back;
+  int first = -1;
+  REQUIRE(read_node_points_file(prefix.string() + ".node", back, &first).ok());
+  CHECK(first == 1);
+  CHECK(back == pts);  // %.17g round-trips exactly
+  std::FILE* f = std::fopen((prefix.string() + ".ele").c_str(), "r");
+  REQUIRE(f);
+  size_t count = 0, seen = 0, wrong = 0;
+  REQUIRE(std::fscanf(f, "%zu %*d %*d", &count) == 1);
+  char line[256];
+  while (std::fgets(line, sizeof line, f)) {
+    unsigned long i, a, b, c, d;
+    if (std::sscanf(line, "%lu %lu %lu %lu %lu", &i, &a, &b, &c, &d) != 5) continue;
+    ++seen;
+    CHECK(i == seen);
+    // TetGen's orientation is the reverse of ours.
+    if (pred::orient3d(&pts[3 * (a - 1)], &pts[3 * (b - 1)], &pts[3 * (c - 1)],
+                       &pts[3 * (d - 1)]) >= 0)
+      ++wrong;
+  }
+  std::fclose(f);
+  CHECK(count == m.num_real_tets());
+  CHECK(seen == count);
+  CHECK(wrong == 0);
+  fs::remove(prefix.string() + ".node");
+  fs::remove(prefix.string() + ".ele");
+}
+
 TEST_CASE("Delaunay of the vertices of every model in tests/data", "[delaunay]") {
   namespace fs = std::filesystem;
   const fs::path dir = CDT3D_TEST_DATA;
@@ -395,7 +456,8 @@ TEST_CASE("Delaunay of the vertices of every model in tests/data", "[delaunay]")
     const Status s = delaunay_tetrahedralize(m, pts.data(), plc.points.size(), nullptr, &st);
     if (!s.ok()) {  // only a flat or tiny model may fail
       const ErrorCode c = s.error.code;
-      CHECK((c == ErrorCode::Coplanar || c == ErrorCode::Collinear || c == ErrorCode::TooFewPoints));
+      CHECK(
+          (c == ErrorCode::Coplanar || c == ErrorCode::Collinear || c == ErrorCode::TooFewPoints));
       continue;
     }
     ++meshed;

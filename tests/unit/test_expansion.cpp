@@ -101,7 +101,8 @@ TEST_CASE("two_sum, fast_two_sum and two_diff are error-free", "[predicates][exp
     exact::two_sum(a, b, s, e);
     CHECK(s == a + b);
     CHECK(Q(s) + Q(e) == Q(a) + Q(b));
-    CHECK((e == 0.0 || significant_bits(s) == 0 || std::fabs(e) <= std::ldexp(1.0, highest_bit(s) - 53)));
+    CHECK((e == 0.0 || significant_bits(s) == 0 ||
+           std::fabs(e) <= std::ldexp(1.0, highest_bit(s) - 53)));
     exact::two_diff(a, b, s, e);
     CHECK(Q(s) + Q(e) == Q(a) - Q(b));
     CHECK(exact::diff_tail(a, b, a - b) == e);
@@ -134,7 +135,7 @@ TEST_CASE("Veltkamp split and Dekker two_product are exact", "[predicates][expan
   // Extremes of the supported domain: products just above 2^-1074
   // granularity, and factors up to 2^995.
   const double tiny = std::ldexp(1.0 + std::ldexp(1.0, -52), -500);  // lowest bit 2^-552
-  const double tiny2 = std::ldexp(3.0, -522);                         // lowest bit 2^-522
+  const double tiny2 = std::ldexp(3.0, -522);                        // lowest bit 2^-522
   double p, e;
   exact::two_product(tiny, tiny2, p, e);
   CHECK(Q(p) + Q(e) == Q(tiny) * Q(tiny2));
@@ -143,7 +144,7 @@ TEST_CASE("Veltkamp split and Dekker two_product are exact", "[predicates][expan
   CHECK(Q(p) + Q(e) == Q(huge) * Q(0.75));
 }
 
-TEST_CASE("expansion sum, scale and two_two_diff are exact and well formed",
+TEST_CASE("expansion sum, scale, compress and two_two_diff are exact and well formed",
           "[predicates][expansion]") {
   Rng r(3);
   double e[64], f[64], h[128], g[256];
@@ -165,6 +166,15 @@ TEST_CASE("expansion sum, scale and two_two_diff are exact and well formed",
     CHECK(ng <= 2 * nh);
     CHECK(well_formed(ng, g));
     CHECK(value_of(ng, g) == (ve + vf) * Q(b));
+    double c[256];
+    const int nc = exact::compress(ng, g, c);
+    CHECK(nc <= ng);
+    CHECK(well_formed(nc, c));
+    CHECK(value_of(nc, c) == (ve + vf) * Q(b));
+    if (nc > 0) {  // the top component carries the value to within one ulp of itself
+      const mpq_class err = abs(value_of(nc, c) - Q(c[nc - 1]));
+      CHECK(err <= Q(std::ldexp(1.0, highest_bit(c[nc - 1]) - 52)));
+    }
     // Exact cancellation gives the empty expansion.
     double neg[64];
     for (int i = 0; i < n; ++i) neg[i] = -e[i];

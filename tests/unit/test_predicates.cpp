@@ -3,6 +3,7 @@
 // inputs; antisymmetry under permutations; Simulation of Simplicity against
 // an explicitly perturbed determinant; a micro benchmark (printed only).
 #include <gmpxx.h>
+#include <time.h>
 
 #include <algorithm>
 #include <array>
@@ -12,7 +13,6 @@
 #include <cstdio>
 #include <sstream>
 #include <string>
-#include <time.h>
 #include <vector>
 
 #include "predicates.hpp"
@@ -34,7 +34,7 @@ struct Rng {
     return z ^ (z >> 31);
   }
   double unit() { return static_cast<double>(next() >> 11) * 0x1p-53; }  // [0, 1)
-  double sym() { return 2.0 * unit() - 1.0; }                             // [-1, 1)
+  double sym() { return 2.0 * unit() - 1.0; }                            // [-1, 1)
   int range(int lo, int hi) { return lo + static_cast<int>(next() % uint64_t(hi - lo + 1)); }
   // Random sign, random significand, magnitude in [2^e, 2^(e+1)).
   double at_exponent(int e) {
@@ -154,16 +154,16 @@ std::string describe(const std::array<P3, N>& pts) {
   return s;
 }
 
-#define SIGN_CHECK(got, want, what)     \
-  do {                                  \
-    const int got_ = (got);             \
-    const int want_ = (want);           \
-    if (got_ != want_) {                \
-      INFO(what);                       \
-      CHECK(got_ == want_);             \
-    } else {                            \
-      CHECK(got_ == want_);             \
-    }                                   \
+#define SIGN_CHECK(got, want, what) \
+  do {                              \
+    const int got_ = (got);         \
+    const int want_ = (want);       \
+    if (got_ != want_) {            \
+      INFO(what);                   \
+      CHECK(got_ == want_);         \
+    } else {                        \
+      CHECK(got_ == want_);         \
+    }                               \
   } while (0)
 
 // Moves x by `ulps` ulps; zero stays zero (one ulp of 0 is a subnormal, out
@@ -323,8 +323,8 @@ void generate(Rng& r, Kind kind, std::array<P3, N>& pts) {
 }
 
 const char* kind_name(Kind k) {
-  static const char* names[] = {"uniform",    "exponents",   "near-plane", "near-sphere",
-                                "int-plane",  "int-sphere",  "mixed"};
+  static const char* names[] = {"uniform",   "exponents",  "near-plane", "near-sphere",
+                                "int-plane", "int-sphere", "mixed"};
   return names[static_cast<int>(k)];
 }
 
@@ -364,12 +364,12 @@ TEST_CASE("insphere matches the exact oracle", "[predicates]") {
   CHECK(zeros > 3000);
 }
 
-TEST_CASE("insphere is exact on nearly cospherical points at the range limits",
-          "[predicates]") {
+TEST_CASE("insphere is exact on nearly cospherical points at the range limits", "[predicates]") {
   // Lattice points of a sphere placed at tiny (2^-217 offsets of a point near
   // 2e-50: degree-5 products near 2^-1085, below the smallest subnormal
   // unless the exact stage rescales) and huge scales, then moved by an ulp.
   Rng r(13);
+  const uint64_t out_of_range = pred::counters().out_of_range;
   const auto& s = lattice_sphere();
   const Frame frames[3] = {{{0x1p-165, 0x1.8p-165, 0x1.4p-165}, -217},
                            {{0x1p165, -0x1.8p165, 0x1.4p165}, 113},
@@ -392,7 +392,7 @@ TEST_CASE("insphere is exact on nearly cospherical points at the range limits",
   CHECK(orient3d_q(a, c, d, e) != 0);
   CHECK(pred::insphere(a.data(), c.data(), d.data(), e.data(), q.data()) ==
         insphere_q(a, c, d, e, q));
-  CHECK(pred::counters().out_of_range == 0);
+  CHECK(pred::counters().out_of_range == out_of_range);
 }
 
 TEST_CASE("orient3d and insphere flip sign with odd permutations", "[predicates]") {
@@ -457,7 +457,8 @@ TEST_CASE("orient2d, incircle and orient2d_projected match the exact oracle", "[
       }
       case 4: {  // exactly collinear integers, scaled
         const Frame f = random_frame(r);
-        const int dx = r.range(-5, 5), dy = r.range(-5, 5), ox = r.range(-9, 9), oy = r.range(-9, 9);
+        const int dx = r.range(-5, 5), dy = r.range(-5, 5), ox = r.range(-9, 9),
+                  oy = r.range(-9, 9);
         for (auto& q : p) {
           const int t = r.range(-10, 10);
           const P3 g = place({double(ox + t * dx), double(oy + t * dy), 0.0}, f.base, f.k);
@@ -525,8 +526,8 @@ TEST_CASE("collinear3d matches the exact oracle", "[predicates]") {
     bool want = true;
     for (int k = 0; k < 3; ++k) {
       const int i = (k + 1) % 3, j = (k + 2) % 3;
-      const mpq_class cr = (Q(b[i]) - Q(a[i])) * (Q(c[j]) - Q(a[j])) -
-                           (Q(b[j]) - Q(a[j])) * (Q(c[i]) - Q(a[i]));
+      const mpq_class cr =
+          (Q(b[i]) - Q(a[i])) * (Q(c[j]) - Q(a[j])) - (Q(b[j]) - Q(a[j])) * (Q(c[i]) - Q(a[i]));
       if (sgn_q(cr) != 0) want = false;
     }
     CHECK(pred::collinear3d(a.data(), b.data(), c.data()) == want);
@@ -582,10 +583,10 @@ TEST_CASE("incircle_coplanar matches the exact circumcenter oracle", "[predicate
     const int want = incircle_coplanar_q(p[0], p[1], p[2], p[3]);
     zeros += want == 0;
     ++tested;
-    SIGN_CHECK(pred::incircle_coplanar(p[0].data(), p[1].data(), p[2].data(), p[3].data()),
-               want, describe(p));
-    SIGN_CHECK(pred::incircle_coplanar(p[1].data(), p[0].data(), p[2].data(), p[3].data()),
-               want, describe(p));
+    SIGN_CHECK(pred::incircle_coplanar(p[0].data(), p[1].data(), p[2].data(), p[3].data()), want,
+               describe(p));
+    SIGN_CHECK(pred::incircle_coplanar(p[1].data(), p[0].data(), p[2].data(), p[3].data()), want,
+               describe(p));
   }
   CHECK(tested > 6000);
   CHECK(zeros > 1000);
@@ -644,7 +645,8 @@ TEST_CASE("insphere_sos equals the explicitly perturbed determinant", "[predicat
     std::array<P3, 5> p;
     const std::vector<P3>& src = it % 3 == 0 ? small : s;
     for (P3& q : p) q = src[r.next() % src.size()];
-    if (it % 4 == 1) p[4] = {double(r.range(-25, 25)), double(r.range(-25, 25)), double(r.range(-25, 25))};
+    if (it % 4 == 1)
+      p[4] = {double(r.range(-25, 25)), double(r.range(-25, 25)), double(r.range(-25, 25))};
     if (it % 4 == 2) p[4] = p[r.range(0, 3)];  // duplicate of a vertex
     const std::array<uint32_t, 5> ids = random_ids(r);
     bool distinct = true;
@@ -716,8 +718,8 @@ TEST_CASE("insphere_sos picks exactly one triangulation of five cospherical poin
       if (t > 0) ids = random_ids(r);
       auto in = [&](const std::array<int, 4>& t4, int e) {
         return pred::insphere_sos(q[t4[0]].data(), q[t4[1]].data(), q[t4[2]].data(),
-                                  q[t4[3]].data(), q[e].data(), ids[t4[0]], ids[t4[1]],
-                                  ids[t4[2]], ids[t4[3]], ids[e]);
+                                  q[t4[3]].data(), q[e].data(), ids[t4[0]], ids[t4[1]], ids[t4[2]],
+                                  ids[t4[3]], ids[e]);
       };
       // 2 tets: (a, c, d, e) and (b, c, d, e).
       const auto t1 = tet(0, 2, 3, 4), t2 = tet(1, 2, 3, 4);
@@ -874,7 +876,8 @@ TEST_CASE("predicate micro benchmark (printed, not asserted)", "[predicates][ben
   volatile long sink = 0;
   long acc = 0;
   const double t_plain_o = ns_per_call(calls, [&] {
-    for (int i = 0; i < calls; ++i) acc += plain_orient3d(pt(i), pt(i + 1), pt(i + 2), pt(i + 3)) > 0;
+    for (int i = 0; i < calls; ++i)
+      acc += plain_orient3d(pt(i), pt(i + 1), pt(i + 2), pt(i + 3)) > 0;
   });
   const double t_o = ns_per_call(calls, [&] {
     for (int i = 0; i < calls; ++i) acc += pred::orient3d(pt(i), pt(i + 1), pt(i + 2), pt(i + 3));
@@ -896,12 +899,31 @@ TEST_CASE("predicate micro benchmark (printed, not asserted)", "[predicates][ben
                             s[(i * 13 + 2) % s.size()].data(), s[(i * 17 + 3) % s.size()].data(),
                             s[(i * 29 + 5) % s.size()].data());
   });
+  // Exact stage forced on random unit-cube doubles: the differences of such
+  // fixed-point-like values are exact, so this is the difference form with
+  // full 53-bit significands.
+  const double t_diff53 = ns_per_call(exact_calls, [&] {
+    for (int i = 0; i < exact_calls; ++i)
+      acc += pred::detail::insphere_exact(pt(i), pt(i + 1), pt(i + 2), pt(i + 3), pt(i + 4));
+  });
+  // Coordinates of mixed binades make the differences inexact: raw form.
+  std::vector<double> mixed(3 * 1024);
+  for (double& x : mixed) x = r.at_exponent(r.range(-4, 4));
+  auto mp = [&](int i) { return &mixed[3 * size_t(idx[i] % 1024)]; };
+  const double t_raw = ns_per_call(exact_calls, [&] {
+    for (int i = 0; i < exact_calls; ++i)
+      acc += pred::detail::insphere_exact(mp(i), mp(i + 1), mp(i + 2), mp(i + 3), mp(i + 4));
+  });
+  const double t_raw_o = ns_per_call(exact_calls, [&] {
+    for (int i = 0; i < exact_calls; ++i)
+      acc += pred::detail::orient3d_exact(mp(i), mp(i + 1), mp(i + 2), mp(i + 3));
+  });
   sink = acc;
   (void)sink;
   std::printf(
       "[predicates bench] ns/call on random points in the unit cube: orient3d %.2f (plain double "
-      "%.2f), insphere %.2f (plain double %.2f); insphere exact stage on cospherical lattice "
-      "points %.0f\n",
-      t_o, t_plain_o, t_s, t_plain_s, t_exact);
+      "%.2f), insphere %.2f (plain double %.2f); exact stage alone: insphere difference form "
+      "on lattice points %.0f, on 53-bit doubles %.0f, raw form %.0f; orient3d raw form %.0f\n",
+      t_o, t_plain_o, t_s, t_plain_s, t_exact, t_diff53, t_raw, t_raw_o);
   SUCCEED();
 }

@@ -1,8 +1,7 @@
 // TetMesh storage and queries: slot reuse, epochs, star traversal, edge and
 // face lookup, compaction; spatial sort properties.
-#include <catch2/catch.hpp>
-
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <set>
 #include <vector>
 
@@ -155,8 +154,7 @@ TEST_CASE("Hilbert keys walk the grid cell by cell", "[tet_mesh][spatial_sort]")
       }
   for (size_t k = 1; k < by_key.size(); ++k) {
     int dist = 0;
-    for (int a = 0; a < 3; ++a)
-      dist += std::abs(int(by_key[k][a]) - int(by_key[k - 1][a]));
+    for (int a = 0; a < 3; ++a) dist += std::abs(int(by_key[k][a]) - int(by_key[k - 1][a]));
     CHECK(dist == 1);  // consecutive cells are face neighbours
   }
 }

@@ -1,0 +1,50 @@
+// Carving (after Si & Gärtner 2005 §7 has made every subface a face of the
+// mesh): the constrained faces split the tets into regions; the regions
+// reached from the outside of the hull or from a volume hole point are
+// removed, the others get their region attribute.
+#pragma once
+
+#include <cdt3d/cdt3d.hpp>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "subfaces.hpp"
+#include "tet_mesh.hpp"
+
+namespace cdt3d {
+
+struct CarveResult {
+  std::vector<TetId> tets;          ///< kept real tets, ascending slot order
+  std::vector<double> attribute;    ///< per kept tet: region attribute
+  std::vector<std::array<VertexId, 3>> faces;  ///< constrained faces, each subface once, as oriented in Subfaces
+  std::vector<uint32_t> face_facet;            ///< input facet per face
+  size_t regions = 0;               ///< regions of kept tets
+};
+
+/// Removes the exterior and the holes of the CDT `mesh` whose faces include
+/// every subface, and labels the regions.
+///  * Regions: the live tets (ghosts included) connected across faces that
+///    are not subfaces, numbered by their smallest tet slot.
+///  * The region holding the ghost tets is outside unless keep_convex_hull
+///    (then its real tets are kept). A region holding a volume hole point
+///    (plc.holes, located with locate_point; points outside the hull or
+///    lying on a vertex are ignored) is removed.
+///  * A region point (plc.regions) gives its attribute to its region; when
+///    several fall in one region, the first listed wins. Kept regions
+///    without a region point get automatic attributes k + 1, k + 2, ... in
+///    the order of their smallest tet slot, k being the largest region-point
+///    attribute rounded down (at least 0); so without region points they are
+///    1, 2, ... (like TetGen -AA).
+///  * Flags: kept real tets get kTetInside, every other live tet kTetOutside.
+///  * Faces: every subface with a kept tet on at least one side, once, in
+///    subface order (a subface listed twice keeps its first occurrence).
+/// Errors: Internal naming the facet when a subface is not a face of the
+/// mesh; InvalidPlc "the surface does not enclose a volume" when no tet is
+/// kept, naming the first open boundary edge (a loop edge used by exactly one
+/// facet; Error.facet, Error.vertex = its first end) when there is one.
+Status carve(const Plc& plc, TetMesh& mesh, const Subfaces& subfaces, bool keep_convex_hull,
+             CarveResult& out);
+
+}  // namespace cdt3d

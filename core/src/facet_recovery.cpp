@@ -1,0 +1,447 @@
+// Step 4 (Si & Gärtner 2005 §7, "Facet Recovery"): missing subfaces are
+// grouped into missing regions and recovered by cavity retetrahedralization
+// (cavity.cpp) until none is missing; subfaces that a recovery destroys are
+// queued again (Theorem 4).
+#include "facet_recovery.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <string>
+
+#include "cavity.hpp"
+#include "predicates.hpp"
+
+namespace cdt3d {
+
+namespace {
+
+Status make_error(ErrorCode code, std::string message, int64_t facet = -1, int64_t vertex = -1) {
+  Status s;
+  s.error.code = code;
+  s.error.message = std::move(message);
+  s.error.facet = facet;
+  s.error.vertex = vertex;
+  return s;
+}
+
+Triangle sorted_tri(const Triangle& t) {
+  Triangle k = t;
+  std::sort(k.begin(), k.end());
+  return k;
+}
+
+// Face and edge lookups in the mesh through the star of a vertex, with
+// reusable buffers (TetMesh::find_face allocates on every call).
+class MeshQuery {
+ public:
+  explicit MeshQuery(TetMesh& m) : m_(m) {}
+
+  bool has_face(VertexId a, VertexId b, VertexId c) {
+    return walk_star(
+        a, [&](TetId t) { return m_.index_in_tet(t, b) >= 0 && m_.index_in_tet(t, c) >= 0; });
+  }
+  bool has_edge(VertexId a, VertexId b) {
+    return walk_star(a, [&](TetId t) { return m_.index_in_tet(t, b) >= 0; });
+  }
+
+ private:
+  template <typename F>
+  bool walk_star(VertexId a, F hit) {
+    if (a >= m_.num_vertices() || m_.vtet[a] == kNone) return false;
+    const uint32_t e = m_.next_epoch();
+    queue_.clear();
+    queue_.push_back(m_.vtet[a]);
+    m_.stamp(m_.vtet[a], e);
+    for (size_t k = 0; k < queue_.size(); ++k) {
+      const TetId t = queue_[k];
+      if (hit(t)) return true;
+      const int ia = m_.index_in_tet(t, a);
+      for (int i = 0; i < 4; ++i) {
+        if (i == ia) continue;
+        const TetId n = m_.neighbor(t, i);
+        if (!m_.stamped(n, e)) {
+          m_.stamp(n, e);
+          queue_.push_back(n);
+        }
+      }
+    }
+    return false;
+  }
+
+  TetMesh& m_;
+  std::vector<TetId> queue_;
+};
+
+// Per subface and edge k (tri[k], tri[k+1]): the subface of the same facet
+// across that edge, or kNone; and whether the edge is shared with another
+// facet or by more than two subfaces (then it is a segment, never flipped).
+void subface_adjacency(const Subfaces& sf, std::vector<uint32_t>& nbr,
+                       std::vector<uint8_t>& fixed) {
+  const size_t n = sf.tri.size();
+  // (edge key, facet << 32 | slot): sorting pairs of integers is much faster
+  // than a struct with a lambda on a few hundred thousand subfaces.
+  std::vector<std::pair<uint64_t, uint64_t>> es;
+  es.reserve(3 * n);
+  for (uint32_t s = 0; s < n; ++s)
+    for (int k = 0; k < 3; ++k) {
+      const VertexId a = sf.tri[s][k], b = sf.tri[s][(k + 1) % 3];
+      es.push_back({uint64_t(std::min(a, b)) << 32 | std::max(a, b),
+                    uint64_t(sf.facet[s]) << 32 | (3 * s + k)});
+    }
+  std::sort(es.begin(), es.end());
+  nbr.assign(3 * n, kNone);
+  fixed.assign(3 * n, 0);
+  auto facet = [](uint64_t x) { return uint32_t(x >> 32); };
+  auto slot = [](uint64_t x) { return uint32_t(x & 0xffffffffu); };
+  for (size_t i = 0; i < es.size();) {
+    size_t j = i;
+    while (j < es.size() && es[j].first == es[i].first) ++j;
+    const bool pair = j - i == 2 && facet(es[i].second) == facet(es[i + 1].second);
+    if (pair) {
+      nbr[slot(es[i].second)] = slot(es[i + 1].second) / 3;
+      nbr[slot(es[i + 1].second)] = slot(es[i].second) / 3;
+    }
+    for (size_t k = i; k < j; ++k) fixed[slot(es[k].second)] = !pair;
+    i = j;
+  }
+}
+
+// Sorted vertex triples of the subfaces, looked up by an open-addressing hash
+// (lookups only; nothing is decided by iterating it).
+class SubfaceIndex {
+ public:
+  explicit SubfaceIndex(const Subfaces& sf) {
+    const size_t n = sf.tri.size();
+    by_key_.resize(n);
+    for (uint32_t s = 0; s < n; ++s) by_key_[s] = {sorted_tri(sf.tri[s]), s};
+    std::sort(by_key_.begin(), by_key_.end());
+    size_t cap = 16;
+    while (cap < 2 * n + 16) cap *= 2;
+    mask_ = cap - 1;
+    slot_.assign(cap, kNone);
+    for (uint32_t i = 0; i < n; ++i) {
+      if (i > 0 && by_key_[i].first == by_key_[i - 1].first) continue;
+      size_t h = hash(by_key_[i].first) & mask_;
+      while (slot_[h] != kNone) h = (h + 1) & mask_;
+      slot_[h] = i;
+    }
+  }
+  /// Calls f(subface) for every subface with these sorted vertices.
+  template <typename F>
+  void for_each(const Triangle& key, F f) const {
+    size_t h = hash(key) & mask_;
+    for (; slot_[h] != kNone; h = (h + 1) & mask_) {
+      if (by_key_[slot_[h]].first != key) continue;
+      for (size_t i = slot_[h]; i < by_key_.size() && by_key_[i].first == key; ++i)
+        f(by_key_[i].second);
+      return;
+    }
+  }
+
+ private:
+  static size_t hash(const Triangle& k) {
+    uint64_t x = (uint64_t(k[0]) * 0x9e3779b97f4a7c15ull) ^
+                 (uint64_t(k[1]) * 0xc2b2ae3d27d4eb4full) ^
+                 (uint64_t(k[2]) * 0x165667b19e3779f9ull);
+    x ^= x >> 29;
+    x *= 0xbf58476d1ce4e5b9ull;
+    return static_cast<size_t>(x ^ (x >> 32));
+  }
+  std::vector<std::pair<Triangle, uint32_t>> by_key_;
+  std::vector<uint32_t> slot_;
+  size_t mask_ = 0;
+};
+
+// missing[s] = 1 unless subface s is a face of the mesh. Subfaces are
+// grouped by their smallest vertex (counting sort); one pass over the live
+// tets in slot order (memory order) checks each face once against the
+// subfaces of its smallest vertex.
+void find_missing(const TetMesh& mesh, const Subfaces& sf, std::vector<uint8_t>& missing) {
+  const size_t n = sf.tri.size(), nv = mesh.num_vertices();
+  std::vector<uint32_t> start(nv + 1, 0), order(n);
+  auto low = [&](uint32_t s) {
+    return std::min(std::min(sf.tri[s][0], sf.tri[s][1]), sf.tri[s][2]);
+  };
+  for (uint32_t s = 0; s < n; ++s) ++start[low(s) + 1];
+  for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  {
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (uint32_t s = 0; s < n; ++s) order[fill[low(s)]++] = s;
+  }
+  std::fill(missing.begin(), missing.end(), 1);
+  const size_t slots = mesh.num_tet_slots();
+  for (TetId t = 0; t < slots; ++t) {
+    if (mesh.is_dead(t)) continue;
+    const VertexId* w = &mesh.tv[4 * size_t(t)];
+    if (w[3] == kInfinite) continue;  // hull faces are seen from their real tet
+    for (int i = 0; i < 4; ++i) {     // interior faces twice: cheaper than deciding
+      const Triangle key =
+          sorted_tri({w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]});
+      for (uint32_t j = start[key[0]]; j < start[key[0] + 1]; ++j) {
+        const Triangle& T = sf.tri[order[j]];
+        const VertexId x = T[0] == key[0] ? T[1] : T[0];
+        const VertexId y = T[2] == key[0] ? T[1] : T[2];
+        if ((x == key[1] && y == key[2]) || (x == key[2] && y == key[1])) missing[order[j]] = 0;
+      }
+    }
+  }
+}
+
+// Dominant axis of the normal of triangle (a, b, c) (0 = x), for exact 2D
+// orientation tests on the projection of a nearly planar facet.
+int dominant_axis(const double* a, const double* b, const double* c) {
+  const double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+  const double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+  const double n[3] = {std::fabs(uy * vz - uz * vy), std::fabs(uz * vx - ux * vz),
+                       std::fabs(ux * vy - uy * vx)};
+  return n[0] >= n[1] && n[0] >= n[2] ? 0 : n[1] >= n[2] ? 1 : 2;
+}
+
+// Diagonal flips of missing facet edges that make the facet triangulation
+// agree with the mesh where the two may legitimately differ. For a missing
+// edge ab (not a segment) between subfaces abc and bad of one facet:
+//  * Co-circular tie. For four exactly co-circular coplanar points the
+//    symbolic perturbation of insphere (sos.cpp, ordered by id) puts the
+//    point with the largest id outside the circle of the other three, so the
+//    perturbed Delaunay diagonal is the one not touching it. A facet
+//    triangulated with the other diagonal has subfaces that are not
+//    Delaunay in any perturbed sense, and no cavity could recover them.
+//  * The quadrilateral is strictly convex in the facet's projection and d
+//    lies strictly inside the circle of abc in the facet's own plane
+//    (pred::incircle_coplanar). A triangulation made with incircle tests on
+//    a projection to a coordinate plane is Delaunay there, not in the plane
+//    of a tilted facet (projection distorts circles); a subface that is not
+//    Delaunay in its plane is not strongly Delaunay in any cavity, and
+//    recovering it would leave tets that are not constrained Delaunay.
+//  * The quadrilateral is strictly convex and the mesh already holds both
+//    triangles acd and dbc: the facet is only nearly planar (rounded Steiner
+//    vertices) or nearly co-circular, the 2D and 3D tests disagree by
+//    rounding, and recovering abc and bad would fold the facet along ab.
+// Either flip leaves a triangulation of the same facet region whose subfaces
+// the mesh can hold; it is counted in FacetRecoveryStats::subface_flips.
+// `nbr`, `fixed` (subface_adjacency) and `missing` (per subface: not a face
+// of the mesh) are kept up to date across the flips.
+size_t flip_toward_mesh_impl(TetMesh& mesh, Subfaces& sf, MeshQuery& q, std::vector<uint32_t>& nbr,
+                             std::vector<uint8_t>& fixed, std::vector<uint8_t>& missing) {
+  size_t flips = 0;
+  std::vector<uint32_t> todo;
+  for (uint32_t s = 0; s < sf.tri.size(); ++s)
+    if (missing[s]) todo.push_back(s);
+  // Slot of edge {x, y} in subface s (edge k joins tri[k] and tri[k+1]).
+  auto slot = [&](uint32_t s, VertexId x, VertexId y) {
+    for (int k = 0; k < 3; ++k) {
+      const VertexId u = sf.tri[s][k], w = sf.tri[s][(k + 1) % 3];
+      if ((u == x && w == y) || (u == y && w == x)) return 3 * s + k;
+    }
+    return kNone;
+  };
+  std::vector<uint8_t> flipped(sf.tri.size(), 0);
+  for (int pass = 0; pass < 64; ++pass) {
+    const size_t before = flips;
+    for (uint32_t s : todo) flipped[s] = 0;
+    for (uint32_t s : todo) {
+      for (int k = 0; k < 3 && !flipped[s] && missing[s]; ++k) {
+        const uint32_t t = nbr[3 * s + k];
+        if (t == kNone || !missing[t] || flipped[t] || fixed[3 * s + k]) continue;
+        const VertexId a = sf.tri[s][k], b = sf.tri[s][(k + 1) % 3], c = sf.tri[s][(k + 2) % 3];
+        int kt = 0;
+        while (kt < 3 && (sf.tri[t][kt] == a || sf.tri[t][kt] == b)) ++kt;
+        if (kt == 3) continue;
+        const VertexId d = sf.tri[t][kt];
+        if (c == d || q.has_edge(a, b)) continue;  // present: leave it
+        const double *pa = mesh.point(a), *pb = mesh.point(b), *pc = mesh.point(c),
+                     *pd = mesh.point(d);
+        bool flip = false;
+        if (pred::orient3d(pa, pb, pc, pd) == 0 && pred::incircle_coplanar(pa, pb, pc, pd) == 0) {
+          const VertexId top = std::max(std::max(a, b), std::max(c, d));
+          flip = top == a || top == b;
+        }
+        if (!flip) {
+          const int drop = dominant_axis(pa, pb, pc);
+          const int o = pred::orient2d_projected(pa, pb, pc, drop);
+          const bool convex = o != 0 && pred::orient2d_projected(pa, pb, pd, drop) == -o &&
+                              pred::orient2d_projected(pa, pd, pc, drop) == o &&
+                              pred::orient2d_projected(pd, pb, pc, drop) == o;
+          flip = convex && (pred::incircle_coplanar(pa, pb, pc, pd) > 0 ||
+                            (q.has_face(a, d, c) && q.has_face(d, b, c)));
+        }
+        if (!flip) continue;
+        // Neighbours across the four outer edges, before the flip.
+        const uint32_t sbc = slot(s, b, c), sca = slot(s, c, a), tad = slot(t, a, d),
+                       tdb = slot(t, d, b);
+        const uint32_t n_bc = nbr[sbc], n_ca = nbr[sca], n_ad = nbr[tad], n_db = nbr[tdb];
+        const uint8_t f_bc = fixed[sbc], f_ca = fixed[sca], f_ad = fixed[tad], f_db = fixed[tdb];
+        // t lists (b, a) when consistently oriented with s.
+        const bool consistent = sf.tri[t][(kt + 1) % 3] == a;
+        sf.tri[s] = {a, d, c};
+        sf.tri[t] = consistent ? Triangle{d, b, c} : Triangle{d, c, b};
+        auto set = [&](uint32_t x, VertexId u, VertexId w, uint32_t nb, uint8_t fx) {
+          const uint32_t sl = slot(x, u, w);
+          nbr[sl] = nb, fixed[sl] = fx;
+          if (nb == kNone) return;
+          const uint32_t back = slot(nb, u, w);
+          if (back != kNone) nbr[back] = x;
+        };
+        set(s, a, d, n_ad, f_ad);
+        set(s, c, a, n_ca, f_ca);
+        set(s, d, c, t, 0);
+        set(t, d, b, n_db, f_db);
+        set(t, b, c, n_bc, f_bc);
+        set(t, d, c, s, 0);
+        missing[s] = !q.has_face(a, d, c);
+        missing[t] = !q.has_face(d, b, c);
+        flipped[s] = flipped[t] = 1;
+        ++flips;
+      }
+    }
+    if (flips == before) break;
+  }
+  return flips;
+}
+
+}  // namespace
+
+size_t flip_subfaces_toward_mesh(TetMesh& mesh, Subfaces& subfaces) {
+  MeshQuery q(mesh);
+  std::vector<uint32_t> nbr;
+  std::vector<uint8_t> fixed, missing(subfaces.tri.size());
+  subface_adjacency(subfaces, nbr, fixed);
+  find_missing(mesh, subfaces, missing);
+  return flip_toward_mesh_impl(mesh, subfaces, q, nbr, fixed, missing);
+}
+
+Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* stats,
+                      const volatile bool* cancel) {
+  FacetRecoveryStats st;
+  if (stats) *stats = st;
+  // Statistics are reported on failure as well (what was done until then).
+  struct Report {
+    FacetRecoveryStats* out;
+    const FacetRecoveryStats& st;
+    ~Report() {
+      if (out) *out = st;
+    }
+  } report{stats, st};
+  Subfaces& sf = subfaces;
+  const size_t n = sf.tri.size();
+  st.subfaces = n;
+  if (sf.facet.size() != n)
+    return make_error(ErrorCode::InvalidArgument,
+                      "Subfaces: facet list and triangle list differ in size.");
+  for (size_t s = 0; s < n; ++s) {
+    const Triangle& T = sf.tri[s];
+    for (int k = 0; k < 3; ++k)
+      if (T[k] >= mesh.num_vertices() || mesh.vtet[T[k]] == kNone)
+        return make_error(ErrorCode::InvalidArgument,
+                          "A subface uses a vertex that is not in the mesh.", sf.facet[s], T[k]);
+    if (T[0] == T[1] || T[1] == T[2] || T[0] == T[2] ||
+        pred::collinear3d(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2])))
+      return make_error(ErrorCode::DegenerateFacet, "A subface is degenerate.", sf.facet[s]);
+  }
+  MeshQuery q(mesh);
+  auto present = [&](uint32_t s) { return q.has_face(sf.tri[s][0], sf.tri[s][1], sf.tri[s][2]); };
+
+  std::vector<uint32_t> nbr;
+  std::vector<uint8_t> fixed, missing(n);
+  subface_adjacency(sf, nbr, fixed);
+  find_missing(mesh, sf, missing);
+  st.subface_flips = flip_toward_mesh_impl(mesh, sf, q, nbr, fixed, missing);
+  const SubfaceIndex index(sf);  // after the flips
+
+  std::deque<uint32_t> queue;
+  std::vector<uint8_t> queued(n, 0), ever(n, 0), failures(n, 0), single(n, 0);
+  for (uint32_t s = 0; s < n; ++s)
+    if (missing[s]) queue.push_back(s), queued[s] = ever[s] = 1;
+  st.missing_initially = queue.size();
+
+  CavityMesher cm(mesh);
+  cm.set_subface_test([&index](const Triangle& key) {
+    bool found = false;
+    index.for_each(key, [&](uint32_t) { found = true; });
+    return found;
+  });
+  std::vector<uint32_t> region;
+  std::vector<Triangle> tris;
+  std::vector<uint32_t> mark(n, 0);
+  uint32_t epoch = 0;
+  const size_t max_attempts = 16 * st.missing_initially + 256;
+  size_t attempts = 0;
+  while (!queue.empty()) {
+    if (cancel && *cancel) return make_error(ErrorCode::Cancelled, "Facet recovery was cancelled.");
+    const uint32_t s0 = queue.front();
+    queue.pop_front();
+    queued[s0] = 0;
+    if (present(s0)) continue;
+    if (++attempts > max_attempts)
+      return make_error(ErrorCode::LimitReached,
+                        "Facet recovery did not finish within " + std::to_string(max_attempts) +
+                            " region attempts.",
+                        sf.facet[s0]);
+    // The missing region of s0 (§7): missing subfaces of its facet connected
+    // across edges missing from the mesh.
+    ++epoch;
+    region.assign(1, s0);
+    mark[s0] = epoch;
+    if (!single[s0]) {
+      for (size_t k = 0; k < region.size(); ++k) {
+        const uint32_t s = region[k];
+        for (int e = 0; e < 3; ++e) {
+          const uint32_t t = nbr[3 * s + e];
+          if (t == kNone || mark[t] == epoch || single[t]) continue;
+          if (q.has_edge(sf.tri[s][e], sf.tri[s][(e + 1) % 3])) continue;
+          mark[t] = epoch;
+          region.push_back(t);
+        }
+      }
+    }
+    tris.clear();
+    for (uint32_t s : region) tris.push_back(sf.tri[s]);
+    CavityReport rep;
+    const CavityOutcome out = cm.recover_region(tris, rep);
+    if (out == CavityOutcome::Recovered) {
+      ++st.regions;
+      st.cavities += rep.cavities;
+      st.expansions += rep.expansions;
+      st.largest_cavity = std::max(st.largest_cavity, rep.largest_cavity);
+      bool retried = false;
+      for (uint32_t s : region) {
+        retried |= failures[s] != 0;
+        if (!present(s))
+          return make_error(ErrorCode::Internal,
+                            "Facet recovery: a recovered region lacks one of its subfaces.",
+                            sf.facet[s]);
+      }
+      if (retried || rep.gift_wraps > 0) ++st.fallbacks;
+      // Subfaces that were faces of removed tets may be gone (Theorem 4).
+      for (const Triangle& f : cm.removed_faces())
+        index.for_each(f, [&](uint32_t s) {
+          if (!queued[s] && !present(s)) queue.push_back(s), queued[s] = ever[s] = 1;
+        });
+      continue;
+    }
+    // Fallback (documented in facet_recovery.hpp): first retry the region
+    // after the rest of the queue, then its subfaces one at a time; a single
+    // subface failing again is an error naming its facet.
+    if (single[s0] && failures[s0] >= 2)
+      return make_error(out == CavityOutcome::Limit ? ErrorCode::LimitReached : ErrorCode::Internal,
+                        "Facet recovery failed for a missing region of " +
+                            std::to_string(region.size()) + " subface(s): " + rep.failure + ".",
+                        sf.facet[s0]);
+    for (uint32_t s : region) {
+      if (failures[s] < 255) ++failures[s];
+      if (failures[s] >= 2) single[s] = 1;
+      if (!queued[s]) queue.push_back(s), queued[s] = 1;
+    }
+  }
+  // A subface can only go missing as a face of a removed tet, and those were
+  // queued again; the queue is empty, so every subface ever queued is
+  // checked once more (the others were present and never touched).
+  for (uint32_t s = 0; s < n; ++s)
+    if (ever[s] && !present(s))
+      return make_error(ErrorCode::Internal, "Facet recovery ended with a subface missing.",
+                        sf.facet[s]);
+  return Status::success();
+}
+
+}  // namespace cdt3d

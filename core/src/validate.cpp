@@ -1,0 +1,773 @@
+// cdt3d::validate: checks a Result against its PLC. Exact predicates for every
+// combinatorial and geometric decision; floating-point sums with tolerances
+// only for the area and volume comparisons, which are checks, never decisions.
+//
+// Checks, in order (the first violation is returned as ErrorCode::Internal):
+//  1. Sizes and indices; the first input_points points are the PLC's points.
+//  2. Every tet is positively oriented: orient3d(v0, v1, v2, v3) > 0, the
+//     convention of tet_mesh.hpp (v3 below the plane of v0 v1 v2 seen
+//     counterclockwise from above; insphere(v0..v3, p) > 0 means p inside).
+//  3. Every triangle is a face of at most two tets, which lie on opposite
+//     sides of it.
+//  4. Constrained faces: listed once, each a face of a tet. A face of exactly
+//     one tet (the boundary of the kept domain) must be constrained, unless
+//     the result kept the convex hull (detected: some boundary face is not
+//     constrained); then the boundary must be locally convex at every edge
+//     (a closed, connected, locally convex surface bounds a convex set).
+//  5. Facets: the faces of facet f use only vertices of f (its input vertices
+//     and the PLC points and segments lying in it, found by triangulating the
+//     input facet without Steiner points; Steiner points on those segments;
+//     Facet Steiner points of f), are consistently oriented, and the edges of
+//     the patch used once are subsegments of f's segments, every loop
+//     subsegment being an edge of the patch. When every such patch boundary
+//     edge is on a loop, the area must equal the facet's area; when the patch
+//     ends on a segment inside the facet (the facet leaves the domain there),
+//     the area may only be smaller. A facet without faces must lie outside
+//     the kept tets (a point of it is strictly inside none).
+//  6. Segments: the ends and the Segment Steiner points of each segment,
+//     sorted along it, are consecutive mesh edges (checked for segments whose
+//     vertices all belong to kept tets; the others lie outside the domain).
+//  7. Volume: for closed results (no hull kept, every facet with faces either
+//     entirely on the boundary with the domain on one side, or entirely
+//     inside, single-loop facets), the tets' volume equals the volume the
+//     boundary facets enclose (divergence theorem on the input loops).
+//  8. Constrained Delaunay: every face shared by two tets that is not
+//     constrained is locally Delaunay: insphere of the opposite vertex <= 0
+//     (exact, unperturbed; co-spherical allowed).
+#include <algorithm>
+#include <array>
+#include <iterator>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "predicates.hpp"
+#include "segment_recovery.hpp"
+#include "subfaces.hpp"
+#include "tet_mesh.hpp"
+
+namespace cdt3d {
+namespace {
+
+using Tri3 = std::array<uint32_t, 3>;
+
+Status fail(const std::string& message, int64_t facet = -1, int64_t vertex = -1,
+            int64_t segment = -1) {
+  Status s;
+  s.error.code = ErrorCode::Internal;
+  s.error.message = "Validation: " + message;
+  s.error.facet = facet;
+  s.error.vertex = vertex;
+  s.error.segment = segment;
+  return s;
+}
+
+std::string tri_name(const Tri3& t) {
+  return "(" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) +
+         ")";
+}
+
+Tri3 sorted(Tri3 t) {
+  std::sort(t.begin(), t.end());
+  return t;
+}
+
+uint64_t edge_key(uint32_t a, uint32_t b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<uint64_t>(a) << 32) | b;
+}
+
+struct FaceRec {
+  Tri3 key;      // sorted vertex ids
+  uint32_t tet;  // tet index in the result
+  int face;      // position of the opposite vertex
+};
+
+class Validator {
+ public:
+  Validator(const Plc& plc, const Result& r) : plc_(plc), r_(r), m_(r.mesh) {}
+  Status run();
+
+ private:
+  const double* pt(uint32_t v) const { return &m_.points[3 * static_cast<size_t>(v)]; }
+  Tri3 tet_face(uint32_t t, int i) const {
+    const uint32_t* w = &m_.tets[4 * static_cast<size_t>(t)];
+    return {w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]};
+  }
+  double tri_area(const Tri3& t) const;
+  bool is_edge(uint32_t a, uint32_t b) const {
+    return std::binary_search(edges_.begin(), edges_.end(), edge_key(a, b));
+  }
+  int64_t segment_index(uint32_t a, uint32_t b) const {
+    const std::array<VertexId, 2> k = {std::min(a, b), std::max(a, b)};
+    auto it = std::lower_bound(segments_.begin(), segments_.end(), k);
+    return it != segments_.end() && *it == k ? it - segments_.begin() : -1;
+  }
+
+  Status sizes();
+  Status tets_and_faces();
+  Status constrained_faces();
+  Status facets();
+  Status unconstrained_in_facets();
+  Status segments();
+  Status volume();
+  Status delaunay();
+
+  const Plc& plc_;
+  const Result& r_;
+  const TetMeshData& m_;
+  size_t np_ = 0, nt_ = 0, nf_ = 0;
+  double scale_ = 0;  // largest |coordinate|
+  std::vector<FaceRec> faces_;                // every tet face, sorted by key
+  std::vector<uint64_t> edges_;               // every tet edge, sorted
+  std::vector<uint8_t> in_tet_;               // per point: vertex of a tet
+  std::vector<Tri3> constrained_;             // sorted keys of the constrained faces
+  std::vector<uint32_t> boundary_;            // indices into faces_ of faces with one tet
+  bool hull_kept_ = false;
+  std::vector<std::array<VertexId, 2>> segments_;      // plc_segments order
+  std::vector<std::vector<uint32_t>> chains_;          // per segment, sorted along it
+  std::vector<uint32_t> face_tet_;                     // per constrained face: a tet index (face side)
+  std::vector<uint8_t> face_two_;                      // per constrained face: two tets
+  bool facets_closed_ = true;                          // volume check applies
+  // Per input facet: its input vertices, the segments lying in it, its
+  // triangulation without Steiner points, the axis its projection drops.
+  std::vector<std::vector<uint32_t>> fverts_, fsegs_;
+  std::vector<std::vector<Tri3>> ftris_;
+  std::vector<int> fdrop_;
+};
+
+double Validator::tri_area(const Tri3& t) const {
+  const double* a = pt(t[0]);
+  const double* b = pt(t[1]);
+  const double* c = pt(t[2]);
+  const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const double w[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  const double x = u[1] * w[2] - u[2] * w[1], y = u[2] * w[0] - u[0] * w[2],
+               z = u[0] * w[1] - u[1] * w[0];
+  return 0.5 * std::sqrt(x * x + y * y + z * z);
+}
+
+Status Validator::sizes() {
+  if (m_.points.size() % 3 != 0) return fail("the point array's size is not a multiple of 3.");
+  if (m_.tets.size() % 4 != 0) return fail("the tet array's size is not a multiple of 4.");
+  if (m_.faces.size() % 3 != 0) return fail("the face array's size is not a multiple of 3.");
+  np_ = m_.points.size() / 3, nt_ = m_.tets.size() / 4, nf_ = m_.faces.size() / 3;
+  if (r_.input_points != plc_.points.size() || np_ < r_.input_points)
+    return fail("the result does not start with the PLC's points.");
+  for (size_t i = 0; i < r_.input_points; ++i) {
+    const Vec3& p = plc_.points[i];
+    if (pt(static_cast<uint32_t>(i))[0] != p.x || pt(static_cast<uint32_t>(i))[1] != p.y ||
+        pt(static_cast<uint32_t>(i))[2] != p.z)
+      return fail("point " + std::to_string(i) + " differs from the PLC's point.", -1,
+                  static_cast<int64_t>(i));
+  }
+  const size_t ns = np_ - r_.input_points;
+  if (r_.steiner_kind.size() != ns || r_.steiner_parent.size() != ns)
+    return fail("steiner_kind and steiner_parent need one entry per Steiner point.");
+  for (size_t i = 0; i < ns; ++i) {
+    const SteinerKind k = r_.steiner_kind[i];
+    const int64_t p = r_.steiner_parent[i];
+    const int64_t v = static_cast<int64_t>(r_.input_points + i);
+    if (k != SteinerKind::Segment && k != SteinerKind::Facet && k != SteinerKind::Volume)
+      return fail("Steiner point " + std::to_string(v) + " has an unknown kind.", -1, v);
+    if (k == SteinerKind::Volume && p != -1)
+      return fail("volume Steiner point " + std::to_string(v) + " has a parent.", -1, v);
+    if (k == SteinerKind::Facet && (p < 0 || static_cast<size_t>(p) >= plc_.facets.size()))
+      return fail("facet Steiner point " + std::to_string(v) + " has no valid parent facet.", -1,
+                  v);
+  }
+  if (r_.face_facet.size() != nf_) return fail("face_facet needs one entry per face.");
+  if (!m_.face_markers.empty() && m_.face_markers.size() != nf_)
+    return fail("face_markers needs one entry per face.");
+  if (!m_.tet_attributes.empty() && m_.tet_attributes.size() != nt_)
+    return fail("tet_attributes needs one entry per tet.");
+  for (uint32_t v : m_.tets)
+    if (v >= np_) return fail("a tet uses point " + std::to_string(v) + ", which does not exist.");
+  for (size_t i = 0; i < nf_; ++i) {
+    for (int k = 0; k < 3; ++k)
+      if (m_.faces[3 * i + k] >= np_)
+        return fail("face " + std::to_string(i) + " uses a point that does not exist.");
+    if (r_.face_facet[i] >= plc_.facets.size())
+      return fail("face " + std::to_string(i) + " names facet " +
+                  std::to_string(r_.face_facet[i]) + ", which does not exist.");
+    if (!m_.face_markers.empty() && m_.face_markers[i] != plc_.facets[r_.face_facet[i]].marker)
+      return fail("face " + std::to_string(i) + " has a marker other than its facet's.",
+                  r_.face_facet[i]);
+  }
+  for (double x : m_.points) scale_ = std::max(scale_, std::fabs(x));
+  return Status::success();
+}
+
+Status Validator::tets_and_faces() {
+  in_tet_.assign(np_, 0);
+  faces_.clear();
+  faces_.reserve(4 * nt_);
+  edges_.clear();
+  edges_.reserve(6 * nt_);
+  for (uint32_t t = 0; t < nt_; ++t) {
+    const uint32_t* w = &m_.tets[4 * static_cast<size_t>(t)];
+    if (pred::orient3d(pt(w[0]), pt(w[1]), pt(w[2]), pt(w[3])) <= 0)
+      return fail("tet " + std::to_string(t) + " (" + std::to_string(w[0]) + ", " +
+                      std::to_string(w[1]) + ", " + std::to_string(w[2]) + ", " +
+                      std::to_string(w[3]) + ") is not positively oriented.",
+                  -1, w[0]);
+    for (int i = 0; i < 4; ++i) {
+      in_tet_[w[i]] = 1;
+      faces_.push_back({sorted(tet_face(t, i)), t, i});
+      for (int j = i + 1; j < 4; ++j) edges_.push_back(edge_key(w[i], w[j]));
+    }
+  }
+  std::sort(faces_.begin(), faces_.end(), [](const FaceRec& a, const FaceRec& b) {
+    return a.key != b.key ? a.key < b.key : a.tet < b.tet;
+  });
+  std::sort(edges_.begin(), edges_.end());
+  edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());
+  boundary_.clear();
+  for (size_t i = 0; i < faces_.size();) {
+    size_t j = i;
+    while (j < faces_.size() && faces_[j].key == faces_[i].key) ++j;
+    if (j - i > 2)
+      return fail("face " + tri_name(faces_[i].key) + " belongs to " + std::to_string(j - i) +
+                      " tets.",
+                  -1, faces_[i].key[0]);
+    if (j - i == 2) {
+      const FaceRec& a = faces_[i];
+      const FaceRec& b = faces_[i + 1];
+      const Tri3 f = tet_face(a.tet, a.face);
+      const uint32_t d = m_.tets[4 * static_cast<size_t>(b.tet) + b.face];
+      if (pred::orient3d(pt(f[0]), pt(f[1]), pt(f[2]), pt(d)) >= 0)
+        return fail("tets " + std::to_string(a.tet) + " and " + std::to_string(b.tet) +
+                        " overlap at face " + tri_name(a.key) + ".",
+                    -1, a.key[0]);
+    } else {
+      boundary_.push_back(static_cast<uint32_t>(i));
+    }
+    i = j;
+  }
+  return Status::success();
+}
+
+Status Validator::constrained_faces() {
+  constrained_.resize(nf_);
+  for (size_t i = 0; i < nf_; ++i)
+    constrained_[i] = sorted({m_.faces[3 * i], m_.faces[3 * i + 1], m_.faces[3 * i + 2]});
+  std::vector<Tri3> keys = constrained_;
+  std::sort(keys.begin(), keys.end());
+  for (size_t i = 0; i + 1 < keys.size(); ++i)
+    if (keys[i] == keys[i + 1])
+      return fail("constrained face " + tri_name(keys[i]) + " is listed twice.", -1, keys[i][0]);
+  face_tet_.assign(nf_, 0);
+  face_two_.assign(nf_, 0);
+  auto lower = [this](const Tri3& k) {
+    return std::lower_bound(faces_.begin(), faces_.end(), k,
+                            [](const FaceRec& a, const Tri3& b) { return a.key < b; });
+  };
+  for (size_t i = 0; i < nf_; ++i) {
+    auto it = lower(constrained_[i]);
+    if (it == faces_.end() || it->key != constrained_[i])
+      return fail("constrained face " + tri_name(constrained_[i]) + " is not a face of a tet.",
+                  r_.face_facet[i], constrained_[i][0]);
+    face_tet_[i] = static_cast<uint32_t>(it - faces_.begin());
+    face_two_[i] = (it + 1) != faces_.end() && (it + 1)->key == it->key;
+  }
+  // Boundary faces: constrained, or (hull kept) locally convex everywhere.
+  std::vector<uint32_t> unconstrained;
+  for (uint32_t b : boundary_)
+    if (!std::binary_search(keys.begin(), keys.end(), faces_[b].key)) unconstrained.push_back(b);
+  hull_kept_ = !unconstrained.empty();
+  if (!hull_kept_) return Status::success();
+  struct EdgeUse {
+    uint64_t key;
+    uint32_t face;  // index into boundary_
+  };
+  std::vector<EdgeUse> uses;
+  for (uint32_t i = 0; i < boundary_.size(); ++i) {
+    const Tri3& k = faces_[boundary_[i]].key;
+    uses.push_back({edge_key(k[0], k[1]), i});
+    uses.push_back({edge_key(k[1], k[2]), i});
+    uses.push_back({edge_key(k[0], k[2]), i});
+  }
+  std::sort(uses.begin(), uses.end(), [](const EdgeUse& a, const EdgeUse& b) {
+    return a.key != b.key ? a.key < b.key : a.face < b.face;
+  });
+  for (size_t i = 0; i < uses.size();) {
+    size_t j = i;
+    while (j < uses.size() && uses[j].key == uses[i].key) ++j;
+    for (size_t x = i; x < j; ++x) {
+      const FaceRec& F = faces_[boundary_[uses[x].face]];
+      const Tri3 f = tet_face(F.tet, F.face);  // counterclockwise from outside
+      for (size_t y = i; y < j; ++y) {
+        if (y == x) continue;
+        const Tri3& g = faces_[boundary_[uses[y].face]].key;
+        uint32_t e = g[0];
+        for (uint32_t v : g)
+          if (v != (uses[i].key >> 32) && v != static_cast<uint32_t>(uses[i].key)) e = v;
+        if (pred::orient3d(pt(f[0]), pt(f[1]), pt(f[2]), pt(e)) < 0)
+          return fail("boundary face " + tri_name(F.key) +
+                          " is not constrained, and the boundary is not convex there.",
+                      -1, F.key[0]);
+      }
+    }
+    i = j;
+  }
+  return Status::success();
+}
+
+Status Validator::segments() {
+  segments_ = plc_segments(plc_);
+  chains_.assign(segments_.size(), {});
+  for (size_t s = 0; s < segments_.size(); ++s) chains_[s] = {segments_[s][0], segments_[s][1]};
+  for (size_t i = 0; i < r_.steiner_kind.size(); ++i) {
+    if (r_.steiner_kind[i] != SteinerKind::Segment) continue;
+    const int64_t p = r_.steiner_parent[i];
+    const uint32_t v = static_cast<uint32_t>(r_.input_points + i);
+    if (p < 0 || static_cast<size_t>(p) >= segments_.size())
+      return fail("segment Steiner point " + std::to_string(v) + " has no valid parent segment.",
+                  -1, v);
+    chains_[static_cast<size_t>(p)].push_back(v);
+  }
+  for (size_t s = 0; s < segments_.size(); ++s) {
+    std::vector<uint32_t>& c = chains_[s];
+    const double* a = pt(c[0]);
+    const double* b = pt(c[1]);
+    const double d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    auto along = [&](uint32_t v) {
+      const double* p = pt(v);
+      return (p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1] + (p[2] - a[2]) * d[2];
+    };
+    const uint32_t last = c[1];
+    c.erase(c.begin() + 1);
+    std::sort(c.begin() + 1, c.end(), [&](uint32_t x, uint32_t y) {
+      const double tx = along(x), ty = along(y);
+      return tx != ty ? tx < ty : x < y;
+    });
+    c.push_back(last);
+    bool inside = true;
+    for (uint32_t v : c) inside = inside && in_tet_[v];
+    if (!inside) continue;  // the segment lies outside the kept tets
+    for (size_t k = 0; k + 1 < c.size(); ++k)
+      if (!is_edge(c[k], c[k + 1]))
+        return fail("segment (" + std::to_string(c.front()) + ", " + std::to_string(c.back()) +
+                        ") is not a chain of mesh edges: (" + std::to_string(c[k]) + ", " +
+                        std::to_string(c[k + 1]) + ") is missing.",
+                    -1, c[k], static_cast<int64_t>(s));
+  }
+  return Status::success();
+}
+
+Status Validator::facets() {
+  // The input facets triangulated without Steiner points: their vertices
+  // (loop vertices, PLC points and segments lying in them) and areas.
+  TetMesh input;
+  input.reserve(plc_.points.size(), 0);
+  for (const Vec3& p : plc_.points) input.add_vertex(&p.x, kVertexInput);
+  SegmentSet unsplit;
+  init_segments(plc_, unsplit);
+  Subfaces sub;
+  Status st = triangulate_facets(plc_, unsplit, input, {}, sub);
+  if (!st.ok()) {
+    st.error.code = ErrorCode::Internal;
+    st.error.message = "Validation: the input facet cannot be triangulated: " + st.error.message;
+    return st;
+  }
+  const size_t nfacets = plc_.facets.size();
+  std::vector<std::vector<size_t>> sub_of(nfacets), faces_of(nfacets);
+  for (size_t i = 0; i < sub.tri.size(); ++i) sub_of[sub.facet[i]].push_back(i);
+  for (size_t i = 0; i < nf_; ++i) faces_of[r_.face_facet[i]].push_back(i);
+
+  struct Probe {
+    double p[3] = {0, 0, 0};
+    uint32_t facet = 0;
+  };
+  std::vector<Probe> probes;
+  fverts_.assign(nfacets, {});
+  fsegs_.assign(nfacets, {});
+  ftris_.assign(nfacets, {});
+  fdrop_.assign(nfacets, 2);
+  std::vector<uint64_t> allowed_edges, loop_edges;
+  for (size_t f = 0; f < nfacets; ++f) {
+    const int64_t F = static_cast<int64_t>(f);
+    std::vector<uint32_t>& verts = fverts_[f];
+    std::vector<uint32_t>& segs_in = fsegs_[f];
+    double area_in = 0;
+    for (size_t i : sub_of[f]) {
+      const Tri3 t = {sub.tri[i][0], sub.tri[i][1], sub.tri[i][2]};
+      ftris_[f].push_back(t);
+      area_in += tri_area(t);
+      for (int k = 0; k < 3; ++k) {
+        verts.push_back(t[k]);
+        const int64_t s = segment_index(t[k], t[(k + 1) % 3]);
+        if (s >= 0) segs_in.push_back(static_cast<uint32_t>(s));
+      }
+    }
+    std::sort(verts.begin(), verts.end());
+    verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+    std::sort(segs_in.begin(), segs_in.end());
+    segs_in.erase(std::unique(segs_in.begin(), segs_in.end()), segs_in.end());
+    allowed_edges.clear();
+    for (uint32_t s : segs_in)
+      for (size_t k = 0; k + 1 < chains_[s].size(); ++k)
+        allowed_edges.push_back(edge_key(chains_[s][k], chains_[s][k + 1]));
+    std::sort(allowed_edges.begin(), allowed_edges.end());
+    loop_edges.clear();
+    for (const auto& L : plc_.facets[f].loops)
+      for (size_t i = 0; i < L.size(); ++i) {
+        const int64_t s = segment_index(L[i], L[(i + 1) % L.size()]);
+        if (s < 0) continue;
+        for (size_t k = 0; k + 1 < chains_[s].size(); ++k)
+          loop_edges.push_back(edge_key(chains_[s][k], chains_[s][k + 1]));
+      }
+    std::sort(loop_edges.begin(), loop_edges.end());
+    loop_edges.erase(std::unique(loop_edges.begin(), loop_edges.end()), loop_edges.end());
+
+    {
+      double n[3] = {0, 0, 0};
+      const auto& L = plc_.facets[f].loops[0];
+      for (size_t i = 0; i < L.size(); ++i) {
+        const Vec3& p = plc_.points[L[i]];
+        const Vec3& q = plc_.points[L[(i + 1) % L.size()]];
+        n[0] += (p.y - q.y) * (p.z + q.z);
+        n[1] += (p.z - q.z) * (p.x + q.x);
+        n[2] += (p.x - q.x) * (p.y + q.y);
+      }
+      fdrop_[f] = std::fabs(n[0]) >= std::fabs(n[1])
+                      ? (std::fabs(n[0]) >= std::fabs(n[2]) ? 0 : 2)
+                      : (std::fabs(n[1]) >= std::fabs(n[2]) ? 1 : 2);
+    }
+    auto vertex_ok = [&](uint32_t v) {
+      if (v < r_.input_points) return std::binary_search(verts.begin(), verts.end(), v);
+      const size_t i = v - r_.input_points;
+      const int64_t p = r_.steiner_parent[i];
+      switch (r_.steiner_kind[i]) {
+        case SteinerKind::Facet: return p == F;
+        case SteinerKind::Segment:
+          return std::binary_search(segs_in.begin(), segs_in.end(), static_cast<uint32_t>(p));
+        default: return false;
+      }
+    };
+
+    if (faces_of[f].empty()) {
+      // Must lie outside the kept tets: the centroid of its largest input
+      // triangle is strictly inside no tet (checked below for all facets).
+      size_t best = 0;
+      double best_area = -1;
+      for (size_t i : sub_of[f]) {
+        const double a = tri_area({sub.tri[i][0], sub.tri[i][1], sub.tri[i][2]});
+        if (a > best_area) best_area = a, best = i;
+      }
+      if (best_area < 0) continue;
+      Probe q;
+      q.facet = static_cast<uint32_t>(f);
+      for (int k = 0; k < 3; ++k) {
+        const Vec3& v = plc_.points[sub.tri[best][k]];
+        q.p[0] += v.x / 3, q.p[1] += v.y / 3, q.p[2] += v.z / 3;
+      }
+      probes.push_back(q);
+      continue;
+    }
+
+    // Vertices, orientation in the facet's plane, edges.
+    const Facet& facet = plc_.facets[f];
+    double n[3] = {0, 0, 0};  // Newell normal of loop 0
+    {
+      const auto& L = facet.loops[0];
+      for (size_t i = 0; i < L.size(); ++i) {
+        const Vec3& p = plc_.points[L[i]];
+        const Vec3& q = plc_.points[L[(i + 1) % L.size()]];
+        n[0] += (p.y - q.y) * (p.z + q.z);
+        n[1] += (p.z - q.z) * (p.x + q.x);
+        n[2] += (p.x - q.x) * (p.y + q.y);
+      }
+    }
+    const int drop = std::fabs(n[0]) >= std::fabs(n[1])
+                         ? (std::fabs(n[0]) >= std::fabs(n[2]) ? 0 : 2)
+                         : (std::fabs(n[1]) >= std::fabs(n[2]) ? 1 : 2);
+    int side = 0;
+    double area_out = 0, perimeter = 0;
+    std::vector<uint64_t> fedges;
+    for (size_t i : faces_of[f]) {
+      const Tri3 t = {m_.faces[3 * i], m_.faces[3 * i + 1], m_.faces[3 * i + 2]};
+      for (uint32_t v : t)
+        if (!vertex_ok(v))
+          return fail("face " + tri_name(t) + " of facet " + std::to_string(f) + " uses vertex " +
+                          std::to_string(v) + ", which does not belong to the facet.",
+                      F, v);
+      const int o = pred::orient2d_projected(pt(t[0]), pt(t[1]), pt(t[2]), drop);
+      if (o == 0)
+        return fail("face " + tri_name(t) + " of facet " + std::to_string(f) +
+                        " is degenerate in the facet's plane.",
+                    F, t[0]);
+      if (side == 0) side = o;
+      if (o != side)
+        return fail("the faces of facet " + std::to_string(f) +
+                        " overlap or are not consistently oriented (face " + tri_name(t) + ").",
+                    F, t[0]);
+      area_out += tri_area(t);
+      for (int k = 0; k < 3; ++k) {
+        fedges.push_back(edge_key(t[k], t[(k + 1) % 3]));
+        const double* a = pt(t[k]);
+        const double* b = pt(t[(k + 1) % 3]);
+        perimeter += std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                               (a[2] - b[2]) * (a[2] - b[2]));
+      }
+    }
+    std::sort(fedges.begin(), fedges.end());
+    bool partial = false;
+    for (size_t i = 0; i < fedges.size();) {
+      size_t j = i;
+      while (j < fedges.size() && fedges[j] == fedges[i]) ++j;
+      const uint32_t a = static_cast<uint32_t>(fedges[i] >> 32), b = static_cast<uint32_t>(fedges[i]);
+      if (j - i > 2)
+        return fail("edge (" + std::to_string(a) + ", " + std::to_string(b) + ") is in " +
+                        std::to_string(j - i) + " faces of facet " + std::to_string(f) + ".",
+                    F, a);
+      if (j - i == 1) {
+        if (!std::binary_search(allowed_edges.begin(), allowed_edges.end(), fedges[i]))
+          return fail("the faces of facet " + std::to_string(f) + " end at edge (" +
+                          std::to_string(a) + ", " + std::to_string(b) +
+                          "), which is on none of its segments.",
+                      F, a);
+        if (!std::binary_search(loop_edges.begin(), loop_edges.end(), fedges[i])) partial = true;
+      }
+      i = j;
+    }
+    for (uint64_t e : loop_edges)
+      if (!partial && !std::binary_search(fedges.begin(), fedges.end(), e))
+        return fail("loop subsegment (" + std::to_string(e >> 32) + ", " +
+                        std::to_string(static_cast<uint32_t>(e)) + ") of facet " +
+                        std::to_string(f) + " is no edge of its faces.",
+                    F, static_cast<int64_t>(e >> 32));
+    const double tol = 1e-9 * area_in + 64 * 2.2e-16 * scale_ * perimeter;
+    if (partial ? area_out > area_in + tol : std::fabs(area_out - area_in) > tol)
+      return fail("the faces of facet " + std::to_string(f) + " cover an area of " +
+                      std::to_string(area_out) + " instead of " + std::to_string(area_in) + ".",
+                  F);
+    if (partial || facet.loops.size() != 1) facets_closed_ = false;
+  }
+  // Probes of the facets without faces, sorted by x; each tet tests those in
+  // its bounding box.
+  std::sort(probes.begin(), probes.end(), [](const Probe& a, const Probe& b) {
+    return a.p[0] != b.p[0] ? a.p[0] < b.p[0] : a.facet < b.facet;
+  });
+  for (uint32_t t = 0; t < nt_ && !probes.empty(); ++t) {
+    const uint32_t* w = &m_.tets[4 * static_cast<size_t>(t)];
+    double lo[3], hi[3];
+    for (int x = 0; x < 3; ++x) {
+      lo[x] = hi[x] = pt(w[0])[x];
+      for (int k = 1; k < 4; ++k) lo[x] = std::min(lo[x], pt(w[k])[x]), hi[x] = std::max(hi[x], pt(w[k])[x]);
+    }
+    auto it = std::lower_bound(probes.begin(), probes.end(), lo[0],
+                               [](const Probe& a, double x) { return a.p[0] < x; });
+    for (; it != probes.end() && it->p[0] <= hi[0]; ++it) {
+      if (it->p[1] < lo[1] || it->p[1] > hi[1] || it->p[2] < lo[2] || it->p[2] > hi[2]) continue;
+      bool strictly = true;
+      for (int i = 0; i < 4 && strictly; ++i) {
+        const Tri3 g = tet_face(t, i);
+        strictly = pred::orient3d(pt(g[0]), pt(g[1]), pt(g[2]), it->p) > 0;
+      }
+      if (strictly)
+        return fail("facet " + std::to_string(it->facet) +
+                        " has no constrained faces but passes through tet " + std::to_string(t) +
+                        ".",
+                    it->facet);
+    }
+  }
+  return Status::success();
+}
+
+// A face that is not constrained must not lie in a facet: when its three
+// vertices all belong to facet f, its projection must not overlap the
+// interior of any triangle of f (exact orient2d in f's projection; two
+// triangles' interiors are disjoint iff an edge line of one separates them).
+Status Validator::unconstrained_in_facets() {
+  const size_t nfacets = plc_.facets.size();
+  std::vector<std::vector<uint32_t>> seg_facets(segments_.size());
+  for (uint32_t f = 0; f < nfacets; ++f)
+    for (uint32_t s : fsegs_[f]) seg_facets[s].push_back(f);
+  std::vector<std::vector<uint32_t>> input_facets(r_.input_points);
+  for (uint32_t f = 0; f < nfacets; ++f)
+    for (uint32_t v : fverts_[f]) input_facets[v].push_back(f);
+  std::vector<uint32_t> one[3];
+  auto facets_of = [&](uint32_t v, int slot) -> const std::vector<uint32_t>& {
+    if (v < r_.input_points) return input_facets[v];
+    const size_t i = v - r_.input_points;
+    one[slot].clear();
+    const int64_t p = r_.steiner_parent[i];
+    if (r_.steiner_kind[i] == SteinerKind::Segment) return seg_facets[static_cast<size_t>(p)];
+    if (r_.steiner_kind[i] == SteinerKind::Facet) one[slot].push_back(static_cast<uint32_t>(p));
+    return one[slot];
+  };
+  std::vector<Tri3> keys = constrained_;
+  std::sort(keys.begin(), keys.end());
+  std::vector<uint32_t> ab, abc;
+  for (size_t i = 0; i < faces_.size(); ++i) {
+    if (i > 0 && faces_[i].key == faces_[i - 1].key) continue;
+    const Tri3& k = faces_[i].key;
+    if (std::binary_search(keys.begin(), keys.end(), k)) continue;
+    const std::vector<uint32_t>& fa = facets_of(k[0], 0);
+    if (fa.empty()) continue;
+    const std::vector<uint32_t>& fb = facets_of(k[1], 1);
+    ab.clear();
+    std::set_intersection(fa.begin(), fa.end(), fb.begin(), fb.end(), std::back_inserter(ab));
+    if (ab.empty()) continue;
+    const std::vector<uint32_t>& fc = facets_of(k[2], 2);
+    abc.clear();
+    std::set_intersection(ab.begin(), ab.end(), fc.begin(), fc.end(), std::back_inserter(abc));
+    for (uint32_t f : abc) {
+      const int drop = fdrop_[f];
+      double g[3][2];
+      for (int x = 0; x < 3; ++x) {
+        const double* p = pt(k[x]);
+        g[x][0] = p[(drop + 1) % 3], g[x][1] = p[(drop + 2) % 3];
+      }
+      if (pred::orient2d(g[0], g[1], g[2]) < 0) std::swap(g[1], g[2]);
+      if (pred::orient2d(g[0], g[1], g[2]) == 0) continue;
+      for (const Tri3& t : ftris_[f]) {
+        double h[3][2];
+        for (int x = 0; x < 3; ++x) {
+          const Vec3& p = plc_.points[t[x]];
+          const double c[3] = {p.x, p.y, p.z};
+          h[x][0] = c[(drop + 1) % 3], h[x][1] = c[(drop + 2) % 3];
+        }
+        if (pred::orient2d(h[0], h[1], h[2]) < 0) std::swap(h[1], h[2]);
+        auto separates = [](const double (*u)[2], const double (*w)[2]) {
+          for (int e = 0; e < 3; ++e) {
+            bool all = true;
+            for (int x = 0; x < 3 && all; ++x)
+              all = pred::orient2d(u[e], u[(e + 1) % 3], w[x]) <= 0;
+            if (all) return true;
+          }
+          return false;
+        };
+        if (!separates(g, h) && !separates(h, g))
+          return fail("face " + tri_name(k) + " lies in facet " + std::to_string(f) +
+                          " but is not constrained.",
+                      f, k[0]);
+      }
+    }
+  }
+  return Status::success();
+}
+
+Status Validator::volume() {
+  if (hull_kept_ || !facets_closed_) return Status::success();
+  // Centre the coordinates for accuracy.
+  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  for (size_t v = 0; v < np_; ++v)
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = v == 0 ? pt(0)[k] : std::min(lo[k], pt(static_cast<uint32_t>(v))[k]);
+      hi[k] = v == 0 ? pt(0)[k] : std::max(hi[k], pt(static_cast<uint32_t>(v))[k]);
+    }
+  const double c[3] = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+  auto det = [&c](const double* a, const double* b, const double* d) {
+    const double u[3] = {a[0] - c[0], a[1] - c[1], a[2] - c[2]};
+    const double v[3] = {b[0] - c[0], b[1] - c[1], b[2] - c[2]};
+    const double w[3] = {d[0] - c[0], d[1] - c[1], d[2] - c[2]};
+    return u[0] * (v[1] * w[2] - v[2] * w[1]) + u[1] * (v[2] * w[0] - v[0] * w[2]) +
+           u[2] * (v[0] * w[1] - v[1] * w[0]);
+  };
+  double vt = 0, vabs = 0;
+  for (uint32_t t = 0; t < nt_; ++t) {
+    const uint32_t* w = &m_.tets[4 * static_cast<size_t>(t)];
+    // Positive tets: orient3d > 0, i.e. det(v0 - v3, v1 - v3, v2 - v3) > 0,
+    // which is the sum of the four centred triple products below.
+    const double* p0 = pt(w[0]);
+    const double* p1 = pt(w[1]);
+    const double* p2 = pt(w[2]);
+    const double* p3 = pt(w[3]);
+    const double x = (det(p0, p1, p2) - det(p0, p1, p3) + det(p0, p2, p3) - det(p1, p2, p3)) / 6;
+    vt += x;
+    vabs += std::fabs(x);
+  }
+  // Per facet: all faces on the boundary with the domain on one side, or all
+  // interior; the boundary ones contribute their loop, oriented outwards.
+  std::vector<int> out_sign(plc_.facets.size(), 0);
+  std::vector<uint8_t> interior(plc_.facets.size(), 0), any(plc_.facets.size(), 0);
+  for (size_t i = 0; i < nf_; ++i) {
+    const size_t f = r_.face_facet[i];
+    any[f] = 1;
+    if (face_two_[i]) {
+      if (out_sign[f] != 0) return Status::success();  // mixed: not checked
+      interior[f] = 1;
+      continue;
+    }
+    if (interior[f]) return Status::success();
+    const FaceRec& R = faces_[face_tet_[i]];
+    const Tri3 g = tet_face(R.tet, R.face);  // counterclockwise from outside the domain
+    const auto& L = plc_.facets[f].loops[0];
+    // Outward normal of g against the loop's Newell normal.
+    double n[3] = {0, 0, 0};
+    for (size_t k = 0; k < L.size(); ++k) {
+      const Vec3& p = plc_.points[L[k]];
+      const Vec3& q = plc_.points[L[(k + 1) % L.size()]];
+      n[0] += (p.y - q.y) * (p.z + q.z);
+      n[1] += (p.z - q.z) * (p.x + q.x);
+      n[2] += (p.x - q.x) * (p.y + q.y);
+    }
+    const double* a = pt(g[0]);
+    const double* b = pt(g[1]);
+    const double* d = pt(g[2]);
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double w[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+    const double gn[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2],
+                          u[0] * w[1] - u[1] * w[0]};
+    const double dot = gn[0] * n[0] + gn[1] * n[1] + gn[2] * n[2];
+    const int s = dot > 0 ? 1 : dot < 0 ? -1 : 0;
+    if (s == 0) return Status::success();
+    if (out_sign[f] != 0 && out_sign[f] != s) return Status::success();  // both sides: skip
+    out_sign[f] = s;
+  }
+  double vf = 0;
+  for (size_t f = 0; f < plc_.facets.size(); ++f) {
+    if (out_sign[f] == 0) continue;
+    const auto& L = plc_.facets[f].loops[0];
+    for (size_t k = 1; k + 1 < L.size(); ++k)
+      vf += out_sign[f] * det(&plc_.points[L[0]].x, &plc_.points[L[k]].x,
+                              &plc_.points[L[k + 1]].x) / 6;
+  }
+  if (std::fabs(vt - vf) > 1e-8 * vabs + 1e-300)
+    return fail("the tets' volume " + std::to_string(vt) + " differs from the volume " +
+                std::to_string(vf) + " enclosed by the facets.");
+  return Status::success();
+}
+
+Status Validator::delaunay() {
+  std::vector<Tri3> keys = constrained_;
+  std::sort(keys.begin(), keys.end());
+  for (size_t i = 0; i + 1 < faces_.size(); ++i) {
+    if (faces_[i].key != faces_[i + 1].key) continue;
+    if (std::binary_search(keys.begin(), keys.end(), faces_[i].key)) continue;
+    const FaceRec& a = faces_[i];
+    const FaceRec& b = faces_[i + 1];
+    const uint32_t* w = &m_.tets[4 * static_cast<size_t>(a.tet)];
+    const uint32_t e = m_.tets[4 * static_cast<size_t>(b.tet) + b.face];
+    if (pred::insphere(pt(w[0]), pt(w[1]), pt(w[2]), pt(w[3]), pt(e)) > 0)
+      return fail("face " + tri_name(a.key) + " is not constrained and not locally Delaunay: "
+                      "vertex " + std::to_string(e) + " is inside the circumsphere of tet " +
+                      std::to_string(a.tet) + ".",
+                  -1, e);
+  }
+  return Status::success();
+}
+
+Status Validator::run() {
+  Status st = sizes();
+  if (st.ok()) st = tets_and_faces();
+  if (st.ok()) st = constrained_faces();
+  if (st.ok()) st = segments();
+  if (st.ok()) st = facets();
+  if (st.ok()) st = unconstrained_in_facets();
+  if (st.ok()) st = volume();
+  if (st.ok()) st = delaunay();
+  return st;
+}
+
+}  // namespace
+
+Status validate(const Plc& plc, const Result& result) {
+  Validator v(plc, result);
+  return v.run();
+}
+
+}  // namespace cdt3d
