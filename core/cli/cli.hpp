@@ -1,6 +1,10 @@
 // Subcommands of the cdt3d CLI, one file each.
 #pragma once
 
+#include <cdt3d/cdt3d.hpp>
+
+#include <string>
+
 namespace cdt3d {
 namespace cli {
 
@@ -11,6 +15,12 @@ inline constexpr int kExitUsage = 2;  // bad command line
 int run_info(int argc, char** argv);      // cmd_info.cpp
 int run_delaunay(int argc, char** argv);  // cmd_delaunay.cpp
 int run_mesh(int argc, char** argv);      // cmd_mesh.cpp
+
+// cli_json.cpp
+std::string json_string(const std::string& s);  ///< quoted and escaped
+std::string json_number(double v);              ///< %.17g
+std::string json_vec3(const Vec3& p);
+void print_json_error(const Error& e);  ///< {"ok":false,"error":{...}} on stdout
 
 }  // namespace cli
 }  // namespace cdt3d

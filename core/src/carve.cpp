@@ -168,13 +168,13 @@ Status carve(const Plc& plc, TetMesh& mesh, const Subfaces& subfaces, bool keep_
     VertexId a = kNone, b = kNone;
     int64_t facet = -1;
     if (open_edge(plc, a, b, facet)) {
-      return carve_error(ErrorCode::InvalidPlc,
+      return carve_error(ErrorCode::OpenBoundary,
                          "The surface does not enclose a volume; boundary edge (" +
                              std::to_string(a) + ", " + std::to_string(b) + ") of facet " +
                              std::to_string(facet) + " is open.",
                          facet, a);
     }
-    return carve_error(ErrorCode::InvalidPlc,
+    return carve_error(ErrorCode::OpenBoundary,
                        "The surface does not enclose a volume: every tetrahedron is outside "
                        "the surface or in a hole.");
   }

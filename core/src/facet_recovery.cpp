@@ -272,8 +272,9 @@ size_t flip_toward_mesh_impl(TetMesh& mesh, Subfaces& sf, MeshQuery& q, std::vec
                        tdb = slot(t, d, b);
         const uint32_t n_bc = nbr[sbc], n_ca = nbr[sca], n_ad = nbr[tad], n_db = nbr[tdb];
         const uint8_t f_bc = fixed[sbc], f_ca = fixed[sca], f_ad = fixed[tad], f_db = fixed[tdb];
-        // t lists (b, a) when consistently oriented with s.
-        const bool consistent = sf.tri[t][(kt + 1) % 3] == a;
+        // Consistently oriented with s, t runs b -> a, so it is (b, a, d)
+        // up to rotation and b follows d.
+        const bool consistent = sf.tri[t][(kt + 1) % 3] == b;
         sf.tri[s] = {a, d, c};
         sf.tri[t] = consistent ? Triangle{d, b, c} : Triangle{d, c, b};
         auto set = [&](uint32_t x, VertexId u, VertexId w, uint32_t nb, uint8_t fx) {

@@ -27,6 +27,8 @@ const char* error_code_name(ErrorCode code) {
     case ErrorCode::Internal: return "internal";
     case ErrorCode::LimitReached: return "limit";
     case ErrorCode::InvalidPlc: return "invalid-plc";
+    case ErrorCode::SelfIntersection: return "self-intersection";
+    case ErrorCode::OpenBoundary: return "open-boundary";
   }
   return "internal";
 }

@@ -215,7 +215,7 @@ TEST_CASE("an open surface does not enclose a volume", "[carve]") {
   Carved c;
   carve_file("open_cube.off", false, c);
   if (!c.ready) return;
-  CHECK(c.status.error.code == ErrorCode::InvalidPlc);
+  CHECK(c.status.error.code == ErrorCode::OpenBoundary);
   CHECK(c.status.error.message.find("does not enclose a volume") != std::string::npos);
   CHECK(c.status.error.message.find("boundary edge") != std::string::npos);
   CHECK(c.status.error.facet >= 0);

@@ -52,6 +52,8 @@ enum class ErrorCode {
   Internal,          ///< "internal": a check inside the library failed (a bug)
   LimitReached,      ///< "limit": a phase hit its insertion bound (names the element)
   InvalidPlc,        ///< "invalid-plc": the PLC violates its definition (e.g. a vertex on a segment)
+  SelfIntersection,  ///< "self-intersection": facets or segments intersect improperly (facet, other_facet)
+  OpenBoundary,      ///< "open-boundary": the surface does not enclose a volume (facet, vertex = edge end)
 };
 
 /// Stable short name of an error code, e.g. "truncated".
@@ -200,13 +202,19 @@ enum class SteinerKind : uint8_t {
 };
 
 /// Phase names reported to the progress callback, in order.
-enum class Phase { Delaunay, Segments, Degeneracy, Facets, Carve, Done };
-const char* phase_name(Phase phase);  ///< "delaunay", "segments", ...
+/// Read covers the input checks (check_plc and the self-intersection test).
+enum class Phase { Read, Delaunay, Segments, Degeneracy, Facets, Carve, Done };
+const char* phase_name(Phase phase);  ///< "read", "delaunay", "segments", ...
+/// Inverse of phase_name; false for an unknown name.
+bool phase_from_name(const std::string& name, Phase& out);
 
 struct Options {
   bool keep_convex_hull = false;  ///< keep the tets outside the PLC (like tetgen -c)
   bool validate = false;          ///< run validate() on the result (and after each phase)
   int verbosity = 0;              ///< 0 quiet; 1 phase summary on stderr
+  /// Reject self-intersecting input before meshing (exact; fast). Only turn it
+  /// off for input known to be clean.
+  bool check_intersections = true;
   Phase stop_after = Phase::Done; ///< stop after this phase (debugging); result holds that mesh
   /// Progress: called with the current phase and a fraction in [0, 1]. May be empty.
   void (*progress)(void* user, Phase phase, double fraction) = nullptr;
@@ -235,10 +243,15 @@ struct Result {
   Status status;
   TetMeshData mesh;                   ///< faces = constrained faces (subfaces), face_markers = facet marker
   std::vector<uint32_t> face_facet;   ///< input facet index per face
+  std::vector<uint32_t> edges;        ///< subsegments of the input segments, 2 point ids each
+  std::vector<uint32_t> edge_segment; ///< per edge: input segment (plc_segments() order)
   size_t input_points = 0;
   std::vector<SteinerKind> steiner_kind;  ///< per Steiner point (index - input_points)
   std::vector<int64_t> steiner_parent;    ///< input segment (Segment) or facet (Facet) index, -1 (Volume)
   Statistics stats;
+  /// Pairs of input facets that intersect improperly (filled when the status
+  /// is SelfIntersection; all pairs found, for highlighting).
+  std::vector<std::array<uint32_t, 2>> intersecting_facets;
 };
 
 /// Runs the four steps of Si & Gärtner (2005) and carves the exterior.

@@ -1,0 +1,347 @@
+// tetrahedralize(): the four steps of Si & Gärtner (2005) in order, then
+// carving, packaged as the public Result.
+//
+//   1. Delaunay tetrahedralization D0 of the PLC points (§4 (1), delaunay.cpp)
+//   2. segment recovery D0 -> D1 (§5, segment_recovery.cpp)
+//   3. local degeneracy removal D1 -> D2 (§6, degeneracy.cpp)
+//   4. facet recovery D2 -> CDT (§7, facet_triangulate.cpp + facet_recovery.cpp)
+//   5. exterior and hole removal, region attributes (carve.cpp)
+//
+// Each phase returns a Status naming the element it failed on; this file only
+// sequences them, times them, reports progress, and converts the mesh.
+#include <cdt3d/cdt3d.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "carve.hpp"
+#include "degeneracy.hpp"
+#include "delaunay.hpp"
+#include "facet_recovery.hpp"
+#if __has_include("plc_intersect.hpp")
+#include "plc_intersect.hpp"
+#define CDT3D_HAVE_INTERSECT 1
+#endif
+#include "segment_recovery.hpp"
+#include "stats.hpp"
+#include "subfaces.hpp"
+#include "tet_mesh.hpp"
+
+namespace cdt3d {
+
+const char* phase_name(Phase phase) {
+  switch (phase) {
+    case Phase::Read: return "read";
+    case Phase::Delaunay: return "delaunay";
+    case Phase::Segments: return "segments";
+    case Phase::Degeneracy: return "degeneracy";
+    case Phase::Facets: return "facets";
+    case Phase::Carve: return "carve";
+    case Phase::Done: return "done";
+  }
+  return "done";
+}
+
+bool phase_from_name(const std::string& name, Phase& out) {
+  for (Phase p : {Phase::Read, Phase::Delaunay, Phase::Segments, Phase::Degeneracy, Phase::Facets,
+                  Phase::Carve, Phase::Done}) {
+    if (name == phase_name(p)) {
+      out = p;
+      return true;
+    }
+  }
+  return false;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// Share of the total run time a phase usually takes (measured on the corpus);
+// only used to turn per-phase progress into one overall fraction.
+constexpr double kPhaseStart[] = {0.0, 0.02, 0.45, 0.6, 0.7, 0.95, 1.0};
+
+class Pipeline {
+ public:
+  Pipeline(const Plc& plc, const Options& options, Result& out)
+      : plc_(plc), opt_(options), out_(out) {}
+
+  void run();
+
+ private:
+  bool cancelled() const { return opt_.cancel != nullptr && *opt_.cancel; }
+  void progress(Phase phase, double fraction) {
+    if (!opt_.progress) return;
+    const int i = static_cast<int>(phase);
+    const double f = kPhaseStart[i] + (kPhaseStart[i + 1] - kPhaseStart[i]) * fraction;
+    opt_.progress(opt_.progress_user, phase, std::min(1.0, std::max(0.0, f)));
+  }
+  // Starts `phase`; false when the run must stop here (error, cancel, or
+  // stop_after reached before it).
+  bool begin(Phase phase);
+  bool end(Phase phase, const Status& st, double* ms);
+  bool fail(const Status& st) {
+    out_.status = st;
+    return false;
+  }
+  void mesh_to_result(const std::vector<TetId>& tets, const std::vector<double>* attributes,
+                      const CarveResult* carved);
+  Status check_open_facets(const CarveResult& carved) const;
+
+  const Plc& plc_;
+  const Options& opt_;
+  Result& out_;
+  Clock::time_point t_phase_;
+
+  TetMesh mesh_;
+  SegmentSet segs_;
+  std::vector<std::vector<VertexId>> facet_interior_;
+  std::vector<VertexId> volume_points_;
+  Subfaces subfaces_;
+};
+
+bool Pipeline::begin(Phase phase) {
+  if (cancelled()) {
+    out_.status.error.code = ErrorCode::Cancelled;
+    out_.status.error.message = std::string("Cancelled before the ") + phase_name(phase) + " phase.";
+    return false;
+  }
+  progress(phase, 0);
+  t_phase_ = Clock::now();
+  return true;
+}
+
+bool Pipeline::end(Phase phase, const Status& st, double* ms) {
+  *ms = ms_since(t_phase_);
+  if (!st.ok()) return fail(st);
+  if (opt_.validate && phase != Phase::Carve) {
+    // Cheap invariants after each phase: adjacency, orientation, ghosts.
+    Status mc = check_mesh(mesh_);
+    if (!mc.ok()) {
+      mc.error.message = std::string("After the ") + phase_name(phase) +
+                         " phase the mesh is invalid: " + mc.error.message;
+      return fail(mc);
+    }
+  }
+  progress(phase, 1);
+  return true;
+}
+
+// Every facet of a closed domain bounds a kept tet on at least one side. A
+// facet with none lies outside what was kept: the surface around it is open
+// (the exterior leaked in through a gap) or it floats outside the domain.
+Status Pipeline::check_open_facets(const CarveResult& carved) const {
+  std::vector<uint8_t> bounded(plc_.facets.size(), 0);
+  for (uint32_t f : carved.face_facet)
+    if (f < bounded.size()) bounded[f] = 1;
+  for (uint32_t f = 0; f < plc_.facets.size(); ++f) {
+    if (bounded[f]) continue;
+    Status st;
+    st.error.code = ErrorCode::OpenBoundary;
+    st.error.facet = f;
+    st.error.file = plc_.file;
+    st.error.line = plc_.facets[f].line;
+    st.error.record = plc_.facets[f].record;
+    st.error.message =
+        "The surface does not enclose a volume around facet " + std::to_string(f) +
+        ": no kept tetrahedron touches it (the surface is open or the facet lies outside the "
+        "domain). Use keep-hull to mesh open surfaces as constraints inside the convex hull.";
+    return st;
+  }
+  return Status::success();
+}
+
+// Copies the kept tets into the public Result, dropping Steiner points that
+// no kept tet uses (e.g. break points outside the domain, §6) and
+// renumbering the rest after the input points.
+void Pipeline::mesh_to_result(const std::vector<TetId>& tets,
+                              const std::vector<double>* attributes, const CarveResult* carved) {
+  const size_t nin = plc_.points.size();
+  const size_t nv = mesh_.num_vertices();
+  std::vector<uint32_t> newid(nv, kNone);
+  for (size_t v = 0; v < nin; ++v) newid[v] = static_cast<uint32_t>(v);
+  std::vector<uint8_t> used(nv, 0);
+  for (TetId t : tets)
+    for (int k = 0; k < 4; ++k) used[mesh_.vertex(t, k)] = 1;
+  if (carved)
+    for (const auto& f : carved->faces)
+      for (VertexId v : f) used[v] = 1;
+
+  // Kind and parent of every Steiner vertex, from the phases' records.
+  std::vector<SteinerKind> kind(nv, SteinerKind::Volume);
+  std::vector<int64_t> parent(nv, -1);
+  for (const SegmentVertex& sv : segs_.steiner) {
+    kind[sv.vertex] = SteinerKind::Segment;
+    parent[sv.vertex] = sv.segment;
+  }
+  for (uint32_t f = 0; f < facet_interior_.size(); ++f)
+    for (VertexId v : facet_interior_[f])
+      if (v >= nin && v < nv) kind[v] = SteinerKind::Facet, parent[v] = f;
+
+  TetMeshData& m = out_.mesh;
+  m.points.assign(mesh_.coords.begin(), mesh_.coords.begin() + 3 * nin);
+  for (size_t v = nin; v < nv; ++v) {
+    if (!used[v]) continue;
+    newid[v] = static_cast<uint32_t>(m.points.size() / 3);
+    m.points.insert(m.points.end(), mesh_.coords.begin() + 3 * v, mesh_.coords.begin() + 3 * v + 3);
+    out_.steiner_kind.push_back(kind[v]);
+    out_.steiner_parent.push_back(parent[v]);
+  }
+  m.tets.reserve(4 * tets.size());
+  for (TetId t : tets)
+    for (int k = 0; k < 4; ++k) m.tets.push_back(newid[mesh_.vertex(t, k)]);
+  if (attributes) m.tet_attributes = *attributes;
+  if (carved) {
+    for (size_t i = 0; i < carved->faces.size(); ++i) {
+      for (int k = 0; k < 3; ++k) m.faces.push_back(newid[carved->faces[i][k]]);
+      const uint32_t f = carved->face_facet[i];
+      out_.face_facet.push_back(f);
+      m.face_markers.push_back(f < plc_.facets.size() ? plc_.facets[f].marker : 0);
+    }
+  }
+  // Subsegments whose two ends are kept (the others lie outside the domain).
+  std::vector<std::array<uint32_t, 3>> sub;
+  segs_.subsegments(sub);
+  for (const auto& e : sub) {
+    if (newid[e[0]] == kNone || newid[e[1]] == kNone) continue;
+    out_.edges.push_back(newid[e[0]]);
+    out_.edges.push_back(newid[e[1]]);
+    out_.edge_segment.push_back(e[2]);
+  }
+  out_.input_points = nin;
+  Statistics& s = out_.stats;
+  s.points = m.points.size() / 3;
+  s.tets = m.tets.size() / 4;
+  s.faces = m.faces.size() / 3;
+  s.steiner_segment = s.steiner_facet = s.steiner_volume = 0;
+  for (SteinerKind k : out_.steiner_kind) {
+    if (k == SteinerKind::Segment) ++s.steiner_segment;
+    if (k == SteinerKind::Facet) ++s.steiner_facet;
+    if (k == SteinerKind::Volume) ++s.steiner_volume;
+  }
+}
+
+void Pipeline::run() {
+  const auto t_total = Clock::now();
+  Statistics& s = out_.stats;
+  s.input_points = plc_.points.size();
+  s.input_facets = plc_.facets.size();
+
+  // Input checks the readers also run, for PLCs built in code; then the
+  // exact self-intersection test (a CDT of an intersecting PLC does not
+  // exist, and the later steps would fail far from the cause).
+  if (!begin(Phase::Read)) return;
+  Status st = check_plc(plc_);
+#ifdef CDT3D_HAVE_INTERSECT
+  if (st.ok() && opt_.check_intersections) {
+    std::vector<Intersection> found;
+    find_self_intersections(plc_, found);
+    for (const Intersection& x : found) out_.intersecting_facets.push_back({x.a, x.b});
+    st = self_intersection_error(plc_, found);
+  }
+#endif
+  if (!end(Phase::Read, st, &s.ms_read)) return;
+
+  // Step 1.
+  if (!begin(Phase::Delaunay)) return;
+  DelaunayStats dstats;
+  st = delaunay_tetrahedralize(mesh_, &plc_.points[0].x, plc_.points.size(), nullptr, &dstats);
+  if (!end(Phase::Delaunay, st, &s.ms_delaunay)) return;
+  init_segments(plc_, segs_);
+  s.input_segments = segs_.input.size();
+  facet_interior_.assign(plc_.facets.size(), {});
+
+  // Step 2.
+  if (opt_.stop_after >= Phase::Segments) {
+    if (!begin(Phase::Segments)) return;
+    SegmentRecoveryStats sst;
+    st = recover_segments(mesh_, segs_, &sst, opt_.cancel);
+    s.rule1 = sst.rule1, s.rule2 = sst.rule2, s.rule3 = sst.rule3, s.acute_both = sst.acute_both;
+    s.max_splits = sst.max_splits;
+    if (!end(Phase::Segments, st, &s.ms_segments)) return;
+  }
+
+  // Step 3.
+  if (opt_.stop_after >= Phase::Degeneracy) {
+    if (!begin(Phase::Degeneracy)) return;
+    DegeneracyStats gst;
+    st = remove_local_degeneracies(plc_, mesh_, segs_, facet_interior_, volume_points_, &gst,
+                                   opt_.cancel);
+    s.perturbations = gst.perturbations, s.break_points = gst.break_points;
+    s.protect_segment = gst.protect_segment, s.protect_facet = gst.protect_facet;
+    if (!end(Phase::Degeneracy, st, &s.ms_degeneracy)) return;
+  }
+
+  // Step 4.
+  if (opt_.stop_after >= Phase::Facets) {
+    if (!begin(Phase::Facets)) return;
+    st = triangulate_facets(plc_, segs_, mesh_, facet_interior_, subfaces_);
+    FacetRecoveryStats fst;
+    if (st.ok()) st = recover_facets(mesh_, subfaces_, &fst, opt_.cancel);
+    s.missing_subfaces = fst.missing_initially, s.regions = fst.regions;
+    s.cavities = fst.cavities, s.largest_cavity = fst.largest_cavity, s.fallbacks = fst.fallbacks;
+    if (!end(Phase::Facets, st, &s.ms_facets)) return;
+  }
+
+  // Carving, or the intermediate mesh of a stopped run (all real tets).
+  if (opt_.stop_after < Phase::Carve) {
+    std::vector<TetId> tets;
+    for (TetId t = 0; t < mesh_.num_tet_slots(); ++t)
+      if (!mesh_.is_dead(t) && !mesh_.is_ghost(t)) tets.push_back(t);
+    mesh_to_result(tets, nullptr, nullptr);
+  } else {
+    if (!begin(Phase::Carve)) return;
+    CarveResult carved;
+    st = carve(plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved);
+    if (st.ok() && !opt_.keep_convex_hull) st = check_open_facets(carved);
+    if (st.ok()) mesh_to_result(carved.tets, &carved.attribute, &carved);
+    if (!end(Phase::Carve, st, &s.ms_carve)) return;
+  }
+  quality_statistics(out_.mesh, s);
+  s.ms_total = ms_since(t_total);
+
+  if (opt_.validate && opt_.stop_after >= Phase::Carve) {
+    Status v = validate(plc_, out_);
+    if (!v.ok()) {
+      out_.status = v;
+      return;
+    }
+  }
+  progress(Phase::Done, 0);
+}
+
+}  // namespace
+
+Result tetrahedralize(const Plc& plc, const Options& options) {
+  Result out;
+  if (plc.points.size() >= (1u << 30) || plc.facets.size() >= (1u << 30)) {
+    out.status.error = {ErrorCode::TooLarge, "The PLC has more than 2^30 points or facets.",
+                        plc.file};
+    return out;
+  }
+  // The core never throws: an allocation failure (the only exception the
+  // standard library raises here) becomes an error. In WebAssembly builds
+  // without exception support, memory growth failure aborts instead; the JS
+  // wrapper reports that as out-of-memory.
+#if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
+  try {
+    Pipeline(plc, options, out).run();
+  } catch (const std::bad_alloc&) {
+    out = Result();
+    out.status.error = {ErrorCode::OutOfMemory, "Out of memory while meshing.", plc.file};
+  }
+#else
+  Pipeline(plc, options, out).run();
+#endif
+  if (!out.status.ok() && out.status.error.file.empty()) out.status.error.file = plc.file;
+  return out;
+}
+
+}  // namespace cdt3d
