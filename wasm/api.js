@@ -19,6 +19,7 @@ export class Cdt3dError extends Error {
     this.facet = location(where.facet);
     this.vertex = location(where.vertex);
     this.otherFacet = location(where.otherFacet);
+    this.segment = location(where.segment);
   }
 
   /** Plain object with the same fields as the native CLI's error (survives postMessage). */
@@ -32,6 +33,7 @@ export class Cdt3dError extends Error {
       facet: this.facet,
       vertex: this.vertex,
       otherFacet: this.otherFacet,
+      segment: this.segment,
     };
   }
 }
@@ -73,6 +75,158 @@ function describe(value) {
   if (Array.isArray(value)) return 'an Array';
   const kind = typeof value === 'object' ? (value.constructor?.name ?? 'object') : typeof value;
   return `${/^[aeiou]/i.test(kind) ? 'an' : 'a'} ${kind}`;
+}
+
+
+const WRITE_FORMATS = ['node', 'ele', 'face', 'vtk', 'mesh'];
+const PHASES = ['read', 'delaunay', 'segments', 'degeneracy', 'facets', 'carve', 'done'];
+const OPTION_TYPES = {
+  keepConvexHull: 'boolean',
+  validate: 'boolean',
+  checkIntersections: 'boolean',
+  verbosity: 'number',
+  stopAfter: 'string',
+  onProgress: 'function',
+  signal: 'object',
+};
+// The file a readPlc() summary came from, so that it can be meshed directly.
+const SOURCE = Symbol('cdt3d.source');
+
+function withSource(data, fileName, info) {
+  Object.defineProperty(info, SOURCE, { value: { data: data.slice(), fileName } });
+  return info;
+}
+
+function cancelled(file) {
+  return new Cdt3dError('cancelled', 'Meshing was cancelled.', { file });
+}
+
+function checkOptions(options) {
+  if (options === undefined || options === null) options = {};
+  if (typeof options !== 'object' || Array.isArray(options)) {
+    throw invalidArgument(`tetrahedralize(input, options): options must be an object, got ${describe(options)}.`, '');
+  }
+  for (const [key, value] of Object.entries(options)) {
+    const type = OPTION_TYPES[key];
+    if (type === undefined) {
+      throw invalidArgument(
+        `tetrahedralize: unknown option "${key}" (known: ${Object.keys(OPTION_TYPES).join(', ')}).`,
+        '',
+      );
+    }
+    if (value !== undefined && typeof value !== type) {
+      throw invalidArgument(`tetrahedralize: option "${key}" must be a ${type}, got ${describe(value)}.`, '');
+    }
+  }
+  const verbosity = options.verbosity ?? 0;
+  if (!Number.isInteger(verbosity) || verbosity < 0 || verbosity > 2) {
+    throw invalidArgument(`tetrahedralize: option "verbosity" must be 0, 1 or 2, got ${verbosity}.`, '');
+  }
+  const stopAfter = options.stopAfter ?? 'done';
+  if (!PHASES.includes(stopAfter) || stopAfter === 'read') {
+    throw invalidArgument(
+      `tetrahedralize: option "stopAfter" must be one of ${PHASES.slice(1).join(', ')}, got "${stopAfter}".`,
+      '',
+    );
+  }
+  const signal = options.signal ?? null;
+  if (signal !== null && typeof signal.aborted !== 'boolean') {
+    throw invalidArgument('tetrahedralize: option "signal" must be an AbortSignal.', '');
+  }
+  return {
+    keepConvexHull: options.keepConvexHull ?? false,
+    validate: options.validate ?? false,
+    checkIntersections: options.checkIntersections ?? true,
+    verbosity,
+    stopAfter,
+    onProgress: options.onProgress ?? null,
+    signal,
+  };
+}
+
+function typed(value, Type, what, fn) {
+  if (value instanceof Type) return value;
+  if (Array.isArray(value) || (ArrayBuffer.isView(value) && !(value instanceof DataView))) {
+    const out = Type.from(value);
+    if (Type !== Float64Array && out.some((x, i) => x !== Number(value[i]))) {
+      throw invalidArgument(`${fn}: ${what} must hold non-negative integers.`, '');
+    }
+    return out;
+  }
+  throw invalidArgument(`${fn}: ${what} must be a ${Type.name} or an array of numbers, got ${describe(value)}.`, '');
+}
+
+// Every accepted input as the one shape bindings.cpp reads (see there):
+// {bytes, fileName}, a readPlc() summary, {points, triangles}, or
+// {points, facets: [{loops, holes?, marker?}], segments?, holes?, regions?}.
+function normalizeInput(input, fn) {
+  if (input === null || typeof input !== 'object') {
+    throw invalidArgument(`${fn}(input): input must be an object, got ${describe(input)}.`, '');
+  }
+  if (input[SOURCE]) return { bytes: input[SOURCE].data, fileName: input[SOURCE].fileName };
+  if (input.bytes !== undefined) {
+    if (typeof input.fileName !== 'string' || input.fileName.length === 0) {
+      throw invalidArgument(`${fn}(input): input.fileName must be a non-empty string (it picks the format).`, '');
+    }
+    const bytes = asBytes(input.bytes);
+    if (bytes === null) {
+      throw invalidArgument(`${fn}(input): input.bytes must be a Uint8Array, an ArrayBuffer or a Buffer, got ${describe(input.bytes)}.`, input.fileName);
+    }
+    return { bytes, fileName: input.fileName };
+  }
+  if (input.points === undefined) {
+    throw invalidArgument(`${fn}(input): input needs {bytes, fileName} or {points, triangles | facets}.`, '');
+  }
+  const out = { fileName: typeof input.fileName === 'string' ? input.fileName : '' };
+  out.points = typed(input.points, Float64Array, 'points', fn);
+  if (out.points.length % 3 !== 0) throw invalidArgument(`${fn}: points needs 3 numbers per point.`, '');
+  if (input.triangles !== undefined) {
+    const tri = typed(input.triangles, Uint32Array, 'triangles', fn);
+    if (tri.length % 3 !== 0) throw invalidArgument(`${fn}: triangles needs 3 indices per triangle.`, '');
+    out.loopVertices = tri;
+    out.loopCounts = new Uint32Array(tri.length / 3).fill(1);
+    out.loopSizes = new Uint32Array(tri.length / 3).fill(3);
+  } else if (Array.isArray(input.facets)) {
+    const counts = [], sizes = [], verts = [], holeCounts = [], holePoints = [], markers = [];
+    input.facets.forEach((f, i) => {
+      if (!f || !Array.isArray(f.loops) || f.loops.length === 0) {
+        throw invalidArgument(`${fn}: facets[${i}].loops must be a non-empty array of vertex loops.`, '');
+      }
+      counts.push(f.loops.length);
+      for (const loop of f.loops) {
+        const l = typed(loop, Uint32Array, `facets[${i}].loops`, fn);
+        sizes.push(l.length);
+        for (const v of l) verts.push(v);
+      }
+      const holes = f.holes ?? [];
+      holeCounts.push(holes.length);
+      for (const h of holes) holePoints.push(h[0], h[1], h[2]);
+      markers.push(f.marker ?? 0);
+    });
+    out.loopCounts = Uint32Array.from(counts);
+    out.loopSizes = Uint32Array.from(sizes);
+    out.loopVertices = Uint32Array.from(verts);
+    out.holeCounts = Uint32Array.from(holeCounts);
+    out.holePoints = Float64Array.from(holePoints);
+    out.markers = Int32Array.from(markers);
+  } else {
+    throw invalidArgument(`${fn}(input): input.points needs input.triangles or input.facets.`, '');
+  }
+  if (input.segments !== undefined) out.segments = typed(input.segments, Uint32Array, 'segments', fn);
+  if (input.holes !== undefined) out.holes = typed(input.holes, Float64Array, 'holes', fn);
+  if (input.regions !== undefined) {
+    if (!Array.isArray(input.regions)) throw invalidArgument(`${fn}: regions must be an array.`, '');
+    out.regions = Float64Array.from(
+      input.regions.flatMap((r) => [r.point[0], r.point[1], r.point[2], r.attribute ?? 0, r.maxVolume ?? -1]),
+    );
+  }
+  return out;
+}
+
+function checkResult(result, fn) {
+  if (!result || !(result.points instanceof Float64Array) || !(result.tets instanceof Uint32Array)) {
+    throw invalidArgument(`${fn}(result): result must be what tetrahedralize() returned.`, '');
+  }
 }
 
 function errorFromRaw(raw) {
@@ -132,7 +286,7 @@ function wrap(mod, abortReason) {
       }
       const raw = call(() => mod._readPlc(data, fileName));
       if (!raw.ok) throw errorFromRaw(raw);
-      return {
+      return withSource(data, fileName, {
         file: raw.file,
         fileVertices: raw.fileVertices,
         points: raw.points,
@@ -146,6 +300,74 @@ function wrap(mod, abortReason) {
         regions: raw.regions,
         bboxMin: raw.bboxMin,
         bboxMax: raw.bboxMax,
+      });
+    },
+
+    tetrahedralize(input, options) {
+      const opts = checkOptions(options);
+      const plc = normalizeInput(input, 'tetrahedralize');
+      const signal = opts.signal;
+      if (signal?.aborted) throw cancelled(plc.fileName);
+      const onProgress = opts.onProgress;
+      // Called by the core between and inside phases; returning true cancels.
+      const progress = (phase, fraction) => {
+        if (onProgress) onProgress({ phase, fraction });
+        return signal ? signal.aborted : false;
+      };
+      const raw = call(() =>
+        mod._tetrahedralize(
+          plc,
+          {
+            keepConvexHull: opts.keepConvexHull,
+            validate: opts.validate,
+            checkIntersections: opts.checkIntersections,
+            verbosity: opts.verbosity,
+            stopAfter: opts.stopAfter,
+          },
+          progress,
+        ),
+      );
+      if (!raw.ok) {
+        const err = errorFromRaw(raw);
+        if (raw.error.facets) err.facets = Array.from(raw.error.facets);
+        throw err;
+      }
+      delete raw.ok;
+      raw.validation = opts.validate ? { ok: true, message: '' } : null;
+      return raw;
+    },
+
+    validate(input, result) {
+      const plc = normalizeInput(input, 'validate');
+      checkResult(result, 'validate');
+      const raw = call(() => mod._validate(plc, result));
+      return raw.ok ? { ok: true, message: '' } : { ok: false, message: raw.error.message, error: errorFromRaw(raw) };
+    },
+
+    write(result, format) {
+      checkResult(result, 'write');
+      if (!WRITE_FORMATS.includes(format)) {
+        throw invalidArgument(
+          `write(result, format): format must be one of ${WRITE_FORMATS.join(', ')}, got ${describe(format)}${
+            typeof format === 'string' ? ` "${format}"` : ''
+          }.`,
+          '',
+        );
+      }
+      const raw = call(() => mod._write(format, result));
+      if (!raw.ok) throw errorFromRaw(raw);
+      return raw.text;
+    },
+
+    readSurface(bytes, fileName) {
+      const plc = normalizeInput({ bytes, fileName }, 'readSurface');
+      const raw = call(() => mod._readSurface(plc));
+      if (!raw.ok) throw errorFromRaw(raw);
+      return {
+        points: raw.points,
+        triangles: raw.triangles,
+        triangleFacets: raw.triangleFacets,
+        error: raw.error ? errorFromRaw({ error: raw.error }) : null,
       };
     },
 

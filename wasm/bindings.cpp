@@ -12,7 +12,10 @@
 
 #include <cdt3d/cdt3d.hpp>
 
+#include <chrono>
 #include <cstdint>
+#include <new>
+#include <vector>
 #include <cstdlib>
 #include <memory>
 #include <set>
@@ -46,6 +49,7 @@ val failure(const cdt3d::Error& e) {
   err.set("facet", number(e.facet));
   err.set("vertex", number(e.vertex));
   err.set("otherFacet", number(e.other_facet));
+  err.set("segment", number(e.segment));
   val out = val::object();
   out.set("ok", val(false));
   out.set("error", err);
@@ -130,6 +134,301 @@ val read_plc_js(val bytes, val file_name) {
   return plc_summary(plc);
 }
 
+// ---------------------------------------------------------------------------
+// Meshing. api.js normalizes every accepted input to one object: either
+// {fileName, bytes} (a file's contents) or flat typed arrays
+// {points: Float64Array, loopCounts: Uint32Array (loops per facet),
+//  loopSizes: Uint32Array (vertices per loop), loopVertices: Uint32Array,
+//  holeCounts: Uint32Array (hole points per facet), holePoints: Float64Array,
+//  markers: Int32Array, segments: Uint32Array, holes: Float64Array,
+//  regions: Float64Array (x, y, z, attribute, maxVolume per region)}.
+// ---------------------------------------------------------------------------
+
+// Copies a JS typed array of the matching element type into `out`.
+template <class T>
+void from_js(const val& array, std::vector<T>& out) {
+  out.clear();
+  if (array.isUndefined() || array.isNull()) return;
+  const size_t n = array["length"].as<size_t>();
+  out.resize(n);
+  if (n > 0) val(emscripten::typed_memory_view(n, out.data())).call<void>("set", array);
+}
+
+// A JS typed array holding a copy of `v` (never a view into the heap, which
+// memory growth would detach).
+template <class T>
+val to_js(const T* data, size_t n) {
+  return val(emscripten::typed_memory_view(n, data)).call<val>("slice");
+}
+template <class T>
+val to_js(const std::vector<T>& v) {
+  return to_js(v.data(), v.size());
+}
+
+cdt3d::Status invalid(const std::string& message) {
+  cdt3d::Status st;
+  st.error.code = cdt3d::ErrorCode::InvalidArgument;
+  st.error.message = message;
+  return st;
+}
+
+// Builds a Plc from the flat arrays (or parses the file) of a normalized input.
+cdt3d::Status plc_from_js(const val& input, cdt3d::Plc& plc, double* ms_read) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (!input["bytes"].isUndefined()) {
+    const std::string name = input["fileName"].as<std::string>();
+    const val bytes = input["bytes"];
+    const size_t size = bytes["length"].as<size_t>();
+    std::unique_ptr<uint8_t, FreeDeleter> data;
+    if (!copy_bytes(bytes, size, data)) {
+      cdt3d::Status st;
+      st.error = {cdt3d::ErrorCode::OutOfMemory,
+                  "Not enough WebAssembly memory to hold the file (" + std::to_string(size) +
+                      " bytes).",
+                  name};
+      return st;
+    }
+    cdt3d::Status st = cdt3d::read_plc(data.get(), size, name, plc);
+    *ms_read = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return st;
+  }
+  std::vector<double> points, hole_points, holes, regions;
+  std::vector<uint32_t> loop_counts, loop_sizes, loop_vertices, hole_counts, segments;
+  std::vector<int32_t> markers;
+  from_js(input["points"], points);
+  from_js(input["loopCounts"], loop_counts);
+  from_js(input["loopSizes"], loop_sizes);
+  from_js(input["loopVertices"], loop_vertices);
+  from_js(input["holeCounts"], hole_counts);
+  from_js(input["holePoints"], hole_points);
+  from_js(input["markers"], markers);
+  from_js(input["segments"], segments);
+  from_js(input["holes"], holes);
+  from_js(input["regions"], regions);
+  if (points.size() % 3 || segments.size() % 2 || holes.size() % 3 || regions.size() % 5 ||
+      hole_points.size() % 3)
+    return invalid("points, holes and facet hole points need 3 numbers each, segments 2, regions 5.");
+  plc.file = input["fileName"].isString() ? input["fileName"].as<std::string>() : "";
+  plc.points.resize(points.size() / 3);
+  for (size_t i = 0; i < plc.points.size(); ++i)
+    plc.points[i] = {points[3 * i], points[3 * i + 1], points[3 * i + 2]};
+  plc.file_vertices = plc.points.size();
+  plc.facets.resize(loop_counts.size());
+  size_t loop = 0, vertex = 0, hole = 0;
+  for (size_t f = 0; f < loop_counts.size(); ++f) {
+    cdt3d::Facet& F = plc.facets[f];
+    F.record = static_cast<int64_t>(f);
+    if (f < markers.size()) F.marker = markers[f];
+    for (uint32_t k = 0; k < loop_counts[f]; ++k, ++loop) {
+      if (loop >= loop_sizes.size()) return invalid("loopCounts asks for more loops than loopSizes has.");
+      const uint32_t n = loop_sizes[loop];
+      if (vertex + n > loop_vertices.size())
+        return invalid("loopSizes asks for more vertices than loopVertices has.");
+      F.loops.emplace_back(loop_vertices.begin() + vertex, loop_vertices.begin() + vertex + n);
+      vertex += n;
+    }
+    const uint32_t nh = f < hole_counts.size() ? hole_counts[f] : 0;
+    for (uint32_t k = 0; k < nh; ++k, ++hole) {
+      if (3 * hole + 2 >= hole_points.size())
+        return invalid("holeCounts asks for more facet hole points than holePoints has.");
+      F.holes.push_back({hole_points[3 * hole], hole_points[3 * hole + 1], hole_points[3 * hole + 2]});
+    }
+  }
+  if (loop != loop_sizes.size() || vertex != loop_vertices.size())
+    return invalid("loopCounts, loopSizes and loopVertices disagree in length.");
+  for (size_t i = 0; i + 1 < segments.size(); i += 2) plc.segments.push_back({segments[i], segments[i + 1]});
+  for (size_t i = 0; i + 2 < holes.size(); i += 3) plc.holes.push_back({holes[i], holes[i + 1], holes[i + 2]});
+  for (size_t i = 0; i + 4 < regions.size(); i += 5) {
+    cdt3d::Region r;
+    r.point = {regions[i], regions[i + 1], regions[i + 2]};
+    r.attribute = regions[i + 3];
+    r.max_volume = regions[i + 4];
+    plc.regions.push_back(r);
+  }
+  return cdt3d::check_plc(plc);
+}
+
+val stats_js(const cdt3d::Statistics& s) {
+  val o = val::object();
+  auto n = [&o](const char* k, double v) { o.set(k, val(v)); };
+  n("inputPoints", s.input_points), n("inputFacets", s.input_facets);
+  n("inputSegments", s.input_segments), n("points", s.points), n("tets", s.tets);
+  n("faces", s.faces), n("steinerSegment", s.steiner_segment), n("steinerFacet", s.steiner_facet);
+  n("steinerVolume", s.steiner_volume), n("rule1", s.rule1), n("rule2", s.rule2);
+  n("rule3", s.rule3), n("acuteBoth", s.acute_both), n("maxSplits", s.max_splits);
+  n("perturbations", s.perturbations), n("breakPoints", s.break_points);
+  n("protectSegment", s.protect_segment), n("protectFacet", s.protect_facet);
+  n("missingSubfaces", s.missing_subfaces), n("regions", s.regions), n("cavities", s.cavities);
+  n("largestCavity", s.largest_cavity), n("fallbacks", s.fallbacks), n("msRead", s.ms_read);
+  n("msDelaunay", s.ms_delaunay), n("msSegments", s.ms_segments);
+  n("msDegeneracy", s.ms_degeneracy), n("msFacets", s.ms_facets), n("msCarve", s.ms_carve);
+  n("msTotal", s.ms_total), n("minDihedral", s.min_dihedral), n("maxDihedral", s.max_dihedral);
+  val h = val::array();
+  for (size_t c : s.radius_edge_histogram) h.call<void>("push", static_cast<double>(c));
+  o.set("radiusEdgeHistogram", h);
+  return o;
+}
+
+// Progress and cancellation: the JS callback gets (phase, fraction) and
+// returns true to cancel (api.js checks the AbortSignal there).
+struct ProgressBridge {
+  val callback = val::undefined();
+  volatile bool cancel = false;
+  static void report(void* user, cdt3d::Phase phase, double fraction) {
+    auto* self = static_cast<ProgressBridge*>(user);
+    if (self->callback.isUndefined()) return;
+    if (self->callback(std::string(cdt3d::phase_name(phase)), fraction).as<bool>()) self->cancel = true;
+  }
+};
+
+val result_js(const cdt3d::Result& r) {
+  val o = val::object();
+  o.set("ok", val(true));
+  o.set("points", to_js(r.mesh.points));
+  o.set("tets", to_js(r.mesh.tets));
+  o.set("faces", to_js(r.mesh.faces));
+  o.set("faceFacets", to_js(r.face_facet));
+  o.set("faceMarkers", to_js(r.mesh.face_markers));
+  o.set("tetAttributes", to_js(r.mesh.tet_attributes));
+  o.set("edges", to_js(r.edges));
+  o.set("edgeSegments", to_js(r.edge_segment));
+  o.set("inputPoints", val(static_cast<double>(r.input_points)));
+  std::vector<uint8_t> kinds(r.steiner_kind.size());
+  std::vector<int32_t> parents(r.steiner_parent.size());
+  for (size_t i = 0; i < kinds.size(); ++i) kinds[i] = static_cast<uint8_t>(r.steiner_kind[i]);
+  for (size_t i = 0; i < parents.size(); ++i) parents[i] = static_cast<int32_t>(r.steiner_parent[i]);
+  o.set("steinerKinds", to_js(kinds));
+  o.set("steinerParents", to_js(parents));
+  o.set("stats", stats_js(r.stats));
+  return o;
+}
+
+val tetrahedralize_js(val input, val options, val on_progress) {
+  cdt3d::Plc plc;
+  double ms_read = 0;
+  cdt3d::Status st = plc_from_js(input, plc, &ms_read);
+  if (!st.ok()) return failure(st.error);
+  cdt3d::Options opt;
+  opt.keep_convex_hull = options["keepConvexHull"].as<bool>();
+  opt.validate = options["validate"].as<bool>();
+  opt.check_intersections = options["checkIntersections"].as<bool>();
+  opt.verbosity = options["verbosity"].as<int>();
+  if (!cdt3d::phase_from_name(options["stopAfter"].as<std::string>(), opt.stop_after))
+    return failure(invalid("Unknown phase for stopAfter.").error);
+  ProgressBridge bridge;
+  bridge.callback = on_progress;
+  opt.progress = &ProgressBridge::report;
+  opt.progress_user = &bridge;
+  opt.cancel = &bridge.cancel;
+  cdt3d::Result r = cdt3d::tetrahedralize(plc, opt);
+  if (!r.status.ok()) {
+    val out = failure(r.status.error);
+    if (!r.intersecting_facets.empty()) {
+      std::vector<uint32_t> flat;
+      for (const auto& p : r.intersecting_facets) flat.push_back(p[0]), flat.push_back(p[1]);
+      out["error"].set("facets", to_js(flat));
+    }
+    return out;
+  }
+  r.stats.ms_read += ms_read;
+  r.stats.ms_total += ms_read;
+  return result_js(r);
+}
+
+// A Result rebuilt from the arrays of result_js (for validate and write).
+void result_from_js(const val& res, cdt3d::Result& r) {
+  from_js(res["points"], r.mesh.points);
+  from_js(res["tets"], r.mesh.tets);
+  from_js(res["faces"], r.mesh.faces);
+  from_js(res["faceFacets"], r.face_facet);
+  from_js(res["faceMarkers"], r.mesh.face_markers);
+  from_js(res["tetAttributes"], r.mesh.tet_attributes);
+  r.input_points = res["inputPoints"].as<size_t>();
+  std::vector<uint8_t> kinds;
+  std::vector<int32_t> parents;
+  from_js(res["steinerKinds"], kinds);
+  from_js(res["steinerParents"], parents);
+  for (uint8_t k : kinds) r.steiner_kind.push_back(static_cast<cdt3d::SteinerKind>(k));
+  for (int32_t p : parents) r.steiner_parent.push_back(p);
+}
+
+val validate_js(val input, val result) {
+  cdt3d::Plc plc;
+  double ms_read = 0;
+  cdt3d::Status st = plc_from_js(input, plc, &ms_read);
+  if (!st.ok()) return failure(st.error);
+  cdt3d::Result r;
+  result_from_js(result, r);
+  st = cdt3d::validate(plc, r);
+  if (!st.ok()) return failure(st.error);
+  val out = val::object();
+  out.set("ok", val(true));
+  return out;
+}
+
+val write_js(std::string format, val result) {
+  cdt3d::Result r;
+  result_from_js(result, r);
+  std::string text;
+  if (format == "node") text = cdt3d::write_node(r.mesh);
+  else if (format == "ele") text = cdt3d::write_ele(r.mesh);
+  else if (format == "face") text = cdt3d::write_face(r.mesh);
+  else if (format == "vtk") text = cdt3d::write_vtk(r.mesh);
+  else if (format == "mesh") text = cdt3d::write_medit(r.mesh);
+  else return failure(invalid("Unknown format '" + format + "' (node, ele, face, vtk, mesh).").error);
+  val out = val::object();
+  out.set("ok", val(true));
+  out.set("text", val(text));
+  return out;
+}
+
+val read_surface_js(val input) {
+  cdt3d::Plc plc;
+  double ms_read = 0;
+  cdt3d::Status st = plc_from_js(input, plc, &ms_read);
+  std::vector<uint32_t> tris, tri_facet;
+  // A file that fails its checks (e.g. a degenerate facet) still shows what
+  // could be read, so that the page can highlight the facet named.
+  if (!plc.points.empty()) {
+    cdt3d::Status tri = cdt3d::triangulate_surface(plc, tris, tri_facet);
+    if (!tri.ok()) {
+      // Fall back to fans of the first loop of each facet (display only).
+      tris.clear(), tri_facet.clear();
+      for (uint32_t f = 0; f < plc.facets.size(); ++f)
+        for (const auto& L : plc.facets[f].loops) {
+          for (size_t k = 1; k + 1 < L.size(); ++k) {
+            tris.insert(tris.end(), {L[0], L[k], L[k + 1]});
+            tri_facet.push_back(f);
+          }
+          break;
+        }
+    }
+  }
+  std::vector<double> xyz;
+  for (const auto& p : plc.points) xyz.insert(xyz.end(), {p.x, p.y, p.z});
+  val out = st.ok() || !plc.points.empty() ? val::object() : failure(st.error);
+  if (st.ok() || !plc.points.empty()) {
+    out.set("ok", val(true));
+    out.set("points", to_js(xyz));
+    out.set("triangles", to_js(tris));
+    out.set("triangleFacets", to_js(tri_facet));
+    out.set("error", st.ok() ? val::null() : failure(st.error)["error"]);
+  }
+  return out;
+}
+
+// Catches allocation failure (built with -fwasm-exceptions): the heap stays
+// usable, and the caller gets an "out-of-memory" error instead of an abort.
+template <class F>
+val guarded(F&& f) {
+  try {
+    return f();
+  } catch (const std::bad_alloc&) {
+    return failure(cdt3d::ErrorCode::OutOfMemory,
+                   "Out of WebAssembly memory (the 4 GiB limit or the browser's).", "");
+  }
+}
+
 std::string version() { return CDT3D_VERSION; }
 
 // Every stable error code name except "ok", in enum order. error_code_name()
@@ -158,6 +457,18 @@ val memory_usage() {
 
 EMSCRIPTEN_BINDINGS(cdt3d) {
   emscripten::function("_readPlc", &read_plc_js);
+  emscripten::function("_tetrahedralize", +[](val input, val options, val progress) {
+    return guarded([&] { return tetrahedralize_js(input, options, progress); });
+  });
+  emscripten::function("_validate", +[](val input, val result) {
+    return guarded([&] { return validate_js(input, result); });
+  });
+  emscripten::function("_write", +[](std::string format, val result) {
+    return guarded([&] { return write_js(format, result); });
+  });
+  emscripten::function("_readSurface", +[](val input) {
+    return guarded([&] { return read_surface_js(input); });
+  });
   emscripten::function("_version", &version);
   emscripten::function("_errorCodes", &error_codes);
   emscripten::function("_memoryUsage", &memory_usage);

@@ -23,7 +23,9 @@ export type Cdt3dErrorCode =
   | 'out-of-memory'
   | 'internal'
   | 'limit'
-  | 'invalid-plc';
+  | 'invalid-plc'
+  | 'self-intersection'
+  | 'open-boundary';
 
 /** Where an error happened. Fields that do not apply are -1 (file: ''). */
 export interface Cdt3dErrorLocation {
@@ -39,6 +41,8 @@ export interface Cdt3dErrorLocation {
   vertex: number;
   /** Second facet (duplicates, intersections). */
   otherFacet: number;
+  /** 0-based segment index (explicit segments, then facet edges, sorted). */
+  segment: number;
 }
 
 /** The plain-object form of a Cdt3dError: the native CLI's `--json` "error" object. */
@@ -65,6 +69,9 @@ export class Cdt3dError extends Error implements Cdt3dErrorJSON {
   facet: number;
   vertex: number;
   otherFacet: number;
+  segment: number;
+  /** For "self-intersection": every intersecting pair of facets, flattened [a0, b0, a1, b1, ...]. */
+  facets?: number[];
   /** Plain object with the fields above (Error properties do not survive postMessage). */
   toJSON(): Cdt3dErrorJSON;
 }
@@ -120,8 +127,165 @@ export interface Cdt3d {
    * @throws {Cdt3dError} on invalid input ("invalid-argument" for bad arguments).
    */
   readPlc(bytes: Bytes, fileName: string): PlcInfo;
+  /**
+   * The constrained Delaunay tetrahedralization of a PLC (Si & Gärtner 2005),
+   * with the exterior and holes carved away. Synchronous: progress callbacks
+   * fire during the call; `signal` is checked at each progress report.
+   * @throws {Cdt3dError} bad input (with where), "cancelled", "out-of-memory", "invalid-argument".
+   */
+  tetrahedralize(input: PlcInput, options?: TetrahedralizeOptions): MeshResult;
+  /** Checks a result against its input with exact predicates (valid, facets recovered, constrained Delaunay). */
+  validate(input: PlcInput, result: MeshResult): ValidationResult;
+  /** A result as a text file: TetGen .node/.ele/.face (numbered from 0), legacy VTK, or Medit .mesh. */
+  write(result: MeshResult, format: 'node' | 'ele' | 'face' | 'vtk' | 'mesh'): string;
+  /**
+   * The input surface as triangles, for display. Files that fail their checks
+   * still give what could be read, with the error in `error`.
+   */
+  readSurface(bytes: Bytes, fileName: string): InputSurface;
   /** Current memory use of this instance. */
   memoryUsage(): MemoryUsage;
+}
+
+/** A polygon facet: loops of point indices in one plane; `holes`: points inside facet holes. */
+export interface FacetInput {
+  loops: ArrayLike<number>[];
+  holes?: [number, number, number][];
+  marker?: number;
+}
+
+/** A region point: the tets of its region get `attribute`. */
+export interface RegionInput {
+  point: [number, number, number];
+  attribute?: number;
+  maxVolume?: number;
+}
+
+/** What tetrahedralize and validate accept. */
+export type PlcInput =
+  | { bytes: Bytes; fileName: string }
+  | PlcInfo
+  | {
+      points: Float64Array | number[];
+      triangles: Uint32Array | number[];
+      segments?: Uint32Array | number[];
+      holes?: Float64Array | number[];
+      regions?: RegionInput[];
+      fileName?: string;
+    }
+  | {
+      points: Float64Array | number[];
+      facets: FacetInput[];
+      segments?: Uint32Array | number[];
+      holes?: Float64Array | number[];
+      regions?: RegionInput[];
+      fileName?: string;
+    };
+
+export type Phase = 'read' | 'delaunay' | 'segments' | 'degeneracy' | 'facets' | 'carve' | 'done';
+
+export interface Progress {
+  phase: Phase;
+  /** Overall fraction of the run in [0, 1]; reaches 1 at phase "done". */
+  fraction: number;
+}
+
+export interface TetrahedralizeOptions {
+  /** Keep the tets between the PLC and its convex hull (tetgen -c). Default false. */
+  keepConvexHull?: boolean;
+  /** Validate the result (throws "internal" if it fails). Default false. */
+  validate?: boolean;
+  /** Reject self-intersecting input (exact). Default true. */
+  checkIntersections?: boolean;
+  /** 0 quiet (default), 1 or 2. */
+  verbosity?: number;
+  /** Stop after a phase and return all tets reached so far (debugging). Default "done". */
+  stopAfter?: Exclude<Phase, 'read'>;
+  onProgress?: (progress: Progress) => void;
+  /** An AbortSignal: aborting cancels the run at its next progress report with a Cdt3dError "cancelled". */
+  signal?: { readonly aborted: boolean };
+}
+
+export interface MeshStatistics {
+  inputPoints: number;
+  inputFacets: number;
+  inputSegments: number;
+  points: number;
+  tets: number;
+  faces: number;
+  steinerSegment: number;
+  steinerFacet: number;
+  steinerVolume: number;
+  rule1: number;
+  rule2: number;
+  rule3: number;
+  acuteBoth: number;
+  maxSplits: number;
+  perturbations: number;
+  breakPoints: number;
+  protectSegment: number;
+  protectFacet: number;
+  missingSubfaces: number;
+  regions: number;
+  cavities: number;
+  largestCavity: number;
+  fallbacks: number;
+  msRead: number;
+  msDelaunay: number;
+  msSegments: number;
+  msDegeneracy: number;
+  msFacets: number;
+  msCarve: number;
+  msTotal: number;
+  /** Degrees. */
+  minDihedral: number;
+  maxDihedral: number;
+  /** Tets per radius-edge ratio bin: <1, 1-1.5, 1.5-2, 2-3, 3-5, 5-10, 10-20, 20-50, 50-100, >100. */
+  radiusEdgeHistogram: number[];
+}
+
+/** A CDT. Arrays are copies (they never detach). Point i < inputPoints is input point i. */
+export interface MeshResult {
+  /** 3 coordinates per point. */
+  points: Float64Array;
+  /** 4 point ids per tet, positively oriented. */
+  tets: Uint32Array;
+  /** 3 point ids per constrained face (the input facets, subdivided). */
+  faces: Uint32Array;
+  /** Input facet per face. */
+  faceFacets: Uint32Array;
+  /** Input facet marker per face. */
+  faceMarkers: Int32Array;
+  /** Region attribute per tet. */
+  tetAttributes: Float64Array;
+  /** Subsegments of the input segments, 2 point ids each. */
+  edges: Uint32Array;
+  /** Input segment per edge. */
+  edgeSegments: Uint32Array;
+  inputPoints: number;
+  /** Per Steiner point (index - inputPoints): 1 on a segment, 2 in a facet, 3 in the volume. */
+  steinerKinds: Uint8Array;
+  /** Per Steiner point: its input segment or facet, -1 for volume points. */
+  steinerParents: Int32Array;
+  stats: MeshStatistics;
+  /** {ok: true} when options.validate was set (a failed validation throws), else null. */
+  validation: ValidationResult | null;
+}
+
+export interface ValidationResult {
+  ok: boolean;
+  message: string;
+  error?: Cdt3dError;
+}
+
+export interface InputSurface {
+  points: Float64Array;
+  /** 3 point ids per triangle. */
+  triangles: Uint32Array;
+  /** Input facet per triangle. */
+  triangleFacets: Uint32Array;
+  /** Why the file is not a valid PLC, if it is not (the surface is still given). */
+  error: Cdt3dError | null;
 }
 
 export interface CreateCdt3dOptions {

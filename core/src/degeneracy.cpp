@@ -437,6 +437,14 @@ class DegeneracyRemoval {
   double param(uint32_t s, VertexId v) const;
   long chain_position(uint32_t s, VertexId v) const;
   double uniform() { return static_cast<double>(draw_.next() >> 11) * 0x1.0p-52 - 1.0; }
+  // Two draws in a fixed order: the operands of `uniform() * a + uniform() * b`
+  // are evaluated in an unspecified order (g++ and clang differ), which would
+  // make native and WebAssembly runs diverge.
+  V3 uniform_in_plane(V3 a, V3 b) {
+    const double s = uniform();
+    const double t = uniform();
+    return s * a + t * b;
+  }
 
   const Plc& plc_;
   TetMesh& mesh_;
@@ -938,7 +946,7 @@ Status DegeneracyRemoval::protect(const std::vector<uint32_t>& encroached, const
       // facet_interior record, not its coordinates, makes it a vertex of the
       // facet for the later steps, and the insertion is exact on the
       // rounded point.
-      const V3 x = o + scale * (uniform() * u + uniform() * w);
+      const V3 x = o + scale * uniform_in_plane(u, w);
       double xyz[3] = {x.x, x.y, x.z};
       encroached_by(xyz, true, hits);
       if (!hits.empty()) {
@@ -1249,7 +1257,7 @@ Status DegeneracyRemoval::try_perturb(const Found& f, bool& done) {
         if (!std::isfinite(near)) break;
         const V3 e1 = cross(n, std::fabs(n.x) < std::fabs(n.z) ? V3{1, 0, 0} : V3{0, 0, 1});
         const V3 u1 = (1 / norm(e1)) * e1, u2 = (1 / norm(cross(n, u1))) * cross(n, u1);
-        const V3 x = p + (kRelativeJitter * near) * (uniform() * u1 + uniform() * u2);
+        const V3 x = p + (kRelativeJitter * near) * uniform_in_plane(u1, u2);
         to[0] = x.x, to[1] = x.y, to[2] = x.z;
         std::array<uint32_t, 3> hit;
         if (!std::isfinite(to[0]) || crossed_subsegment(facet, p, to, hit)) continue;
@@ -1348,7 +1356,7 @@ Status DegeneracyRemoval::handle(const Found& f, bool force, Outcome& outcome) {
     const V3 base = use_center ? center : centroid;
     const double radius = use_center ? norm(center - pts[0]) : 0.25 * diam;
     const double scale = kRelativeJitter * radius / (1 << std::min(attempt % 12, 8));
-    V3 v = skip >= 0 ? base + scale * (uniform() * e1 + uniform() * e2)
+    V3 v = skip >= 0 ? base + scale * uniform_in_plane(e1, e2)
                      : base + scale * V3{uniform(), uniform(), uniform()};
     // Rounding: v is rounded to doubles. A point meant to be in the plane of
     // four co-circular points is then a rounding error off it; that is fine

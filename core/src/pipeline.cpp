@@ -21,10 +21,7 @@
 #include "degeneracy.hpp"
 #include "delaunay.hpp"
 #include "facet_recovery.hpp"
-#if __has_include("plc_intersect.hpp")
 #include "plc_intersect.hpp"
-#define CDT3D_HAVE_INTERSECT 1
-#endif
 #include "segment_recovery.hpp"
 #include "stats.hpp"
 #include "subfaces.hpp"
@@ -80,7 +77,9 @@ class Pipeline {
   void progress(Phase phase, double fraction) {
     if (!opt_.progress) return;
     const int i = static_cast<int>(phase);
-    const double f = kPhaseStart[i] + (kPhaseStart[i + 1] - kPhaseStart[i]) * fraction;
+    const double f = phase == Phase::Done
+                         ? 1.0
+                         : kPhaseStart[i] + (kPhaseStart[i + 1] - kPhaseStart[i]) * fraction;
     opt_.progress(opt_.progress_user, phase, std::min(1.0, std::max(0.0, f)));
   }
   // Starts `phase`; false when the run must stop here (error, cancel, or
@@ -239,14 +238,12 @@ void Pipeline::run() {
   // exist, and the later steps would fail far from the cause).
   if (!begin(Phase::Read)) return;
   Status st = check_plc(plc_);
-#ifdef CDT3D_HAVE_INTERSECT
   if (st.ok() && opt_.check_intersections) {
     std::vector<Intersection> found;
     find_self_intersections(plc_, found);
     for (const Intersection& x : found) out_.intersecting_facets.push_back({x.a, x.b});
     st = self_intersection_error(plc_, found);
   }
-#endif
   if (!end(Phase::Read, st, &s.ms_read)) return;
 
   // Step 1.
@@ -314,10 +311,28 @@ void Pipeline::run() {
       return;
     }
   }
-  progress(Phase::Done, 0);
+  progress(Phase::Done, 1);
 }
 
 }  // namespace
+
+Status triangulate_surface(const Plc& plc, std::vector<uint32_t>& triangles,
+                           std::vector<uint32_t>& triangle_facet) {
+  triangles.clear();
+  triangle_facet.clear();
+  TetMesh points;  // coordinates only: triangulate_facets reads no tets
+  points.reserve(plc.points.size(), 0);
+  for (const Vec3& p : plc.points) points.add_vertex(&p.x, kVertexInput);
+  SegmentSet unsplit;
+  init_segments(plc, unsplit);
+  Subfaces sub;
+  Status st = triangulate_facets(plc, unsplit, points, {}, sub);
+  if (!st.ok()) return st;
+  triangles.reserve(3 * sub.tri.size());
+  for (const auto& t : sub.tri) triangles.insert(triangles.end(), t.begin(), t.end());
+  triangle_facet = sub.facet;
+  return st;
+}
 
 Result tetrahedralize(const Plc& plc, const Options& options) {
   Result out;

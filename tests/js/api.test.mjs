@@ -69,7 +69,7 @@ describe('package', () => {
 
   test('the instance is frozen and has the documented members', () => {
     assert.ok(Object.isFrozen(cdt));
-    assert.deepEqual(Object.keys(cdt).sort(), ['errorCodes', 'memoryUsage', 'readPlc', 'version']);
+    assert.deepEqual(Object.keys(cdt).sort(), ['errorCodes', 'memoryUsage', 'readPlc', 'readSurface', 'tetrahedralize', 'validate', 'version', 'write']);
   });
 });
 
@@ -126,7 +126,7 @@ describe('readPlc arguments', () => {
   for (const [what, bytes, name] of bad) {
     test(`${what} -> Cdt3dError "invalid-argument"`, () => {
       const e = assertCdt3dError(() => cdt.readPlc(bytes, name), 'invalid-argument', what);
-      for (const f of ['line', 'record', 'facet', 'vertex', 'otherFacet']) assert.equal(e[f], -1, f);
+      for (const f of ['line', 'record', 'facet', 'vertex', 'otherFacet', 'segment']) assert.equal(e[f], -1, f);
       assert.equal(e.file, typeof name === 'string' ? name : '');
       assert.equal(cdt.readPlc(modelBytes(), model).points, 8, 'still works afterwards');
     });
@@ -155,7 +155,7 @@ describe('Cdt3dError', () => {
     assert.equal(e.name, 'Cdt3dError');
     assert.equal(String(e), 'Cdt3dError: Bad token.');
     assert.deepEqual(e.toJSON(), {
-      code: 'parse', message: 'Bad token.', file: 'a.off', line: 3, record: -1, facet: -1, vertex: -1, otherFacet: -1,
+      code: 'parse', message: 'Bad token.', file: 'a.off', line: 3, record: -1, facet: -1, vertex: -1, otherFacet: -1, segment: -1,
     });
     assert.ok(e.stack.includes('Bad token.'));
   });

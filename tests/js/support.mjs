@@ -16,7 +16,7 @@ export const INFO_FIELDS = [
 ];
 /** The field names of the CLI's --json "error" object and of Cdt3dError.toJSON(). */
 export const ERROR_FIELDS = [
-  'code', 'message', 'file', 'line', 'record', 'facet', 'vertex', 'otherFacet',
+  'code', 'message', 'file', 'line', 'record', 'facet', 'vertex', 'otherFacet', 'segment',
 ];
 
 /** Imports the package by its name, as users do (node_modules/cdt3d -> wasm/). */

@@ -11,6 +11,12 @@ import type {
   CreateCdt3dOptions,
   MemoryUsage,
   PlcInfo,
+  MeshResult,
+  MeshStatistics,
+  Phase,
+  Progress,
+  ValidationResult,
+  InputSurface,
 } from 'cdt3d';
 
 const options: CreateCdt3dOptions = {
@@ -56,6 +62,50 @@ try {
 }
 new Cdt3dError('parse', 'Bad token.');
 new Cdt3dError('internal', 'outer', { line: 3, cause: new Error('inner') });
+
+// Meshing: every input form, options, results, validation, writers, surface.
+{
+  const bytes = new Uint8Array(8);
+  const controller = { aborted: false };
+  const r: MeshResult = cdt.tetrahedralize({ bytes, fileName: 'a.off' }, {
+    keepConvexHull: true,
+    validate: true,
+    checkIntersections: false,
+    verbosity: 1,
+    stopAfter: 'facets',
+    signal: controller,
+    onProgress: (p: Progress) => {
+      const phase: Phase = p.phase;
+      void [phase, p.fraction];
+    },
+  });
+  const pts: Float64Array = r.points;
+  const tets: Uint32Array = r.tets;
+  const kinds: Uint8Array = r.steinerKinds;
+  const parents: Int32Array = r.steinerParents;
+  const s: MeshStatistics = r.stats;
+  const n: number = s.tets + s.steinerSegment + s.msTotal + s.radiusEdgeHistogram[0] + r.inputPoints;
+  const fromInfo = cdt.tetrahedralize(cdt.readPlc(bytes, 'a.off'));
+  const fromTriangles = cdt.tetrahedralize({ points: [0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1], triangles: [0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3] });
+  const fromFacets = cdt.tetrahedralize({
+    points: new Float64Array(12),
+    facets: [{ loops: [[0, 1, 2]], holes: [[0, 0, 0]], marker: 2 }],
+    segments: [0, 3],
+    holes: [0.1, 0.1, 0.1],
+    regions: [{ point: [0.2, 0.2, 0.2], attribute: 1, maxVolume: -1 }],
+  });
+  const v: ValidationResult = cdt.validate({ bytes, fileName: 'a.off' }, fromInfo);
+  const ok: boolean = v.ok;
+  const text: string = cdt.write(fromTriangles, 'vtk');
+  const surface: InputSurface = cdt.readSurface(bytes, 'a.off');
+  const tris: Uint32Array = surface.triangles;
+  const err: Cdt3dError | null = surface.error;
+  void [pts, tets, kinds, parents, n, fromFacets, ok, text, tris, err, r.validation];
+  // @ts-expect-error unknown format
+  cdt.write(r, 'stl');
+  // @ts-expect-error stopAfter is a phase
+  cdt.tetrahedralize({ bytes, fileName: 'a.off' }, { stopAfter: 'later' });
+}
 
 // Misuse the declarations must reject.
 // @ts-expect-error bytes must be binary data

@@ -257,6 +257,12 @@ struct Result {
 /// Runs the four steps of Si & Gärtner (2005) and carves the exterior.
 Result tetrahedralize(const Plc& plc, const Options& options = {});
 
+/// The PLC's facets as triangles (each facet's constrained Delaunay
+/// triangulation of its own vertices, loops and holes respected), for display:
+/// 3 point ids per triangle in `triangles`, its facet in `triangle_facet`.
+Status triangulate_surface(const Plc& plc, std::vector<uint32_t>& triangles,
+                           std::vector<uint32_t>& triangle_facet);
+
 /// Checks a result against its PLC with exact predicates: valid
 /// tetrahedralization (positive tets, face-adjacency consistent, no gaps
 /// inside the domain), every input facet exactly covered by constrained
