@@ -337,6 +337,14 @@ function wrap(mod, abortReason) {
       return raw;
     },
 
+    delaunay(points) {
+      const xyz = typed(points, Float64Array, 'points', 'delaunay');
+      if (xyz.length % 3 !== 0) throw invalidArgument('delaunay(points): points needs 3 numbers per point.', '');
+      const raw = call(() => mod._delaunay(xyz));
+      if (!raw.ok) throw errorFromRaw(raw);
+      return { tets: raw.tets, stats: { points: xyz.length / 3, tets: raw.tets.length / 4, msDelaunay: raw.msDelaunay } };
+    },
+
     validate(input, result) {
       const plc = normalizeInput(input, 'validate');
       checkResult(result, 'validate');

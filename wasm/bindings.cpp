@@ -173,7 +173,7 @@ cdt3d::Status invalid(const std::string& message) {
 }
 
 // Builds a Plc from the flat arrays (or parses the file) of a normalized input.
-cdt3d::Status plc_from_js(const val& input, cdt3d::Plc& plc, double* ms_read) {
+cdt3d::Status plc_from_js(const val& input, cdt3d::Plc& plc, double* ms_read, bool check = true) {
   const auto t0 = std::chrono::steady_clock::now();
   if (!input["bytes"].isUndefined()) {
     const std::string name = input["fileName"].as<std::string>();
@@ -188,7 +188,7 @@ cdt3d::Status plc_from_js(const val& input, cdt3d::Plc& plc, double* ms_read) {
                   name};
       return st;
     }
-    cdt3d::Status st = cdt3d::read_plc(data.get(), size, name, plc);
+    cdt3d::Status st = cdt3d::read_plc(data.get(), size, name, plc, check);
     *ms_read = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return st;
   }
@@ -245,7 +245,7 @@ cdt3d::Status plc_from_js(const val& input, cdt3d::Plc& plc, double* ms_read) {
     r.max_volume = regions[i + 4];
     plc.regions.push_back(r);
   }
-  return cdt3d::check_plc(plc);
+  return check ? cdt3d::check_plc(plc) : cdt3d::Status::success();
 }
 
 val stats_js(const cdt3d::Statistics& s) {
@@ -385,7 +385,8 @@ val write_js(std::string format, val result) {
 val read_surface_js(val input) {
   cdt3d::Plc plc;
   double ms_read = 0;
-  cdt3d::Status st = plc_from_js(input, plc, &ms_read);
+  cdt3d::Status st = plc_from_js(input, plc, &ms_read, false);
+  if (st.ok()) st = cdt3d::check_plc(plc);
   std::vector<uint32_t> tris, tri_facet;
   // A file that fails its checks (e.g. a degenerate facet) still shows what
   // could be read, so that the page can highlight the facet named.
@@ -414,6 +415,21 @@ val read_surface_js(val input) {
     out.set("triangleFacets", to_js(tri_facet));
     out.set("error", st.ok() ? val::null() : failure(st.error)["error"]);
   }
+  return out;
+}
+
+// delaunay(points: Float64Array) -> {ok, tets: Uint32Array, msDelaunay}
+val delaunay_js(val points) {
+  std::vector<double> xyz;
+  from_js(points, xyz);
+  std::vector<uint32_t> tets;
+  double ms = 0;
+  cdt3d::Status st = cdt3d::delaunay_tetrahedralization(xyz, tets, &ms);
+  if (!st.ok()) return failure(st.error);
+  val out = val::object();
+  out.set("ok", val(true));
+  out.set("tets", to_js(tets));
+  out.set("msDelaunay", val(ms));
   return out;
 }
 
@@ -465,6 +481,9 @@ EMSCRIPTEN_BINDINGS(cdt3d) {
   });
   emscripten::function("_write", +[](std::string format, val result) {
     return guarded([&] { return write_js(format, result); });
+  });
+  emscripten::function("_delaunay", +[](val points) {
+    return guarded([&] { return delaunay_js(points); });
   });
   emscripten::function("_readSurface", +[](val input) {
     return guarded([&] { return read_surface_js(input); });

@@ -134,6 +134,8 @@ export interface Cdt3d {
    * @throws {Cdt3dError} bad input (with where), "cancelled", "out-of-memory", "invalid-argument".
    */
   tetrahedralize(input: PlcInput, options?: TetrahedralizeOptions): MeshResult;
+  /** Step 1 alone: the Delaunay tetrahedralization of a point set (3 coordinates per point). */
+  delaunay(points: Float64Array | number[]): { tets: Uint32Array; stats: { points: number; tets: number; msDelaunay: number } };
   /** Checks a result against its input with exact predicates (valid, facets recovered, constrained Delaunay). */
   validate(input: PlcInput, result: MeshResult): ValidationResult;
   /** A result as a text file: TetGen .node/.ele/.face (numbered from 0), legacy VTK, or Medit .mesh. */

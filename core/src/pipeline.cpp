@@ -316,6 +316,27 @@ void Pipeline::run() {
 
 }  // namespace
 
+Status delaunay_tetrahedralization(const std::vector<double>& xyz, std::vector<uint32_t>& tets,
+                                   double* ms) {
+  const auto t0 = Clock::now();
+  tets.clear();
+  Status st;
+  if (xyz.size() % 3 != 0) {
+    st.error.code = ErrorCode::InvalidArgument;
+    st.error.message = "Points need 3 coordinates each.";
+    return st;
+  }
+  TetMesh mesh;
+  st = delaunay_tetrahedralize(mesh, xyz.data(), xyz.size() / 3);
+  if (!st.ok()) return st;
+  tets.reserve(4 * mesh.num_real_tets());
+  for (TetId t = 0; t < mesh.num_tet_slots(); ++t)
+    if (!mesh.is_dead(t) && !mesh.is_ghost(t))
+      for (int k = 0; k < 4; ++k) tets.push_back(mesh.vertex(t, k));
+  if (ms) *ms = ms_since(t0);
+  return st;
+}
+
 Status triangulate_surface(const Plc& plc, std::vector<uint32_t>& triangles,
                            std::vector<uint32_t>& triangle_facet) {
   triangles.clear();

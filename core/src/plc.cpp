@@ -71,12 +71,13 @@ Status dispatch(const uint8_t* data, size_t size, const std::string& file_name, 
                   file_name);
 }
 
-Status read_and_check(const uint8_t* data, size_t size, const std::string& file_name, Plc& out) {
+Status read_and_check(const uint8_t* data, size_t size, const std::string& file_name, Plc& out,
+                      bool check) {
   Status s = dispatch(data, size, file_name, out);
   if (s.ok() && out.points.empty()) {
     s = io::fail(ErrorCode::Empty, "The file contains no vertices.", file_name);
   }
-  if (s.ok()) s = check_plc(out);
+  if (s.ok() && check) s = check_plc(out);
   if (!s.ok()) {
     // Never hand back half a PLC.
     out = Plc();
@@ -87,11 +88,12 @@ Status read_and_check(const uint8_t* data, size_t size, const std::string& file_
 
 }  // namespace
 
-Status read_plc(const uint8_t* data, size_t size, const std::string& file_name, Plc& out) {
+Status read_plc(const uint8_t* data, size_t size, const std::string& file_name, Plc& out,
+                bool check) {
 #if defined(__cpp_exceptions)
   // Nothing here throws except allocation; turn that into a status.
   try {
-    return read_and_check(data, size, file_name, out);
+    return read_and_check(data, size, file_name, out, check);
   } catch (const std::bad_alloc&) {
     out = Plc();
     return io::fail(ErrorCode::OutOfMemory, "Out of memory while reading the file.", file_name);
@@ -100,7 +102,7 @@ Status read_plc(const uint8_t* data, size_t size, const std::string& file_name, 
     return io::fail(ErrorCode::Internal, std::string("Unexpected failure: ") + e.what(), file_name);
   }
 #else
-  return read_and_check(data, size, file_name, out);
+  return read_and_check(data, size, file_name, out, check);
 #endif
 }
 

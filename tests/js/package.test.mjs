@@ -10,8 +10,8 @@ import { after, test } from 'node:test';
 import { corpusFile, importPackage, packageDir, repoRoot } from './support.mjs';
 
 const SHIPPED = [
-  'LICENSE', 'README.md', 'api.js', 'cdt3d.d.ts', 'dist/cdt3d.js', 'dist/cdt3d.wasm',
-  'index.js', 'node.js', 'package.json',
+  'LICENSE', 'README.md', 'api.js', 'cdt3d.d.ts', 'cli.js', 'dist/cdt3d.js', 'dist/cdt3d.wasm',
+  'index.js', 'node.js', 'package.json', 'worker-entry.js', 'worker.d.ts', 'worker.js',
 ];
 
 const tmp = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-pack-'));
@@ -47,7 +47,10 @@ test('the installed tarball works when imported by name', async () => {
     let error = null;
     try { cdt.readPlc(new Uint8Array(0), 'e.stl'); } catch (e) { error = e instanceof Cdt3dError && e.code; }
     const info = cdt.readPlc(readFileSync(${JSON.stringify(path.join(repoRoot, model))}), ${JSON.stringify(model)});
-    console.log(JSON.stringify({ info, error }));`;
+    const mesh = cdt.tetrahedralize(info, { validate: true });
+    const { meshInWorker } = await import('cdt3d/worker');
+    const inWorker = await meshInWorker(readFileSync(${JSON.stringify(path.join(repoRoot, model))}), {}, { fileName: 'm.off' });
+    console.log(JSON.stringify({ info, error, tets: mesh.stats.tets, workerTets: inWorker.stats.tets }));`;
   const r = spawnSync(process.execPath, ['--input-type=module', '-e', script], { cwd: project, encoding: 'utf8' });
   assert.equal(r.status, 0, r.stderr);
   const got = JSON.parse(r.stdout);
@@ -56,4 +59,16 @@ test('the installed tarball works when imported by name', async () => {
   const cdt = await createCdt3d();
   assert.deepEqual(got.info, cdt.readPlc(readFileSync(path.join(repoRoot, model)), model));
   assert.equal(got.error, 'empty');
+  assert.equal(got.tets, 1);
+  assert.equal(got.workerTets, 1);
+  // The bin: `npx cdt3d mesh` writes a VTK file and exits 0; bad usage exits 2.
+  const vtk = path.join(project, 'out');
+  const bin = spawnSync('npx', ['--offline', 'cdt3d', 'mesh', path.join(repoRoot, model), '-o', vtk, '--format', 'vtk', '-q'], { cwd: project, encoding: 'utf8' });
+  assert.equal(bin.status, 0, bin.stderr);
+  assert.match(readFileSync(`${vtk}.vtk`, 'utf8'), /^# vtk DataFile/);
+  const usage = spawnSync('npx', ['--offline', 'cdt3d', 'mesh'], { cwd: project, encoding: 'utf8' });
+  assert.equal(usage.status, 2);
+  const bad = spawnSync('npx', ['--offline', 'cdt3d', 'mesh', path.join(repoRoot, 'tests/data/open_cube.off'), '--json'], { cwd: project, encoding: 'utf8' });
+  assert.equal(bad.status, 1);
+  assert.equal(JSON.parse(bad.stdout).error.code, 'open-boundary');
 });

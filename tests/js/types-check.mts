@@ -2,6 +2,8 @@
 // every declaration of wasm/cdt3d.d.ts through the package name, and checks
 // that misuse is rejected (@ts-expect-error fails the build when no error).
 import { createCdt3d, Cdt3dError } from 'cdt3d';
+import { createMeshWorker, meshInWorker } from 'cdt3d/worker';
+import type { MeshWorker } from 'cdt3d/worker';
 import type {
   Bytes,
   Cdt3d,
@@ -94,6 +96,9 @@ new Cdt3dError('internal', 'outer', { line: 3, cause: new Error('inner') });
     holes: [0.1, 0.1, 0.1],
     regions: [{ point: [0.2, 0.2, 0.2], attribute: 1, maxVolume: -1 }],
   });
+  const d = cdt.delaunay(new Float64Array(12));
+  const dt: Uint32Array = d.tets;
+  void [dt, d.stats.msDelaunay];
   const v: ValidationResult = cdt.validate({ bytes, fileName: 'a.off' }, fromInfo);
   const ok: boolean = v.ok;
   const text: string = cdt.write(fromTriangles, 'vtk');
@@ -105,6 +110,21 @@ new Cdt3dError('internal', 'outer', { line: 3, cause: new Error('inner') });
   cdt.write(r, 'stl');
   // @ts-expect-error stopAfter is a phase
   cdt.tetrahedralize({ bytes, fileName: 'a.off' }, { stopAfter: 'later' });
+}
+
+// The worker helper.
+{
+  const w: MeshWorker = createMeshWorker();
+  const job: Promise<MeshResult> = w.mesh(new Uint8Array(4), { keepConvexHull: true }, {
+    fileName: 'a.stl',
+    onProgress: (p: Progress) => void p.fraction,
+    signal: { aborted: false },
+  });
+  const once: Promise<MeshResult> = meshInWorker({ points: new Float64Array(12), triangles: new Uint32Array(12) });
+  const text: Promise<string> = w.write(await job, 'mesh');
+  const busy: boolean = w.busy;
+  w.terminate();
+  void [once, text, busy];
 }
 
 // Misuse the declarations must reject.

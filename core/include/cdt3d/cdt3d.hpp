@@ -156,8 +156,12 @@ enum class FileFormat { Unknown, Stl, Off, Obj, Ply, Poly, Smesh, Node };
 FileFormat format_from_name(const std::string& file_name);
 
 /// Parse a PLC from bytes. `file_name` picks the format by extension and names
-/// the file in errors. Runs check_plc() on success.
-Status read_plc(const uint8_t* data, size_t size, const std::string& file_name, Plc& out);
+/// the file in errors. Runs check_plc() on success; on any error `out` is
+/// left empty.
+/// With check = false the PLC is handed back as parsed, without check_plc()
+/// (for display of a model that fails its checks).
+Status read_plc(const uint8_t* data, size_t size, const std::string& file_name, Plc& out,
+                bool check = true);
 
 /// Read a file from disk and parse it with read_plc().
 Status read_plc_file(const std::string& path, Plc& out);
@@ -256,6 +260,12 @@ struct Result {
 
 /// Runs the four steps of Si & Gärtner (2005) and carves the exterior.
 Result tetrahedralize(const Plc& plc, const Options& options = {});
+
+/// Step 1 alone: the Delaunay tetrahedralization of points xyz[3i..3i+2]
+/// (duplicates inserted once). `tets` gets 4 point ids per tet, positively
+/// oriented; `ms` (optional) the time taken.
+Status delaunay_tetrahedralization(const std::vector<double>& xyz, std::vector<uint32_t>& tets,
+                                   double* ms = nullptr);
 
 /// The PLC's facets as triangles (each facet's constrained Delaunay
 /// triangulation of its own vertices, loops and holes respected), for display:

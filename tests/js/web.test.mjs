@@ -1,0 +1,443 @@
+// The browser demo (web/) in headless Chromium: a production build of the
+// page is served on localhost, driven through its file input, and what it
+// shows is checked against the Node API (stats, errors), the canvas pixels,
+// cancellation and the main thread's long tasks. Screenshots go to tests/out/.
+// Needs /usr/bin/chromium (or $CHROMIUM_PATH); CDT3D_SKIP_BROWSER=1 skips.
+import assert from 'node:assert/strict';
+import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync, statSync } from 'node:fs';
+import http from 'node:http';
+import os from 'node:os';
+import path from 'node:path';
+import { after, before, test } from 'node:test';
+
+import { importPackage, packageDir, repoRoot } from './support.mjs';
+
+const skip = process.env.CDT3D_SKIP_BROWSER === '1' && 'CDT3D_SKIP_BROWSER=1';
+const chromiumPath = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
+const webDir = path.join(repoRoot, 'web');
+const outDir = path.join(repoRoot, 'tests', 'out');
+
+// Models driven through the file input (tests/data).
+const MEDIUM = 'tests/data/dragon_decimated.off';
+const REGIONS = 'tests/data/cube_internal_facet.poly';
+const INVALID = 'tests/data/intersecting_cubes.off';
+const OPEN = 'tests/data/open_cube.off';
+const SMALL = 'tests/data/chazelle_n3.off';
+const LARGE_SAMPLE = 'armadillo.obj'; // bundled sample (web/public/samples)
+
+// Page options (the defaults of its check boxes).
+const PAGE_OPTIONS = { validate: true, keepConvexHull: false };
+const FINAL = ['done', 'error', 'cancelled'];
+
+const MIME = {
+  '.html': 'text/html; charset=utf-8',
+  '.js': 'text/javascript; charset=utf-8',
+  '.css': 'text/css; charset=utf-8',
+  '.wasm': 'application/wasm',
+  '.json': 'application/json',
+  '.svg': 'image/svg+xml',
+};
+
+let buildDir;
+let server;
+let origin;
+let context;
+let page;
+let profile;
+let cdt;
+let Cdt3dError;
+const pageErrors = [];
+
+before(async () => {
+  if (skip) return;
+  assert.ok(
+    existsSync(chromiumPath),
+    `Chromium not found at ${chromiumPath}: apt-get install chromium, set CHROMIUM_PATH, or CDT3D_SKIP_BROWSER=1 to skip.`,
+  );
+  assert.ok(
+    existsSync(path.join(packageDir, 'dist', 'cdt3d.wasm')),
+    'wasm/dist/cdt3d.wasm is missing: build the package first (npm run build).',
+  );
+  ({ Cdt3dError } = await importPackage());
+  cdt = await (await importPackage()).createCdt3d();
+
+  // A production build of the page, as `npx vite build web` makes it.
+  buildDir = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-web-'));
+  const { build } = await import('vite');
+  await build({
+    configFile: path.join(webDir, 'vite.config.js'),
+    logLevel: 'warn',
+    build: { outDir: buildDir, emptyOutDir: true },
+  });
+
+  server = http.createServer((req, res) => {
+    let rel = decodeURIComponent(new URL(req.url, 'http://x').pathname);
+    if (rel.endsWith('/')) rel += 'index.html';
+    const file = path.join(buildDir, rel);
+    if (!file.startsWith(buildDir + path.sep) || !existsSync(file) || !statSync(file).isFile()) {
+      res.writeHead(404, { 'content-type': 'text/plain' });
+      res.end('not found');
+      return;
+    }
+    res.writeHead(200, {
+      'content-type': MIME[path.extname(file)] ?? 'application/octet-stream',
+      'cache-control': 'no-store',
+    });
+    res.end(readFileSync(file));
+  });
+  await new Promise((resolve) => server.listen(0, '127.0.0.1', resolve));
+  origin = `http://127.0.0.1:${server.address().port}`;
+
+  const { chromium } = await import('playwright-core');
+  profile = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-chromium-'));
+  context = await chromium.launchPersistentContext(profile, {
+    executablePath: chromiumPath,
+    headless: true,
+    viewport: { width: 1280, height: 800 },
+    // WebGL through SwiftShader (no GPU here). Not --disable-gpu: that makes
+    // the compositor read every WebGL frame back on the main thread
+    // (GLES2::ReadPixels in Commit), which shows up as long tasks that a
+    // page on a real GPU never has.
+    args: [
+      '--headless', '--no-sandbox', '--use-angle=swiftshader', '--use-gl=angle',
+      '--enable-unsafe-swiftshader', '--disable-quic', '--no-first-run',
+      '--disable-background-networking', '--disable-component-update', '--disable-sync',
+    ],
+  });
+  page = context.pages()[0] ?? (await context.newPage());
+  page.on('pageerror', (e) => pageErrors.push(String(e?.stack ?? e)));
+  // Long tasks of the main thread, from the very start.
+  await page.addInitScript(() => {
+    window.__longTasks = [];
+    try {
+      new PerformanceObserver((list) => {
+        for (const e of list.getEntries()) window.__longTasks.push({ start: e.startTime, duration: e.duration });
+      }).observe({ type: 'longtask', buffered: true });
+    } catch {}
+  });
+  mkdirSync(outDir, { recursive: true });
+});
+
+after(async () => {
+  await context?.close().catch(() => {});
+  server?.close();
+  if (profile) rmSync(profile, { recursive: true, force: true });
+  if (buildDir) rmSync(buildDir, { recursive: true, force: true });
+});
+
+// ---------------------------------------------------------------- helpers
+
+async function waitForState(states, timeout = 60_000) {
+  await page.waitForFunction((s) => s.includes(document.body.dataset.state), states, { timeout, polling: 50 });
+  return page.evaluate(() => document.body.dataset.state);
+}
+
+/** Loads a tests/data file through the file input and waits for the outcome. */
+async function openFile(rel, timeout = 60_000) {
+  const before = await page.evaluate(() => window.cdt3dDemo.timings.length);
+  await page.setInputFiles('#file', path.join(repoRoot, rel));
+  await page.waitForFunction((n) => window.cdt3dDemo.timings.length > n, before);
+  return waitForState(FINAL, timeout);
+}
+
+function nodeMesh(rel) {
+  const bytes = readFileSync(path.join(repoRoot, rel));
+  try {
+    return { result: cdt.tetrahedralize({ bytes, fileName: path.basename(rel) }, PAGE_OPTIONS) };
+  } catch (e) {
+    assert.ok(e instanceof Cdt3dError, `unexpected error from the Node API: ${e?.stack ?? e}`);
+    return { error: e };
+  }
+}
+
+// Stats without the timings (ms*), which differ from run to run.
+function comparable(stats) {
+  return Object.fromEntries(Object.entries(stats).filter(([k]) => !/^ms[A-Z]/.test(k)));
+}
+
+async function pageStats() {
+  return page.evaluate(() => JSON.parse(document.getElementById('stats').dataset.json));
+}
+
+async function shot(name) {
+  const file = path.join(outDir, `web-${name}.png`);
+  await page.screenshot({ path: file });
+  return file;
+}
+
+function snapshot() {
+  return page.evaluate(() => window.cdt3dDemo.snapshot());
+}
+
+// ---------------------------------------------------------------- cdt3d/worker in Node
+
+// The worker helper by its package name once wasm/package.json exports it.
+async function importWorkerHelper() {
+  try {
+    return await import('cdt3d/worker');
+  } catch (e) {
+    if (e?.code !== 'ERR_PACKAGE_PATH_NOT_EXPORTED') throw e;
+    return import(new URL('../../wasm/worker.js', import.meta.url).href);
+  }
+}
+
+const workerSkip = !existsSync(path.join(packageDir, 'dist', 'cdt3d.wasm')) && 'wasm/dist is not built';
+
+test('cdt3d/worker in Node: meshInWorker equals tetrahedralize, with progress and surface', { skip: workerSkip, timeout: 60_000 }, async () => {
+  const { meshInWorker } = await importWorkerHelper();
+  const { createCdt3d } = await importPackage();
+  const local = await createCdt3d();
+  const rel = 'tests/data/dragon_decimated.off';
+  const bytes = readFileSync(path.join(repoRoot, rel));
+  const expected = local.tetrahedralize({ bytes, fileName: 'dragon_decimated.off' }, { validate: true });
+  const phases = [];
+  let surface = null;
+  const buffer = bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.byteLength);
+  const got = await meshInWorker(buffer, { validate: true }, {
+    fileName: 'dragon_decimated.off',
+    onProgress: ({ phase, fraction }) => {
+      assert.ok(fraction >= 0 && fraction <= 1, `fraction ${fraction}`);
+      if (phases.at(-1) !== phase) phases.push(phase);
+    },
+    onSurface: (s) => (surface = s),
+  });
+  assert.equal(buffer.byteLength, 0, 'the input ArrayBuffer was transferred, not copied');
+  assert.deepEqual(got.tets, expected.tets);
+  assert.deepEqual(got.points, expected.points);
+  assert.deepEqual(got.faces, expected.faces);
+  assert.deepEqual(comparable(got.stats), comparable(expected.stats));
+  assert.deepEqual(got.validation, expected.validation);
+  const order = ['read', 'delaunay', 'segments', 'degeneracy', 'facets', 'carve', 'done'];
+  assert.ok(phases.length >= 3, `progress phases: ${phases}`);
+  for (let i = 1; i < phases.length; i++) {
+    assert.ok(order.indexOf(phases[i]) > order.indexOf(phases[i - 1]), `phases in order: ${phases}`);
+  }
+  assert.ok(surface && surface.triangles.length > 0 && surface.points.length > 0, 'the input surface came first');
+  for (const v of Object.values(got)) {
+    if (ArrayBuffer.isView(v)) assert.equal(v.byteLength, v.buffer.byteLength, 'result arrays own their buffers');
+  }
+});
+
+test('cdt3d/worker in Node: errors, cancel, reuse and write', { skip: workerSkip, timeout: 90_000 }, async () => {
+  const { createMeshWorker } = await importWorkerHelper();
+  const { createCdt3d, Cdt3dError: ErrorClass } = await importPackage();
+  const local = await createCdt3d();
+  const w = createMeshWorker();
+  try {
+    // An invalid model: the same error as the API, with the facets and the surface.
+    const bad = readFileSync(path.join(repoRoot, INVALID));
+    let expected;
+    try {
+      local.tetrahedralize({ bytes: bad, fileName: path.basename(INVALID) });
+    } catch (e) {
+      expected = e;
+    }
+    assert.ok(expected, `${INVALID} fails in the API`);
+    const err = await w.mesh(bad, {}, { fileName: path.basename(INVALID) }).then(
+      () => assert.fail('should reject'),
+      (e) => e,
+    );
+    assert.ok(err instanceof ErrorClass, `a Cdt3dError, got ${err}`);
+    assert.deepEqual(err.toJSON(), expected.toJSON());
+    assert.deepEqual(err.facets, expected.facets);
+    if (err.facet >= 0) assert.ok(err.surface?.triangleFacets?.length > 0, 'the input surface comes with the error');
+
+    // Cancel while meshing: rejects at once with "cancelled"; the worker is replaced.
+    const big = readFileSync(path.join(repoRoot, 'web', 'public', 'samples', LARGE_SAMPLE));
+    const controller = new AbortController();
+    const t0 = Date.now();
+    const cancelled = await w
+      .mesh(big, {}, {
+        fileName: LARGE_SAMPLE,
+        signal: controller.signal,
+        onProgress: ({ phase }) => phase === 'delaunay' && controller.abort(),
+      })
+      .then(() => assert.fail('should be cancelled'), (e) => e);
+    assert.ok(cancelled instanceof ErrorClass);
+    assert.equal(cancelled.code, 'cancelled');
+    assert.ok(Date.now() - t0 < 30_000);
+
+    // The same worker object meshes again afterwards, and writes files.
+    const small = readFileSync(path.join(repoRoot, SMALL));
+    const again = local.tetrahedralize({ bytes: small, fileName: path.basename(SMALL) });
+    const result = await w.mesh(small, {}, { fileName: path.basename(SMALL), transfer: false });
+    assert.equal(small.byteLength > 0, true, 'transfer: false copies');
+    assert.deepEqual(result.tets, again.tets);
+    assert.equal(await w.write(result, 'vtk'), local.write(again, 'vtk'));
+    // A signal that is already aborted rejects without starting.
+    const pre = await w
+      .mesh(small, {}, { fileName: 'x.off', signal: AbortSignal.abort() })
+      .then(() => assert.fail('should reject'), (e) => e);
+    assert.equal(pre.code, 'cancelled');
+    // Bad input.
+    const badArg = await w.mesh(42, {}).then(() => assert.fail('should reject'), (e) => e);
+    assert.equal(badArg.code, 'invalid-argument');
+  } finally {
+    w.terminate();
+  }
+});
+
+// ---------------------------------------------------------------- tests
+
+test('the page opens and meshes its default sample', { skip, timeout: 90_000 }, async () => {
+  await page.goto(`${origin}/`);
+  const state = await waitForState(FINAL, 80_000);
+  assert.equal(state, 'done', `default sample: ${await page.textContent('#error').catch(() => '')}`);
+  const name = await page.textContent('#model-name');
+  const rel = `web/public/samples/${name}`;
+  assert.ok(existsSync(path.join(repoRoot, rel)), `the default sample ${name} is bundled`);
+  const { result, error } = nodeMesh(rel);
+  assert.equal(error, undefined, `Node could not mesh ${rel}: ${error?.message}`);
+  assert.deepEqual(comparable(await pageStats()), comparable(result.stats));
+  await shot('default');
+});
+
+test('a model from the file input: the stats shown equal the Node API', { skip, timeout: 90_000 }, async () => {
+  for (const rel of [MEDIUM, REGIONS]) {
+    const state = await openFile(rel);
+    assert.equal(state, 'done', `${rel}: ${await page.textContent('#error')}`);
+    const { result, error } = nodeMesh(rel);
+    assert.equal(error, undefined, `Node could not mesh ${rel}: ${error?.message}`);
+    const shown = await pageStats();
+    assert.deepEqual(comparable(shown), comparable(result.stats), rel);
+    // The visible numbers too.
+    const text = (id) => page.textContent(`#stat-${id}`);
+    const en = new Intl.NumberFormat('en-US');
+    assert.equal(await text('tets'), en.format(result.stats.tets));
+    assert.equal(await text('points'), en.format(result.stats.points));
+    assert.equal(await text('faces'), en.format(result.stats.faces));
+    assert.equal(await text('inputFacets'), en.format(result.stats.inputFacets));
+    const steiner = ['steinerSegment', 'steinerFacet', 'steinerVolume'];
+    for (const k of steiner) assert.equal(await text(k), en.format(result.stats[k]), k);
+    assert.equal(await page.textContent('#stat-validation'), result.validation?.ok ? 'passed' : result.validation ? 'FAILED' : 'not run');
+    // The tets drawn are the result's.
+    const visible = await page.evaluate(() => window.cdt3dDemo.viewer.tets?.count);
+    assert.equal(visible, result.stats.tets);
+    await shot(path.basename(rel).replace(/\W+/g, '_'));
+    // Downloads: what the API writes for the same result.
+    if (rel === REGIONS) {
+      for (const format of ['vtk', 'ele']) {
+        const [download] = await Promise.all([
+          page.waitForEvent('download'),
+          page.click(`#downloads button[data-format="${format}"]`),
+        ]);
+        assert.equal(download.suggestedFilename(), `cube_internal_facet.${format}`);
+        assert.equal(readFileSync(await download.path(), 'utf8'), cdt.write(result, format), format);
+      }
+    }
+  }
+});
+
+test('a model dropped on the page is meshed', { skip, timeout: 60_000 }, async () => {
+  const before = await page.evaluate(() => window.cdt3dDemo.timings.length);
+  await page.evaluate(async () => {
+    const bytes = await (await fetch('samples/schonhardt.off')).arrayBuffer();
+    const data = new DataTransfer();
+    data.items.add(new File([bytes], 'dropped_schonhardt.off'));
+    window.dispatchEvent(new DragEvent('drop', { dataTransfer: data, bubbles: true, cancelable: true }));
+  });
+  await page.waitForFunction((n) => window.cdt3dDemo.timings.length > n, before);
+  assert.equal(await waitForState(FINAL), 'done');
+  assert.equal(await page.textContent('#model-name'), 'dropped_schonhardt.off');
+  const { result } = nodeMesh('web/public/samples/schonhardt.off');
+  assert.deepEqual(comparable(await pageStats()), comparable(result.stats));
+});
+
+test('the canvas shows the mesh and the cut slider changes it', { skip, timeout: 60_000 }, async () => {
+  const state = await openFile(MEDIUM);
+  assert.equal(state, 'done');
+  const a = await snapshot();
+  assert.ok(a.centreCoverage > 0.05, `the centre of the canvas is background only (${JSON.stringify(a)})`);
+  const before = Number(await page.getAttribute('#visible-count', 'data-visible'));
+  await page.locator('#cut').fill('250');
+  const b = await snapshot();
+  const afterCut = Number(await page.getAttribute('#visible-count', 'data-visible'));
+  assert.notEqual(b.checksum, a.checksum, 'moving the cut did not change the image');
+  assert.ok(afterCut < before, `fewer tets should be shown after moving the cut (${before} -> ${afterCut})`);
+  await shot('cut-250');
+  // Another axis, the other side, a shrink factor, colour by region.
+  await page.click('#cut-axis button[data-axis="2"]');
+  await page.click('#cut-flip');
+  await page.locator('#shrink').fill('60');
+  await page.selectOption('#color-mode', 'region');
+  await page.waitForFunction(() => window.cdt3dDemo.viewer.tets?.axis === 2 && window.cdt3dDemo.viewer.tets?.flip === true);
+  const c = await snapshot();
+  assert.notEqual(c.checksum, b.checksum);
+  assert.ok(c.centreCoverage > 0.02, 'nothing visible after changing the axis');
+  await page.locator('#cut').fill('560');
+  await page.click('#cut-axis button[data-axis="0"]');
+  await page.click('#cut-flip');
+  await page.locator('#shrink').fill('85');
+  await page.selectOption('#color-mode', 'quality');
+  await page.waitForFunction(() => window.cdt3dDemo.viewer.tets?.axis === 0 && window.cdt3dDemo.viewer.tets?.flip === false);
+});
+
+test('invalid models: the error says what and where, named facets in red', { skip, timeout: 60_000 }, async () => {
+  for (const rel of [INVALID, OPEN]) {
+    const { error } = nodeMesh(rel);
+    assert.ok(error, `${rel} should fail in the Node API`);
+    const state = await openFile(rel);
+    assert.equal(state, 'error', rel);
+    assert.equal(await page.textContent('#error-message'), error.message, rel);
+    const title = await page.textContent('#error-title');
+    assert.ok(title.includes(error.code), `${rel}: title ${title} lacks ${error.code}`);
+    // "where" as label -> value pairs (dt/dd).
+    const where = await page.$$eval('#error-where dt', (dts) =>
+      Object.fromEntries(dts.map((dt) => [dt.textContent, dt.nextElementSibling?.textContent])),
+    );
+    if (error.line >= 0) assert.equal(where.line, String(error.line), `${rel}: line`);
+    if (error.facet >= 0) assert.equal(where.facet, String(error.facet), `${rel}: facet`);
+    if (error.otherFacet >= 0) assert.equal(where['other facet'], String(error.otherFacet), `${rel}: other facet`);
+    if (error.file) assert.equal(where.file, error.file, `${rel}: file`);
+    const named = new Set([...(error.facets ?? []), error.facet, error.otherFacet].filter((f) => f >= 0));
+    if (named.size > 0) {
+      const highlighted = await page.evaluate(() => window.cdt3dDemo.highlighted);
+      assert.ok(highlighted > 0, `${rel}: facets ${[...named]} are named but none is highlighted`);
+      const s = await snapshot();
+      assert.ok(s.centreCoverage > 0.02, `${rel}: the surface is not shown`);
+    }
+    await shot(`error-${path.basename(rel).replace(/\W+/g, '_')}`);
+  }
+});
+
+test('a large model can be cancelled, and a new file cancels the running job', { skip, timeout: 90_000 }, async () => {
+  // Cancel button.
+  await page.selectOption('#sample', LARGE_SAMPLE);
+  await waitForState(['meshing']);
+  await page.waitForFunction(() => document.getElementById('progress').dataset.phase !== undefined, null, { timeout: 30_000 });
+  await page.waitForTimeout(300);
+  await shot('progress');
+  const phase = await page.getAttribute('#progress', 'data-phase');
+  assert.ok(phase, 'the progress bar shows a phase');
+  await page.click('#cancel');
+  assert.equal(await waitForState(['cancelled', 'done', 'error'], 10_000), 'cancelled');
+  assert.equal(await page.isVisible('#progress'), false, 'the progress bar is hidden after cancelling');
+  // A new file while a large one is meshing.
+  await page.selectOption('#sample', LARGE_SAMPLE);
+  await waitForState(['meshing']);
+  await page.waitForTimeout(200);
+  const state = await openFile(SMALL);
+  assert.equal(state, 'done');
+  assert.equal(await page.textContent('#model-name'), path.basename(SMALL));
+  const { result } = nodeMesh(SMALL);
+  assert.deepEqual(comparable(await pageStats()), comparable(result.stats));
+});
+
+test('the main thread had no long task over 200 ms while meshing', { skip, timeout: 30_000 }, async () => {
+  const { tasks, timings } = await page.evaluate(() => ({
+    tasks: window.__longTasks,
+    timings: window.cdt3dDemo.timings,
+  }));
+  assert.ok(timings.length >= 5, 'several models were meshed');
+  const offending = [];
+  for (const t of timings) {
+    const end = Number.isFinite(t.meshEnd) ? t.meshEnd : Infinity;
+    if (!Number.isFinite(t.meshStart)) continue;
+    for (const task of tasks) {
+      const overlaps = task.start < end && task.start + task.duration > t.meshStart;
+      if (overlaps && task.duration > 200) offending.push({ model: t.name, ...task });
+    }
+  }
+  assert.deepEqual(offending, [], 'long tasks while meshing');
+  assert.deepEqual(pageErrors, [], 'uncaught errors on the page');
+});
