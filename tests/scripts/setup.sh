@@ -6,7 +6,7 @@ cd "$(dirname "$0")/../.."
 
 need=()
 have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
-for pkg in cmake g++ make catch2 libgmp-dev emscripten time chromium ${CDT3D_EXTRA_APT:-}; do
+for pkg in cmake g++ make catch2 libgmp-dev emscripten time chromium clang-14 libclang-rt-14-dev llvm-14 ${CDT3D_EXTRA_APT:-}; do
   have_pkg "$pkg" || need+=("$pkg")
 done
 if [ ${#need[@]} -gt 0 ]; then

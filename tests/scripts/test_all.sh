@@ -1,12 +1,28 @@
 #!/usr/bin/env bash
-# Every test: native Catch2 suite (ctest) and the Node suites on the WASM package.
+# Every test (`npm test`, and CI through .ci/run):
+#   1. native build; the Catch2 suite and one ctest per corpus model
+#   2. the same suite under AddressSanitizer + UndefinedBehaviorSanitizer
+#   3. a short libFuzzer run of every reader and of the pipeline (60 s each)
+#   4. the Node suites on the WASM package, with the real-browser tests
+# Environment: FUZZ_SECONDS (default 60), CDT3D_SKIP_SANITIZE=1 and
+# CDT3D_SKIP_FUZZ=1 skip steps 2 and 3 for a quick local run.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 bash tests/scripts/setup.sh
 bash tests/scripts/build.sh
+JOBS=$(nproc 2>/dev/null || echo 2)
 
 echo "== native tests (ctest)"
-ctest --test-dir build --output-on-failure -j"$(nproc 2>/dev/null || echo 2)"
+ctest --test-dir build --output-on-failure -j"$JOBS"
 
-echo "== WASM package tests (node --test)"
+if [ "${CDT3D_SKIP_SANITIZE:-0}" != 1 ]; then
+  echo "== sanitizers"
+  bash tests/scripts/sanitize.sh
+fi
+if [ "${CDT3D_SKIP_FUZZ:-0}" != 1 ]; then
+  echo "== fuzzing (${FUZZ_SECONDS:-60} s per target)"
+  bash tests/scripts/fuzz.sh
+fi
+
+echo "== WASM package, worker, web page (node --test)"
 node --test tests/js/
