@@ -93,6 +93,7 @@ class Pipeline {
   void mesh_to_result(const std::vector<TetId>& tets, const std::vector<double>* attributes,
                       const CarveResult* carved);
   Status check_open_facets(const CarveResult& carved) const;
+  size_t move_flat_tets_outside(const CarveResult& carved);
 
   const Plc& plc_;
   const Options& opt_;
@@ -155,6 +156,76 @@ Status Pipeline::check_open_facets(const CarveResult& carved) const {
     return st;
   }
   return Status::success();
+}
+
+// A flat tet: two of its faces are subfaces of one facet, so its four
+// vertices all lie in that facet, up to the rounding of Steiner points (§5
+// rounds them to doubles, so a facet is only nearly planar). Both diagonals
+// of the quadrilateral are then faces of the mesh. When the tet is kept but
+// the tets across its two subfaces are outside (a boundary facet), the facet
+// is triangulated with the tet's two other faces instead: they triangulate
+// the same quadrilateral, and the flat tet joins the exterior. Returns the
+// number of facets changed; the caller carves again.
+size_t Pipeline::move_flat_tets_outside(const CarveResult& carved) {
+  struct Key {
+    std::array<VertexId, 3> v;
+    uint32_t sub;
+    bool operator<(const Key& o) const { return v != o.v ? v < o.v : sub < o.sub; }
+  };
+  auto sorted = [](VertexId a, VertexId b, VertexId c) {
+    std::array<VertexId, 3> k = {a, b, c};
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  std::vector<Key> keys;
+  keys.reserve(subfaces_.tri.size());
+  for (uint32_t i = 0; i < subfaces_.tri.size(); ++i) {
+    const auto& t = subfaces_.tri[i];
+    keys.push_back({sorted(t[0], t[1], t[2]), i});
+  }
+  std::sort(keys.begin(), keys.end());
+  auto find = [&](const std::array<VertexId, 3>& k) -> uint32_t {
+    auto it = std::lower_bound(keys.begin(), keys.end(), Key{k, 0});
+    return it != keys.end() && it->v == k ? it->sub : kNone;
+  };
+  auto kept = [&](TetId t) { return (mesh_.tflag[t] & kTetInside) != 0; };
+  std::vector<uint8_t> changed(subfaces_.tri.size(), 0);
+  size_t moved = 0;
+  for (TetId t : carved.tets) {
+    int face[2], n = 0;
+    uint32_t sub[2];
+    for (int i = 0; i < 4 && n <= 2; ++i) {
+      const uint32_t s = find(sorted(mesh_.vertex(t, kFaceVertex[i][0]), mesh_.vertex(t, kFaceVertex[i][1]),
+                                     mesh_.vertex(t, kFaceVertex[i][2])));
+      if (s == kNone) continue;
+      if (n < 2) face[n] = i, sub[n] = s;
+      ++n;
+    }
+    if (n != 2 || subfaces_.facet[sub[0]] != subfaces_.facet[sub[1]]) continue;
+    if (changed[sub[0]] || changed[sub[1]]) continue;
+    if (kept(mesh_.neighbor(t, face[0])) || kept(mesh_.neighbor(t, face[1]))) continue;
+    // s1 = (u, v, p) with the shared edge u -> v; s2 runs v -> u to q. The
+    // quadrilateral is u -> q -> v -> p; the other diagonal gives (u, q, p)
+    // and (q, v, p), oriented like the old pair.
+    auto& s1 = subfaces_.tri[sub[0]];
+    auto& s2 = subfaces_.tri[sub[1]];
+    int r = 0;
+    while (r < 3 && std::find(s2.begin(), s2.end(), s1[(r + 2) % 3]) != s2.end()) ++r;
+    if (r == 3) continue;
+    const VertexId u = s1[r], v = s1[(r + 1) % 3], p = s1[(r + 2) % 3];
+    VertexId q = kNone;
+    bool consistent = false;
+    for (int k = 0; k < 3; ++k) {
+      if (s2[k] != u && s2[k] != v) q = s2[k];
+      if (s2[k] == v && s2[(k + 1) % 3] == u) consistent = true;
+    }
+    if (q == kNone || !consistent) continue;
+    s1 = {u, q, p};
+    s2 = {q, v, p};
+    changed[sub[0]] = changed[sub[1]] = 1;
+    ++moved;
+  }
+  return moved;
 }
 
 // Copies the kept tets into the public Result, dropping Steiner points that
@@ -297,6 +368,10 @@ void Pipeline::run() {
     if (!begin(Phase::Carve)) return;
     CarveResult carved;
     st = carve(plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved);
+    if (st.ok() && move_flat_tets_outside(carved) > 0) {
+      carved = CarveResult();
+      st = carve(plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved);
+    }
     if (st.ok() && !opt_.keep_convex_hull) st = check_open_facets(carved);
     if (st.ok()) mesh_to_result(carved.tets, &carved.attribute, &carved);
     if (!end(Phase::Carve, st, &s.ms_carve)) return;
