@@ -1,0 +1,202 @@
+// tetrahedralize(): hand-made PLCs with known answers (a facet with a hole,
+// regions, hole points, the convex hull option), progress, cancellation and
+// stop_after. Every successful result must pass validate(). The corpus models
+// run one ctest each (tests/CMakeLists.txt).
+#include <catch2/catch.hpp>
+
+#include <cdt3d/cdt3d.hpp>
+
+#include <cmath>
+#include <set>
+#include <string>
+#include <vector>
+
+using namespace cdt3d;
+
+namespace {
+
+double volume(const Result& r) {
+  const auto& P = r.mesh.points;
+  double sum = 0;
+  for (size_t t = 0; t < r.mesh.tets.size(); t += 4) {
+    const double* a = &P[3 * r.mesh.tets[t]];
+    const double* b = &P[3 * r.mesh.tets[t + 1]];
+    const double* c = &P[3 * r.mesh.tets[t + 2]];
+    const double* d = &P[3 * r.mesh.tets[t + 3]];
+    const double u[3] = {a[0] - d[0], a[1] - d[1], a[2] - d[2]};
+    const double v[3] = {b[0] - d[0], b[1] - d[1], b[2] - d[2]};
+    const double w[3] = {c[0] - d[0], c[1] - d[1], c[2] - d[2]};
+    sum += std::fabs(u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+                     u[2] * (v[0] * w[1] - v[1] * w[0])) / 6;
+  }
+  return sum;
+}
+
+VertexId add(Plc& plc, double x, double y, double z) {
+  plc.points.push_back({x, y, z});
+  return static_cast<VertexId>(plc.points.size() - 1);
+}
+
+void quad(Plc& plc, VertexId a, VertexId b, VertexId c, VertexId d) {
+  Facet f;
+  f.loops.push_back({a, b, c, d});
+  plc.facets.push_back(f);
+}
+
+// The unit box [0,4]^2 x [0,2] with a square pocket [1,3]^2 x [1,2] cut into
+// its top: the top facet is a square with a square hole (a second loop and a
+// hole point in it), the pocket has four walls and a floor.
+Plc box_with_pocket() {
+  Plc plc;
+  VertexId b[4], t[4], h[4], f[4];
+  const double X[4] = {0, 4, 4, 0}, Y[4] = {0, 0, 4, 4};
+  const double x[4] = {1, 3, 3, 1}, y[4] = {1, 1, 3, 3};
+  for (int i = 0; i < 4; ++i) b[i] = add(plc, X[i], Y[i], 0);
+  for (int i = 0; i < 4; ++i) t[i] = add(plc, X[i], Y[i], 2);
+  for (int i = 0; i < 4; ++i) h[i] = add(plc, x[i], y[i], 2);
+  for (int i = 0; i < 4; ++i) f[i] = add(plc, x[i], y[i], 1);
+  quad(plc, b[0], b[3], b[2], b[1]);  // bottom
+  for (int i = 0; i < 4; ++i) quad(plc, b[i], b[(i + 1) % 4], t[(i + 1) % 4], t[i]);
+  Facet top;
+  top.loops.push_back({t[0], t[1], t[2], t[3]});
+  top.loops.push_back({h[0], h[1], h[2], h[3]});
+  top.holes.push_back({2, 2, 2});
+  plc.facets.push_back(top);
+  for (int i = 0; i < 4; ++i) quad(plc, f[i], f[(i + 1) % 4], h[(i + 1) % 4], h[i]);
+  quad(plc, f[0], f[3], f[2], f[1]);  // pocket floor
+  return plc;
+}
+
+Plc cube(double lo, double hi, Plc plc = Plc()) {
+  VertexId v[8];
+  for (int i = 0; i < 8; ++i) v[i] = add(plc, i & 1 ? hi : lo, i & 2 ? hi : lo, i & 4 ? hi : lo);
+  quad(plc, v[0], v[2], v[3], v[1]);
+  quad(plc, v[4], v[5], v[7], v[6]);
+  quad(plc, v[0], v[1], v[5], v[4]);
+  quad(plc, v[2], v[6], v[7], v[3]);
+  quad(plc, v[0], v[4], v[6], v[2]);
+  quad(plc, v[1], v[3], v[7], v[5]);
+  return plc;
+}
+
+Result run(const Plc& plc, Options opt = Options()) {
+  opt.validate = true;
+  Result r = tetrahedralize(plc, opt);
+  INFO(r.status.error.to_string());
+  REQUIRE(r.status.ok());
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("a facet with a hole: the pocket is not meshed", "[pipeline]") {
+  const Plc plc = box_with_pocket();
+  REQUIRE(check_plc(plc).ok());
+  const Result r = run(plc);
+  CHECK(volume(r) == Approx(4 * 4 * 2 - 2 * 2 * 1));
+  std::set<uint32_t> facets(r.face_facet.begin(), r.face_facet.end());
+  CHECK(facets.size() == plc.facets.size());
+}
+
+TEST_CASE("nested cubes: a hole point empties the inner cube, a region point labels it", "[pipeline]") {
+  Plc plc = cube(1, 2, cube(0, 3));
+  SECTION("hole") {
+    plc.holes.push_back({1.5, 1.5, 1.5});
+    const Result r = run(plc);
+    CHECK(volume(r) == Approx(27 - 1));
+  }
+  SECTION("regions") {
+    plc.regions.push_back({{1.5, 1.5, 1.5}, 5.0, -1});
+    plc.regions.push_back({{0.5, 0.5, 0.5}, 9.0, -1});
+    const Result r = run(plc);
+    CHECK(volume(r) == Approx(27));
+    double inner = 0;
+    for (size_t t = 0; t < r.mesh.tet_attributes.size(); ++t) {
+      const double a = r.mesh.tet_attributes[t];
+      CHECK((a == 5.0 || a == 9.0));
+    }
+    Result only_inner = r;
+    only_inner.mesh.tets.clear();
+    for (size_t t = 0; t < r.mesh.tet_attributes.size(); ++t)
+      if (r.mesh.tet_attributes[t] == 5.0)
+        for (int k = 0; k < 4; ++k) only_inner.mesh.tets.push_back(r.mesh.tets[4 * t + k]);
+    inner = volume(only_inner);
+    CHECK(inner == Approx(1));
+  }
+  SECTION("automatic attributes without region points (like tetgen -AA)") {
+    const Result r = run(plc);
+    const std::set<double> attrs(r.mesh.tet_attributes.begin(), r.mesh.tet_attributes.end());
+    CHECK(attrs == std::set<double>{1.0, 2.0});
+  }
+}
+
+TEST_CASE("keep_convex_hull meshes an open surface inside its hull", "[pipeline]") {
+  Plc plc = cube(0, 1);
+  plc.facets.pop_back();  // open box
+  Options opt;
+  Result open = tetrahedralize(plc, opt);
+  CHECK(open.status.error.code == ErrorCode::OpenBoundary);
+  CHECK(open.status.error.facet >= 0);
+  opt.keep_convex_hull = true;
+  const Result r = run(plc, opt);
+  CHECK(volume(r) == Approx(1));
+}
+
+TEST_CASE("a self-intersecting PLC names its facets and lists every pair", "[pipeline]") {
+  Plc plc = cube(1, 3, cube(0, 2));
+  const Result r = tetrahedralize(plc);
+  CHECK(r.status.error.code == ErrorCode::SelfIntersection);
+  CHECK(r.status.error.facet >= 0);
+  CHECK(r.status.error.other_facet >= 0);
+  CHECK(!r.intersecting_facets.empty());
+}
+
+namespace {
+struct Recorder {
+  std::vector<Phase> phases;
+  std::vector<double> fractions;
+  bool cancel_at_segments = false;
+  volatile bool cancel = false;
+  static void report(void* user, Phase phase, double fraction) {
+    auto* self = static_cast<Recorder*>(user);
+    self->phases.push_back(phase);
+    self->fractions.push_back(fraction);
+    if (self->cancel_at_segments && phase == Phase::Segments) self->cancel = true;
+  }
+};
+}  // namespace
+
+TEST_CASE("progress reports every phase in order and ends at 1; cancel stops the run", "[pipeline]") {
+  const Plc plc = box_with_pocket();
+  Recorder rec;
+  Options opt;
+  opt.progress = &Recorder::report;
+  opt.progress_user = &rec;
+  opt.cancel = &rec.cancel;
+  run(plc, opt);
+  REQUIRE(!rec.phases.empty());
+  CHECK(rec.phases.front() == Phase::Read);
+  CHECK(rec.phases.back() == Phase::Done);
+  CHECK(rec.fractions.back() == 1.0);
+  for (size_t i = 1; i < rec.fractions.size(); ++i) CHECK(rec.fractions[i] >= rec.fractions[i - 1]);
+
+  Recorder stop;
+  stop.cancel_at_segments = true;
+  opt.progress_user = &stop;
+  opt.cancel = &stop.cancel;
+  const Result r = tetrahedralize(plc, opt);
+  CHECK(r.status.error.code == ErrorCode::Cancelled);
+  CHECK(stop.phases.back() == Phase::Segments);
+}
+
+TEST_CASE("stop_after returns the intermediate tetrahedralization and its subsegments", "[pipeline]") {
+  const Plc plc = box_with_pocket();
+  Options opt;
+  opt.stop_after = Phase::Segments;
+  const Result r = tetrahedralize(plc, opt);
+  REQUIRE(r.status.ok());
+  CHECK(r.mesh.faces.empty());
+  CHECK(r.edge_segment.size() >= plc_segments(plc).size());
+  // The convex hull of the points is filled: volume 4 x 4 x 2.
+  CHECK(volume(r) == Approx(32));
+}
