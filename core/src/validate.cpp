@@ -613,6 +613,30 @@ Status Validator::unconstrained_in_facets() {
     }
     return false;
   };
+  // Three vertices on one segment (its ends or its Steiner points) make a
+  // face that is flat along the segment, up to the rounding of Steiner
+  // points: it lies in no facet's interior.
+  std::vector<std::vector<uint32_t>> segs_at(r_.input_points);
+  for (uint32_t s = 0; s < segments_.size(); ++s)
+    for (VertexId v : segments_[s])
+      if (v < r_.input_points) segs_at[v].push_back(s);
+  auto on_segment = [&](uint32_t v, uint32_t s) {
+    if (v < r_.input_points) return std::find(segs_at[v].begin(), segs_at[v].end(), s) != segs_at[v].end();
+    const size_t i = v - r_.input_points;
+    return r_.steiner_kind[i] == SteinerKind::Segment && r_.steiner_parent[i] == static_cast<int64_t>(s);
+  };
+  auto along_one_segment = [&](const Tri3& k) {
+    std::vector<uint32_t> cand;
+    if (k[0] < r_.input_points) {
+      cand = segs_at[k[0]];
+    } else {
+      const size_t i = k[0] - r_.input_points;
+      if (r_.steiner_kind[i] == SteinerKind::Segment) cand.push_back(static_cast<uint32_t>(r_.steiner_parent[i]));
+    }
+    for (uint32_t s : cand)
+      if (on_segment(k[1], s) && on_segment(k[2], s)) return true;
+    return false;
+  };
   std::vector<Tri3> keys = constrained_;
   std::sort(keys.begin(), keys.end());
   std::vector<uint32_t> ab, abc;
@@ -655,7 +679,7 @@ Status Validator::unconstrained_in_facets() {
           }
           return false;
         };
-        if (!separates(g, h) && !separates(h, g) && !flat_in_facet(i, f))
+        if (!separates(g, h) && !separates(h, g) && !flat_in_facet(i, f) && !along_one_segment(k))
           return fail("face " + tri_name(k) + " lies in facet " + std::to_string(f) +
                           " but is not constrained.",
                       f, k[0]);

@@ -54,10 +54,9 @@ TEST_CASE("fuzz regressions: reader inputs return a status", "[fuzz][io]") {
   }
 }
 
-// The pipeline findings are bugs in the meshing steps, reported to their
-// owners; [!mayfail] keeps them visible in the output without failing the
-// suite until they are fixed (then drop the tag).
-TEST_CASE("fuzz regressions: tetrahedralize reports no internal error", "[fuzz][pipeline][!mayfail]") {
+// The pipeline findings: each must now mesh and validate, or fail with a
+// clear input error (the facet-through-tet input is self-intersecting).
+TEST_CASE("fuzz regressions: tetrahedralize reports no internal error", "[fuzz][pipeline]") {
   const std::vector<std::string> files = regress_files("pipeline-");
   CHECK_FALSE(files.empty());
   for (const std::string& path : files) {
