@@ -258,7 +258,7 @@ val stats_js(const cdt3d::Statistics& s) {
   n("rule3", s.rule3), n("acuteBoth", s.acute_both), n("maxSplits", s.max_splits);
   n("perturbations", s.perturbations), n("breakPoints", s.break_points);
   n("protectSegment", s.protect_segment), n("protectFacet", s.protect_facet);
-  n("missingSubfaces", s.missing_subfaces), n("regions", s.regions), n("cavities", s.cavities);
+  n("mergedFacets", s.merged_facets), n("missingSubfaces", s.missing_subfaces), n("regions", s.regions), n("cavities", s.cavities);
   n("largestCavity", s.largest_cavity), n("fallbacks", s.fallbacks), n("msRead", s.ms_read);
   n("msDelaunay", s.ms_delaunay), n("msSegments", s.ms_segments);
   n("msDegeneracy", s.ms_degeneracy), n("msFacets", s.ms_facets), n("msCarve", s.ms_carve);
@@ -312,6 +312,7 @@ val tetrahedralize_js(val input, val options, val on_progress) {
   opt.keep_convex_hull = options["keepConvexHull"].as<bool>();
   opt.validate = options["validate"].as<bool>();
   opt.check_intersections = options["checkIntersections"].as<bool>();
+  opt.merge_coplanar_facets = options["mergeCoplanarFacets"].as<bool>();
   opt.verbosity = options["verbosity"].as<int>();
   if (!cdt3d::phase_from_name(options["stopAfter"].as<std::string>(), opt.stop_after))
     return failure(invalid("Unknown phase for stopAfter.").error);

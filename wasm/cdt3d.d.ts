@@ -199,6 +199,8 @@ export interface TetrahedralizeOptions {
   validate?: boolean;
   /** Reject self-intersecting input (exact). Default true. */
   checkIntersections?: boolean;
+  /** Join coplanar edge-adjacent facets (TetGen's default; fewer Steiner points). Default false (like tetgen -M). */
+  mergeCoplanarFacets?: boolean;
   /** 0 quiet (default), 1 or 2. */
   verbosity?: number;
   /** Stop after a phase and return all tets reached so far (debugging). Default "done". */
@@ -227,6 +229,7 @@ export interface MeshStatistics {
   breakPoints: number;
   protectSegment: number;
   protectFacet: number;
+  mergedFacets: number;
   missingSubfaces: number;
   regions: number;
   cavities: number;

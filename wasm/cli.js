@@ -17,7 +17,7 @@ const USAGE = `usage: cdt3d <command> [arguments]
 commands:
   info MODEL [--json]      read a PLC and print its summary
   mesh MODEL [-o PREFIX] [--format node|vtk|mesh] [--keep-hull] [--validate]
-             [--stats] [--json] [-q] [--no-intersection-check] [--stop-after PHASE]
+             [--stats] [--json] [-q] [--merge] [--no-intersection-check] [--stop-after PHASE]
                            constrained Delaunay tetrahedralization of MODEL
 
 MODEL: .stl (ASCII/binary) .off .obj .ply .poly .smesh
@@ -40,6 +40,7 @@ function parse(args) {
     else if (a === '--keep-hull') opts.tet.keepConvexHull = true;
     else if (a === '--validate') opts.tet.validate = true;
     else if (a === '--no-intersection-check') opts.tet.checkIntersections = false;
+    else if (a === '--merge') opts.tet.mergeCoplanarFacets = true;
     else if ((a === '-o' || a === '--format' || a === '--stop-after') && i + 1 < args.length) {
       const v = args[++i];
       if (a === '-o') opts.prefix = v;

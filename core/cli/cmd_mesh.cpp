@@ -35,6 +35,8 @@ void usage(std::FILE* out) {
       "  --stats           print quality statistics (dihedral angles, radius-edge ratios)\n"
       "  --json            print the statistics as one JSON object on stdout\n"
       "  -q                quiet: print nothing but errors\n"
+      "  --merge           join coplanar edge-adjacent facets into one (TetGen's default;\n"
+      "                    by default every input facet is kept, like tetgen -M)\n"
       "  --no-intersection-check  skip the exact self-intersection test of the input\n"
       "  --stop-after P    delaunay | segments | degeneracy | facets: stop after that step,\n"
       "                    write all tets as PREFIX.node/.ele and the subsegments as .edge\n"
@@ -83,7 +85,7 @@ void print_json(const Result& r, Phase stop, bool validated, const Status& valid
       "\"steinerFacet\":%zu,\"steinerVolume\":%zu,\"rule1\":%zu,\"rule2\":%zu,\"rule3\":%zu,"
       "\"acuteBoth\":%zu,\"maxSplits\":%zu,\"perturbations\":%zu,\"breakPoints\":%zu,"
       "\"protectSegment\":%zu,\"protectFacet\":%zu,\"missingSubfaces\":%zu,\"regions\":%zu,"
-      "\"cavities\":%zu,\"largestCavity\":%zu,\"fallbacks\":%zu,\"msRead\":%.3f,"
+      "\"mergedFacets\":%zu,\"cavities\":%zu,\"largestCavity\":%zu,\"fallbacks\":%zu,\"msRead\":%.3f,"
       "\"msDelaunay\":%.3f,\"msSegments\":%.3f,\"msDegeneracy\":%.3f,\"msFacets\":%.3f,"
       "\"msCarve\":%.3f,\"msTotal\":%.3f,\"minDihedral\":%s,\"maxDihedral\":%s,"
       "\"radiusEdgeHistogram\":[",
@@ -91,7 +93,7 @@ void print_json(const Result& r, Phase stop, bool validated, const Status& valid
       s.points, s.tets, s.faces, r.edges.size() / 2, s.steiner_segment, s.steiner_facet,
       s.steiner_volume, s.rule1, s.rule2, s.rule3, s.acute_both, s.max_splits, s.perturbations,
       s.break_points, s.protect_segment, s.protect_facet, s.missing_subfaces, s.regions,
-      s.cavities, s.largest_cavity, s.fallbacks, s.ms_read, s.ms_delaunay, s.ms_segments,
+      s.merged_facets, s.cavities, s.largest_cavity, s.fallbacks, s.ms_read, s.ms_delaunay, s.ms_segments,
       s.ms_degeneracy, s.ms_facets, s.ms_carve, s.ms_total, json_number(s.min_dihedral).c_str(),
       json_number(s.max_dihedral).c_str());
   for (size_t i = 0; i < s.radius_edge_histogram.size(); ++i)
@@ -162,6 +164,8 @@ int run_mesh(int argc, char** argv) {
       opt.keep_convex_hull = true;
     } else if (a == "--validate") {
       opt.validate = true;
+    } else if (a == "--merge") {
+      opt.merge_coplanar_facets = true;
     } else if (a == "--no-intersection-check") {
       opt.check_intersections = false;
     } else if ((a == "-o" || a == "--stop-after" || a == "--format") && i + 1 < argc) {

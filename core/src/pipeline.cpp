@@ -68,9 +68,10 @@ constexpr double kPhaseStart[] = {0.0, 0.02, 0.45, 0.6, 0.7, 0.95, 1.0};
 class Pipeline {
  public:
   Pipeline(const Plc& plc, const Options& options, Result& out)
-      : plc_(plc), opt_(options), out_(out) {}
+      : plc_(&plc), opt_(options), out_(out) {}
 
   void run();
+  void finish(const Plc& input) { report_input_ids(input); }
 
  private:
   bool cancelled() const { return opt_.cancel != nullptr && *opt_.cancel; }
@@ -93,9 +94,12 @@ class Pipeline {
   void mesh_to_result(const std::vector<TetId>& tets, const std::vector<double>* attributes,
                       const CarveResult* carved);
   Status check_open_facets(const CarveResult& carved) const;
+  void report_input_ids(const Plc& input);
   size_t move_flat_tets_outside(const CarveResult& carved);
 
-  const Plc& plc_;
+  const Plc* plc_;              // the input, or merged_ when facets were merged
+  Plc merged_;                  // merge_coplanar_facets of the input
+  std::vector<uint32_t> rep_;   // per facet of merged_: its smallest input facet
   const Options& opt_;
   Result& out_;
   Clock::time_point t_phase_;
@@ -138,17 +142,17 @@ bool Pipeline::end(Phase phase, const Status& st, double* ms) {
 // facet with none lies outside what was kept: the surface around it is open
 // (the exterior leaked in through a gap) or it floats outside the domain.
 Status Pipeline::check_open_facets(const CarveResult& carved) const {
-  std::vector<uint8_t> bounded(plc_.facets.size(), 0);
+  std::vector<uint8_t> bounded(plc_->facets.size(), 0);
   for (uint32_t f : carved.face_facet)
     if (f < bounded.size()) bounded[f] = 1;
-  for (uint32_t f = 0; f < plc_.facets.size(); ++f) {
+  for (uint32_t f = 0; f < plc_->facets.size(); ++f) {
     if (bounded[f]) continue;
     Status st;
     st.error.code = ErrorCode::OpenBoundary;
     st.error.facet = f;
-    st.error.file = plc_.file;
-    st.error.line = plc_.facets[f].line;
-    st.error.record = plc_.facets[f].record;
+    st.error.file = plc_->file;
+    st.error.line = plc_->facets[f].line;
+    st.error.record = plc_->facets[f].record;
     st.error.message =
         "The surface does not enclose a volume around facet " + std::to_string(f) +
         ": no kept tetrahedron touches it (the surface is open or the facet lies outside the "
@@ -228,12 +232,37 @@ size_t Pipeline::move_flat_tets_outside(const CarveResult& carved) {
   return moved;
 }
 
+// After merge_coplanar_facets the phases numbered facets and segments of the
+// merged PLC; the Result names those of the input: a merged facet by its
+// smallest input facet, a segment by its index in the input's segments.
+void Pipeline::report_input_ids(const Plc& input) {
+  if (rep_.empty()) return;
+  auto facet = [&](int64_t f) { return f >= 0 && f < static_cast<int64_t>(rep_.size()) ? rep_[f] : f; };
+  const auto mine = plc_segments(*plc_), theirs = plc_segments(input);
+  auto segment = [&](int64_t s) -> int64_t {
+    if (s < 0 || s >= static_cast<int64_t>(mine.size())) return s;
+    auto it = std::lower_bound(theirs.begin(), theirs.end(), mine[s]);
+    return it != theirs.end() && *it == mine[s] ? it - theirs.begin() : -1;
+  };
+  for (uint32_t& f : out_.face_facet) f = static_cast<uint32_t>(facet(f));
+  for (uint32_t& e : out_.edge_segment) e = static_cast<uint32_t>(segment(e));
+  for (size_t i = 0; i < out_.steiner_kind.size(); ++i) {
+    int64_t& p = out_.steiner_parent[i];
+    if (out_.steiner_kind[i] == SteinerKind::Facet) p = facet(p);
+    if (out_.steiner_kind[i] == SteinerKind::Segment) p = segment(p);
+  }
+  Error& e = out_.status.error;
+  e.facet = facet(e.facet);
+  e.other_facet = facet(e.other_facet);
+  e.segment = segment(e.segment);
+}
+
 // Copies the kept tets into the public Result, dropping Steiner points that
 // no kept tet uses (e.g. break points outside the domain, §6) and
 // renumbering the rest after the input points.
 void Pipeline::mesh_to_result(const std::vector<TetId>& tets,
                               const std::vector<double>* attributes, const CarveResult* carved) {
-  const size_t nin = plc_.points.size();
+  const size_t nin = plc_->points.size();
   const size_t nv = mesh_.num_vertices();
   std::vector<uint32_t> newid(nv, kNone);
   for (size_t v = 0; v < nin; ++v) newid[v] = static_cast<uint32_t>(v);
@@ -273,7 +302,7 @@ void Pipeline::mesh_to_result(const std::vector<TetId>& tets,
       for (int k = 0; k < 3; ++k) m.faces.push_back(newid[carved->faces[i][k]]);
       const uint32_t f = carved->face_facet[i];
       out_.face_facet.push_back(f);
-      m.face_markers.push_back(f < plc_.facets.size() ? plc_.facets[f].marker : 0);
+      m.face_markers.push_back(f < plc_->facets.size() ? plc_->facets[f].marker : 0);
     }
   }
   // Subsegments whose two ends are kept (the others lie outside the domain).
@@ -301,30 +330,38 @@ void Pipeline::mesh_to_result(const std::vector<TetId>& tets,
 void Pipeline::run() {
   const auto t_total = Clock::now();
   Statistics& s = out_.stats;
-  s.input_points = plc_.points.size();
-  s.input_facets = plc_.facets.size();
+  s.input_points = plc_->points.size();
+  s.input_facets = plc_->facets.size();
 
   // Input checks the readers also run, for PLCs built in code; then the
   // exact self-intersection test (a CDT of an intersecting PLC does not
   // exist, and the later steps would fail far from the cause).
   if (!begin(Phase::Read)) return;
-  Status st = check_plc(plc_);
+  Status st = check_plc(*plc_);
   if (st.ok() && opt_.check_intersections) {
     std::vector<Intersection> found;
-    find_self_intersections(plc_, found);
+    find_self_intersections(*plc_, found);
     for (const Intersection& x : found) out_.intersecting_facets.push_back({x.a, x.b});
-    st = self_intersection_error(plc_, found);
+    st = self_intersection_error(*plc_, found);
+  }
+  if (st.ok() && opt_.merge_coplanar_facets) {
+    std::vector<uint32_t> into;
+    s.merged_facets = merge_coplanar_facets(*plc_, merged_, into);
+    rep_.assign(merged_.facets.size(), kNone);
+    for (uint32_t f = 0; f < into.size(); ++f)
+      if (rep_[into[f]] == kNone) rep_[into[f]] = f;
+    plc_ = &merged_;
   }
   if (!end(Phase::Read, st, &s.ms_read)) return;
 
   // Step 1.
   if (!begin(Phase::Delaunay)) return;
   DelaunayStats dstats;
-  st = delaunay_tetrahedralize(mesh_, &plc_.points[0].x, plc_.points.size(), nullptr, &dstats);
+  st = delaunay_tetrahedralize(mesh_, &plc_->points[0].x, plc_->points.size(), nullptr, &dstats);
   if (!end(Phase::Delaunay, st, &s.ms_delaunay)) return;
-  init_segments(plc_, segs_);
+  init_segments(*plc_, segs_);
   s.input_segments = segs_.input.size();
-  facet_interior_.assign(plc_.facets.size(), {});
+  facet_interior_.assign(plc_->facets.size(), {});
 
   // Step 2.
   if (opt_.stop_after >= Phase::Segments) {
@@ -340,7 +377,7 @@ void Pipeline::run() {
   if (opt_.stop_after >= Phase::Degeneracy) {
     if (!begin(Phase::Degeneracy)) return;
     DegeneracyStats gst;
-    st = remove_local_degeneracies(plc_, mesh_, segs_, facet_interior_, volume_points_, &gst,
+    st = remove_local_degeneracies(*plc_, mesh_, segs_, facet_interior_, volume_points_, &gst,
                                    opt_.cancel);
     s.perturbations = gst.perturbations, s.break_points = gst.break_points;
     s.protect_segment = gst.protect_segment, s.protect_facet = gst.protect_facet;
@@ -350,7 +387,7 @@ void Pipeline::run() {
   // Step 4.
   if (opt_.stop_after >= Phase::Facets) {
     if (!begin(Phase::Facets)) return;
-    st = triangulate_facets(plc_, segs_, mesh_, facet_interior_, subfaces_);
+    st = triangulate_facets(*plc_, segs_, mesh_, facet_interior_, subfaces_);
     FacetRecoveryStats fst;
     if (st.ok()) st = recover_facets(mesh_, subfaces_, &fst, opt_.cancel);
     s.missing_subfaces = fst.missing_initially, s.regions = fst.regions;
@@ -367,10 +404,10 @@ void Pipeline::run() {
   } else {
     if (!begin(Phase::Carve)) return;
     CarveResult carved;
-    st = carve(plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved);
+    st = carve(*plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved);
     if (st.ok() && move_flat_tets_outside(carved) > 0) {
       carved = CarveResult();
-      st = carve(plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved);
+      st = carve(*plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved);
     }
     if (st.ok() && !opt_.keep_convex_hull) st = check_open_facets(carved);
     if (st.ok()) mesh_to_result(carved.tets, &carved.attribute, &carved);
@@ -380,7 +417,7 @@ void Pipeline::run() {
   s.ms_total = ms_since(t_total);
 
   if (opt_.validate && opt_.stop_after >= Phase::Carve) {
-    Status v = validate(plc_, out_);
+    Status v = validate(*plc_, out_);
     if (!v.ok()) {
       out_.status = v;
       return;
@@ -443,13 +480,17 @@ Result tetrahedralize(const Plc& plc, const Options& options) {
   // wrapper reports that as out-of-memory.
 #if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
   try {
-    Pipeline(plc, options, out).run();
+    Pipeline p(plc, options, out);
+    p.run();
+    p.finish(plc);
   } catch (const std::bad_alloc&) {
     out = Result();
     out.status.error = {ErrorCode::OutOfMemory, "Out of memory while meshing.", plc.file};
   }
 #else
-  Pipeline(plc, options, out).run();
+  Pipeline p(plc, options, out);
+  p.run();
+  p.finish(plc);
 #endif
   if (!out.status.ok() && out.status.error.file.empty()) out.status.error.file = plc.file;
   return out;

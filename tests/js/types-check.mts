@@ -73,6 +73,7 @@ new Cdt3dError('internal', 'outer', { line: 3, cause: new Error('inner') });
     keepConvexHull: true,
     validate: true,
     checkIntersections: false,
+    mergeCoplanarFacets: true,
     verbosity: 1,
     stopAfter: 'facets',
     signal: controller,

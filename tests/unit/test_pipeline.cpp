@@ -200,3 +200,21 @@ TEST_CASE("stop_after returns the intermediate tetrahedralization and its subseg
   // The convex hull of the points is filled: volume 4 x 4 x 2.
   CHECK(volume(r) == Approx(32));
 }
+
+TEST_CASE("merge_coplanar_facets joins the two triangles of each cube face", "[pipeline]") {
+  Plc plc;
+  REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) + "/cube_ascii.stl", plc).ok());
+  Plc merged;
+  std::vector<uint32_t> into;
+  CHECK(merge_coplanar_facets(plc, merged, into) == 6);
+  CHECK(merged.facets.size() == 6);
+  for (const Facet& f : merged.facets) CHECK(f.loops.at(0).size() == 4);
+  Options opt;
+  opt.merge_coplanar_facets = true;
+  const Result joined = run(plc, opt);
+  const Result kept = run(plc);
+  CHECK(joined.stats.merged_facets == 6);
+  CHECK(joined.stats.input_segments < kept.stats.input_segments);
+  for (uint32_t f : joined.face_facet) CHECK(f < plc.facets.size());
+  CHECK(volume(joined) == Approx(1));
+}

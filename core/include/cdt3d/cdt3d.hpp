@@ -219,6 +219,13 @@ struct Options {
   /// Reject self-intersecting input before meshing (exact; fast). Only turn it
   /// off for input known to be clean.
   bool check_intersections = true;
+  /// Join facets that share an edge and lie in one plane into one polygon
+  /// facet (TetGen's default; off here, like tetgen -M): their common edges
+  /// are no segments then, which saves Steiner points. Only simply connected
+  /// groups of single-loop facets with equal markers are joined. Result
+  /// faces name the smallest input facet of their group; validate() the
+  /// result against merge_coplanar_facets() of the input.
+  bool merge_coplanar_facets = false;
   Phase stop_after = Phase::Done; ///< stop after this phase (debugging); result holds that mesh
   /// Progress: called with the current phase and a fraction in [0, 1]. May be empty.
   void (*progress)(void* user, Phase phase, double fraction) = nullptr;
@@ -235,6 +242,7 @@ struct Statistics {
   size_t rule1 = 0, rule2 = 0, rule3 = 0, acute_both = 0;  ///< segment recovery (§5)
   size_t max_splits = 0;           ///< most points on one input segment
   size_t perturbations = 0, break_points = 0, protect_segment = 0, protect_facet = 0;  ///< §6
+  size_t merged_facets = 0;        ///< input facets joined into others (merge_coplanar_facets)
   size_t missing_subfaces = 0, regions = 0, cavities = 0, largest_cavity = 0, fallbacks = 0;  ///< §7
   double ms_read = 0, ms_delaunay = 0, ms_segments = 0, ms_degeneracy = 0, ms_facets = 0,
          ms_carve = 0, ms_total = 0;
@@ -260,6 +268,11 @@ struct Result {
 
 /// Runs the four steps of Si & Gärtner (2005) and carves the exterior.
 Result tetrahedralize(const Plc& plc, const Options& options = {});
+
+/// The PLC with coplanar edge-adjacent facets joined (Options::
+/// merge_coplanar_facets). merged_into[f] is the facet of `out` that input
+/// facet f became part of. Returns the number of facets joined into others.
+size_t merge_coplanar_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged_into);
 
 /// Step 1 alone: the Delaunay tetrahedralization of points xyz[3i..3i+2]
 /// (duplicates inserted once). `tets` gets 4 point ids per tet, positively
