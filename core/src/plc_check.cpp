@@ -107,6 +107,80 @@ Status check_facet_holes(const Plc& plc, size_t fi) {
 
 // Checks one facet's loops: sizes, index range, repeated vertices, zero area,
 // planarity. `scratch` is reused between calls.
+// Two edges of a facet's loops, in the facet's projection (exact): true when
+// they meet anywhere except at a vertex they share. Sharing a vertex, they
+// meet elsewhere only when collinear and pointing the same way (overlap).
+bool edges_meet(const P3& p1, const P3& p2, const P3& q1, const P3& q2, int drop, int shared) {
+  auto orient = [drop](const P3& a, const P3& b, const P3& c) {
+    return pred::orient2d_projected(a.c, b.c, c.c, drop);
+  };
+  // Coordinate-wise betweenness of c on the segment ab, given collinearity.
+  auto within = [](const P3& a, const P3& b, const P3& c) {
+    for (int k = 0; k < 3; ++k)
+      if (c.c[k] < std::min(a.c[k], b.c[k]) || c.c[k] > std::max(a.c[k], b.c[k])) return false;
+    return true;
+  };
+  if (shared) {
+    // p1 == q1 (the caller orders them so): overlap when p2 and q2 lie on
+    // one ray from p1.
+    if (orient(p1, p2, q2) != 0) return false;
+    return within(p1, p2, q2) || within(p1, q2, p2);
+  }
+  const int o1 = orient(p1, p2, q1), o2 = orient(p1, p2, q2);
+  const int o3 = orient(q1, q2, p1), o4 = orient(q1, q2, p2);
+  if (o1 * o2 < 0 && o3 * o4 < 0) return true;
+  return (o1 == 0 && within(p1, p2, q1)) || (o2 == 0 && within(p1, p2, q2)) ||
+         (o3 == 0 && within(q1, q2, p1)) || (o4 == 0 && within(q1, q2, p2));
+}
+
+// The loops of a facet must be simple and must not cross or touch each
+// other (a polygon facet is a region bounded by simple closed curves). Exact
+// orientation tests in the coordinate plane that drops an axis along which
+// the facet's normal has a nonzero component. O(edges^2) per facet, with a
+// bounding-box test first; triangles need no check.
+Status check_simple_loops(const Plc& plc, size_t fi, const P3& a, const P3& b, const P3& c) {
+  const Facet& f = plc.facets[fi];
+  int drop = 0;
+  while (drop < 3 && pred::orient2d_projected(a.c, b.c, c.c, drop) == 0) ++drop;
+  if (drop == 3) return Status::success();  // collinear: reported elsewhere
+  struct E {
+    VertexId u, v;
+    P3 pu, pv;
+  };
+  std::vector<E> edges;
+  for (const auto& L : f.loops)
+    for (size_t i = 0; i < L.size(); ++i)
+      edges.push_back({L[i], L[(i + 1) % L.size()], at(plc, L[i]), at(plc, L[(i + 1) % L.size()])});
+  for (size_t i = 0; i < edges.size(); ++i) {
+    for (size_t j = i + 1; j < edges.size(); ++j) {
+      const E& x = edges[i];
+      const E& y = edges[j];
+      bool apart = false;
+      for (int k = 0; k < 3 && !apart; ++k)
+        apart = std::max(x.pu.c[k], x.pv.c[k]) < std::min(y.pu.c[k], y.pv.c[k]) ||
+                std::max(y.pu.c[k], y.pv.c[k]) < std::min(x.pu.c[k], x.pv.c[k]);
+      // The same edge in two polygons of one facet (TetGen allows a facet
+      // made of polygons that share edges).
+      if (apart || (x.u == y.v && x.v == y.u) || (x.u == y.u && x.v == y.v)) continue;
+      bool meet;
+      if (x.u == y.u) meet = edges_meet(x.pu, x.pv, y.pu, y.pv, drop, 1);
+      else if (x.u == y.v) meet = edges_meet(x.pu, x.pv, y.pv, y.pu, drop, 1);
+      else if (x.v == y.u) meet = edges_meet(x.pv, x.pu, y.pu, y.pv, drop, 1);
+      else if (x.v == y.v) meet = edges_meet(x.pv, x.pu, y.pv, y.pu, drop, 1);
+      else meet = edges_meet(x.pu, x.pv, y.pu, y.pv, drop, 0);
+      if (meet) {
+        Status s = facet_error(plc, fi, ErrorCode::DegenerateFacet,
+                               "Facet " + std::to_string(fi) + " is not a simple polygon: its edges (" +
+                                   std::to_string(x.u) + ", " + std::to_string(x.v) + ") and (" +
+                                   std::to_string(y.u) + ", " + std::to_string(y.v) + ") meet.");
+        s.error.vertex = x.u;
+        return s;
+      }
+    }
+  }
+  return Status::success();
+}
+
 Status check_facet(const Plc& plc, size_t fi, std::vector<VertexId>& scratch) {
   const Facet& f = plc.facets[fi];
   const size_t n_points = plc.points.size();
@@ -188,6 +262,8 @@ Status check_facet(const Plc& plc, size_t fi, std::vector<VertexId>& scratch) {
       }
     }
   }
+  Status simple = check_simple_loops(plc, fi, a, b, c);
+  if (!simple.ok()) return simple;
   return check_facet_holes(plc, fi);
 }
 

@@ -13,6 +13,14 @@
 #                       FUZZ_SECONDS=3600 bash tests/scripts/fuzz.sh
 #   FUZZ_JOBS=2       targets run at the same time (one core each)
 #   FUZZ_TARGETS="fuzz_read_ply fuzz_pipeline"   a subset (default: all seven)
+#   CDT3D_FUZZ_ALLOW_INTERNAL=1   fuzz_pipeline lets ErrorCode::Internal results
+#                     through (by default they count as crashes: they are bugs)
+#
+# To keep exploring after a finding (collects every artifact; no pass/fail):
+#   build-fuzz/tests/fuzz/fuzz_pipeline build-fuzz/corpus/fuzz_pipeline -max_len=64 \
+#     -fork=1 -ignore_crashes=1 -max_total_time=1800 -artifact_prefix=/tmp/finds/
+# Replay a pipeline input as a .poly model for the CLI:
+#   CDT3D_FUZZ_DUMP=/tmp/x.poly build-fuzz/tests/fuzz/fuzz_pipeline ARTIFACT
 #
 # Needs clang-14, libclang-rt-14-dev (libFuzzer and the sanitizer runtimes)
 # and llvm-14 (llvm-symbolizer, for readable stacks); installed below when
@@ -41,11 +49,9 @@ if [ ${#need[@]} -gt 0 ]; then
 fi
 
 # --- build -------------------------------------------------------------------
-if [ ! -f "$BUILD/CMakeCache.txt" ]; then
-  cmake -S . -B "$BUILD" -DCMAKE_CXX_COMPILER=clang++-14 \
-    -DCDT3D_FUZZ=ON -DCDT3D_SANITIZE=ON -DCDT3D_BUILD_TESTS=OFF -DCDT3D_BUILD_CLI=OFF \
-    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g" >/dev/null
-fi
+cmake -S . -B "$BUILD" -DCMAKE_CXX_COMPILER=clang++-14 \
+  -DCDT3D_FUZZ=ON -DCDT3D_SANITIZE=ON -DCDT3D_BUILD_TESTS=OFF -DCDT3D_BUILD_CLI=OFF \
+  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g" >/dev/null
 # shellcheck disable=SC2086
 cmake --build "$BUILD" -j"$FUZZ_JOBS" --target $FUZZ_TARGETS
 bash tests/fuzz/make_corpus.sh "$BUILD/corpus" >/dev/null

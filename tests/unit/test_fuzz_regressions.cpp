@@ -61,7 +61,14 @@ TEST_CASE("fuzz regressions: tetrahedralize reports no internal error", "[fuzz][
   CHECK_FALSE(files.empty());
   for (const std::string& path : files) {
     Plc plc;
-    REQUIRE(read_plc_file(path, plc).ok());
+    const Status read = read_plc_file(path, plc);
+    if (!read.ok()) {
+      // Rejected on input (e.g. the bowtie facet: not a simple polygon).
+      INFO(path << ": " << read.error.to_string());
+      CHECK(read.error.code != ErrorCode::Internal);
+      CHECK(read.error.facet >= 0);
+      continue;
+    }
     for (bool keep : {false, true}) {
       INFO(path << (keep ? " keeping the hull" : ""));
       Options options;

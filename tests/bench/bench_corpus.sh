@@ -1,0 +1,308 @@
+#!/usr/bin/env bash
+# Corpus benchmark (issues 4, 5, 6): the whole CDT pipeline of cdt3d against
+# Debian's TetGen 1.5 (`tetgen -pMQ`, run as a separate process only) on every
+# model the manifest expects to be valid, with cdt3d's own validation and both
+# programs' Steiner point counts.
+#
+# One command, from a clean clone (builds what it needs):
+#   bash tests/bench/bench_corpus.sh                # tests/data (MANIFEST.tsv)
+#   CORPUS=shared bash tests/bench/bench_corpus.sh  # /work/shared/corpus: classic/ degenerate/ tiny/
+#   CORPUS=all bash tests/bench/bench_corpus.sh     # both
+#
+# Per model (rows of MANIFEST.tsv with expected = valid or valid-plc):
+#   cdt3d mesh MODEL --json                  timed run (wall, user CPU, peak RSS)
+#   cdt3d mesh MODEL --json --validate       the validator's verdict (untimed)
+#   cdt3d mesh MODEL --json --stop-after segments    Steiner points of segment recovery
+#   cdt3d mesh MODEL --json --stop-after degeneracy  perturbations, break points, protection
+#   plc_to_poly MODEL M.poly                 the same PLC as a TetGen .poly (tetgen cannot
+#                                            read OBJ, binary STL or OFF with comments)
+#   tetgen -pMQNEF M.poly                    timed run (no output files, like cdt3d without -o)
+#   tetgen -pMVNEF M.poly                    its "Steiner points on segments / inside facets /
+#                                            inside domain" lines (untimed)
+# Every process runs under `timeout` (BENCH_TIMEOUT, default 300 s); a hang or a
+# crash becomes a row that says so. tetgen runs in a scratch folder
+# (build-bench/bench/corpus/) so nothing is written next to the models.
+#
+# Tables:
+#   1  time, memory, Steiner points seg/facet/vol, validation, tetgen's, ratios
+#      cdt3d/tetgen of wall time, user CPU time and peak RSS (< 1: cdt3d better)
+#   2  segment recovery (issue 4) and degeneracy removal (issue 5)
+#   3  facet recovery (issue 6) and the time of each phase (cdt3d's own ms)
+# Failures are printed after the tables with cdt3d's message verbatim.
+#
+# Environment:
+#   CORPUS=data|shared|all   which manifest(s) (default data)
+#   BENCH_TIMEOUT=300        seconds per process
+#   BENCH_RUNS=1             timed runs per program and model (fastest kept)
+#   BENCH_FILTER=REGEX       only models whose manifest path matches (grep -E)
+#   TETGEN_FLAGS=-pMQNEF     flags of the timed tetgen run (the stats run swaps Q for V)
+#   CDT3D_BIN=build-bench/core/cdt3d   the CLI to use (not rebuilt if set)
+set -uo pipefail
+cd "$(dirname "$0")/../.."
+ROOT=$PWD
+
+CORPUS=${CORPUS:-data}
+TIMEOUT=${BENCH_TIMEOUT:-300}
+RUNS=${BENCH_RUNS:-1}
+FILTER=${BENCH_FILTER:-}
+TG_FLAGS=${TETGEN_FLAGS:--pMQNEF}
+TG_VFLAGS=${TG_FLAGS//Q/}V
+WORK=$ROOT/build-bench/bench/corpus
+SHARED=/work/shared/corpus
+
+die() { echo "bench_corpus: $*" >&2; exit 1; }
+
+# 1. Tools.
+need=()
+command -v tetgen >/dev/null 2>&1 || need+=(tetgen)
+[ -x /usr/bin/time ] || need+=(time)
+command -v timeout >/dev/null 2>&1 || need+=(coreutils)
+if [ ${#need[@]} -gt 0 ]; then
+  echo "bench_corpus: installing ${need[*]}"
+  SUDO=""
+  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get -o DPkg::Lock::Timeout=600 update -qq || die "apt-get update failed"
+  $SUDO apt-get -o DPkg::Lock::Timeout=600 install -y -qq --no-install-recommends "${need[@]}" >/dev/null ||
+    die "apt-get install ${need[*]} failed"
+fi
+
+# 2. The CLI and the converter (library from the same build tree).
+mkdir -p "$WORK"
+if [ -n "${CDT3D_BIN:-}" ]; then
+  BIN=$CDT3D_BIN
+  LIB=$(dirname "$BIN")/libcdt3d.a
+else
+  BIN=$ROOT/build-bench/core/cdt3d
+  LIB=$ROOT/build-bench/core/libcdt3d.a
+  if [ ! -f build-bench/CMakeCache.txt ]; then
+    cmake -S . -B build-bench -DCMAKE_BUILD_TYPE=Release -DCDT3D_BUILD_TESTS=OFF \
+      >build-bench/bench-build.log 2>&1 || { cat build-bench/bench-build.log; die "cmake configure failed"; }
+  fi
+  if ! cmake --build build-bench -j"$(nproc 2>/dev/null || echo 2)" --target cdt3d_cli \
+    >build-bench/bench-build.log 2>&1; then
+    tail -n 20 build-bench/bench-build.log
+    [ -x "$BIN" ] || die "building build-bench/core/cdt3d failed"
+    echo "bench_corpus: WARNING: the build failed; using the existing, possibly stale $BIN" >&2
+  fi
+fi
+[ -x "$BIN" ] || die "$BIN missing"
+CONV=$ROOT/build-bench/bench/plc_to_poly
+if [ ! -x "$CONV" ] || [ tests/bench/plc_to_poly.cpp -nt "$CONV" ] || [ "$LIB" -nt "$CONV" ]; then
+  c++ -O2 -std=c++17 -I core/include tests/bench/plc_to_poly.cpp "$LIB" -o "$CONV" ||
+    die "cannot build tests/bench/plc_to_poly.cpp"
+fi
+
+# 3. The models: "path<TAB>name" lines.
+models() {
+  local manifest dir
+  if [ "$CORPUS" = data ] || [ "$CORPUS" = all ]; then
+    manifest=tests/data/MANIFEST.tsv dir=$ROOT/tests/data
+    awk -F'\t' -v d="$dir" 'NR > 1 && ($7 == "valid" || $7 == "valid-plc") { print d "/" $1 "\t" $1 }' "$manifest"
+  fi
+  if [ "$CORPUS" = shared ] || [ "$CORPUS" = all ]; then
+    manifest=$SHARED/MANIFEST.tsv
+    [ -f "$manifest" ] || die "$manifest not found"
+    awk -F'\t' -v d="$SHARED" 'NR > 1 && ($7 == "valid" || $7 == "valid-plc") && $1 ~ /^(classic|degenerate|tiny)\// { print d "/" $1 "\t" $1 }' "$manifest"
+  fi
+}
+mapfile -t MODELS < <(models | { if [ -n "$FILTER" ]; then grep -E -- "$FILTER" || true; else cat; fi; })
+[ ${#MODELS[@]} -gt 0 ] || die "no models selected (CORPUS=$CORPUS BENCH_FILTER=$FILTER)"
+
+# 4. Running.
+# run_once DIR CMD... (in DIR) sets R_RC (124 = timeout), R_WALL (ms, bash's
+# microsecond clock), R_USER (s), R_RSS (KiB), R_OUT (stdout), R_ERR (stderr tail).
+run_once() {
+  local dir=$1 out log t0 t1
+  shift
+  out=$(mktemp) log=$(mktemp)
+  t0=$EPOCHREALTIME
+  (cd "$dir" && timeout "$TIMEOUT" /usr/bin/time -f '%U %S %M' -o "$log" "$@" >"$out" 2>"$out.err")
+  R_RC=$?
+  t1=$EPOCHREALTIME
+  R_WALL=$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.1f", 1000 * (b - a)}')
+  R_USER="" R_RSS=""
+  read -r R_USER _ R_RSS < <(grep -E '^[0-9.]+ [0-9.]+ [0-9]+$' "$log" | tail -n 1) || true
+  R_OUT=$(cat "$out")
+  R_ERR=$(grep -v '^Command exited with non-zero status' "$out.err" | tail -c 600)
+  rm -f "$out" "$out.err" "$log"
+}
+run_best() {  # run_best DIR CMD... -> B_* of the fastest successful run (or the failure)
+  local i
+  for i in $(seq "$RUNS"); do
+    run_once "$@"
+    if [ "$R_RC" -ne 0 ]; then
+      B_RC=$R_RC B_WALL=$R_WALL B_USER=$R_USER B_RSS=$R_RSS B_OUT=$R_OUT B_ERR=$R_ERR
+      return
+    fi
+    if [ "$i" = 1 ] || awk -v a="$R_WALL" -v b="$B_WALL" 'BEGIN{exit !(a < b)}'; then
+      B_RC=0 B_WALL=$R_WALL B_USER=$R_USER B_RSS=$R_RSS B_OUT=$R_OUT B_ERR=$R_ERR
+    fi
+  done
+}
+jnum() {  # jnum KEY JSON -> value of a number/true/false/null key, or "-"
+  local v
+  v=$(sed -n -E "s/.*\"$1\":([-0-9.eE+]+|true|false|null)[,}].*/\1/p" <<<"$2" | head -n 1)
+  echo "${v:--}"
+}
+jmsg() {  # the error code and message of {"ok":false,"error":{...}}
+  local code msg
+  code=$(sed -n 's/.*"code":"\([^"]*\)".*/\1/p' <<<"$1" | head -n 1)
+  msg=$(sed -n 's/.*"message":"\(\([^"\\]\|\\.\)*\)".*/\1/p' <<<"$1" | head -n 1)
+  msg=$(sed -e 's/\\"/"/g' -e 's/\\\\/\\/g' <<<"$msg")
+  echo "${code:-?}: ${msg:-$1}"
+}
+ratio() {  # a / b, or "-" unless both are positive numbers
+  awk -v a="$1" -v b="$2" 'BEGIN{ n = "^[0-9]*[.]?[0-9]+([eE][-+]?[0-9]+)?$";
+    if (a !~ n || b !~ n || b + 0 <= 0) print "-"; else printf "%.2f", a / b }'
+}
+mib() { awk -v k="$1" 'BEGIN{ if (k == "") print "-"; else printf "%.1f", k / 1024 }'; }
+why() {  # why RC -> short failure text
+  case $1 in
+    124) echo "timeout" ;;
+    134) echo "abort" ;;
+    139) echo "segfault" ;;
+    *) echo "exit $1" ;;
+  esac
+}
+tg_steiner() {  # tg_steiner KIND TEXT: sum of "Steiner points <on|in|inside> ...KIND...: N" lines
+  awk -v k="$1" 'tolower($0) ~ /steiner points (on|in|inside)/ && tolower($0) ~ k {
+      n = split($0, a, ":"); v = a[n]; gsub(/[^0-9]/, "", v); s += v; f = 1 }
+    END { print (f ? s : 0) }' <<<"$2"
+}
+
+T1=() T2=() T3=() NOTES=()
+total=${#MODELS[@]} i=0
+for line in "${MODELS[@]}"; do
+  path=${line%%$'\t'*} name=${line#*$'\t'}
+  i=$((i + 1))
+  printf '\rbench_corpus: %d/%d %-50s' "$i" "$total" "$name" >&2
+  stem=$(echo "$name" | tr '/' '_')
+  stem=${stem%.*}
+  dir=$WORK/$stem
+  rm -rf "$dir" && mkdir -p "$dir"
+
+  # cdt3d: timed, then validate, then the two intermediate phases.
+  run_best "$dir" "$BIN" mesh "$path" --json
+  c_rc=$B_RC c_wall=$B_WALL c_user=$B_USER c_rss=$B_RSS c_json=$B_OUT c_err=$B_ERR
+  if [ "$c_rc" -eq 0 ]; then
+    c_ms=$c_wall
+    c_st="$(jnum steinerSegment "$c_json")/$(jnum steinerFacet "$c_json")/$(jnum steinerVolume "$c_json")"
+    run_once "$dir" "$BIN" mesh "$path" --json --validate
+    if [ "$R_RC" -eq 0 ]; then
+      v=$(jnum valid "$R_OUT")
+      case $v in true) valid=yes ;; false) valid=NO ;; *) valid=$v ;; esac
+      if [ "$v" != true ]; then
+        vm=$(sed -n 's/.*"validation":"\(\([^"\\]\|\\.\)*\)".*/\1/p' <<<"$R_OUT" | head -n 1)
+        NOTES+=("$name: cdt3d --validate: valid=$v ${vm}")
+      fi
+    elif [ "$R_RC" -eq 1 ]; then
+      valid=NO
+      NOTES+=("$name: cdt3d --validate: $(jmsg "$R_OUT")")
+    else
+      valid=$(why "$R_RC")
+      NOTES+=("$name: cdt3d --validate: $(why "$R_RC") ${R_ERR}")
+    fi
+  else
+    c_ms=$(why "$c_rc") c_st="-" valid="-" c_user="" c_rss=""
+    [ "$c_rc" -eq 1 ] && c_ms=error
+    if [ "$c_rc" -eq 1 ]; then
+      NOTES+=("$name: cdt3d mesh: $(jmsg "$c_json")")
+    else
+      NOTES+=("$name: cdt3d mesh: $(why "$c_rc") ${c_err}")
+    fi
+  fi
+  run_once "$dir" "$BIN" mesh "$path" --json --stop-after segments
+  s_json=$R_OUT s_rc=$R_RC
+  run_once "$dir" "$BIN" mesh "$path" --json --stop-after degeneracy
+  d_json=$R_OUT d_rc=$R_RC
+  [ "$s_rc" -ne 0 ] && NOTES+=("$name: cdt3d --stop-after segments: $([ "$s_rc" -eq 1 ] && jmsg "$s_json" || echo "$(why "$s_rc") $R_ERR")")
+  [ "$d_rc" -ne 0 ] && NOTES+=("$name: cdt3d --stop-after degeneracy: $([ "$d_rc" -eq 1 ] && jmsg "$d_json" || echo "$(why "$d_rc") $R_ERR")")
+
+  # tetgen on the converted PLC.
+  t_ms="-" t_user="" t_rss="" t_st="-" t_ok="-" t_seg="-"
+  if "$CONV" "$path" "$dir/$stem.poly" 2>"$dir/conv.err"; then
+    run_best "$dir" tetgen "$TG_FLAGS" "$stem.poly"
+    t_rc=$B_RC
+    if [ "$t_rc" -eq 0 ] && ! grep -qiE 'error|assert|terminate' <<<"$B_OUT$B_ERR"; then
+      t_ms=$B_WALL t_user=$B_USER t_rss=$B_RSS t_ok=yes
+      run_once "$dir" tetgen "$TG_VFLAGS" "$stem.poly"
+      if [ "$R_RC" -eq 0 ]; then
+        t_seg=$(tg_steiner segment "$R_OUT")
+        t_st="$t_seg/$(tg_steiner facet "$R_OUT")/$(tg_steiner 'domain|volume' "$R_OUT")"
+      fi
+    else
+      t_ok=$(why "$t_rc")
+      [ "$t_rc" -eq 0 ] && t_ok=error
+      msg=$(grep -iE 'error|assert|terminate|warning|self-intersect|intersect' <<<"$B_OUT"$'\n'"$B_ERR" | head -n 3 | tr '\n' ' ')
+      NOTES+=("$name: tetgen $TG_FLAGS: $t_ok ${msg:-$(tail -c 300 <<<"$B_ERR")}")
+    fi
+  else
+    t_ok="conv"
+    NOTES+=("$name: plc_to_poly: $(cat "$dir/conv.err")")
+  fi
+
+  T1+=("$(printf '%-40s %9s %6s %7s %13s %6s | %9s %6s %7s %13s %6s | %6s %6s %6s' \
+    "$name" "$c_ms" "${c_user:--}" "$(mib "${c_rss:-}")" "$c_st" "$valid" \
+    "$t_ms" "${t_user:--}" "$(mib "$t_rss")" "$t_st" "$t_ok" \
+    "$(ratio "$c_ms" "$t_ms")" "$(ratio "${c_user:-}" "$t_user")" "$(ratio "${c_rss:-}" "$t_rss")")")
+  if [ "$s_rc" -eq 0 ]; then
+    s_seg=$(jnum steinerSegment "$s_json")
+    s_rules="$(jnum rule1 "$s_json")/$(jnum rule2 "$s_json")/$(jnum rule3 "$s_json")"
+    s_acute=$(jnum acuteBoth "$s_json") s_max=$(jnum maxSplits "$s_json") s_ms=$(jnum msSegments "$s_json")
+  else
+    s_seg=$(why "$s_rc") s_rules="-" s_acute="-" s_max="-" s_ms="-"
+    [ "$s_rc" -eq 1 ] && s_seg=error
+  fi
+  if [ "$d_rc" -eq 0 ]; then
+    d_cols="$(printf '%6s %6s %7s %7s %9s %9s' "$(jnum perturbations "$d_json")" "$(jnum breakPoints "$d_json")" \
+      "$(jnum protectSegment "$d_json")" "$(jnum protectFacet "$d_json")" \
+      "$(jnum steinerSegment "$d_json")/$(jnum steinerFacet "$d_json")" "$(jnum msDegeneracy "$d_json")")"
+  else
+    d_cols="$(printf '%6s' "$([ "$d_rc" -eq 1 ] && echo error || why "$d_rc")")"
+  fi
+  T2+=("$(printf '%-40s %7s %11s %6s %5s %8s %7s %6s | %s' "$name" "$s_seg" "$s_rules" "$s_acute" "$s_max" "$s_ms" \
+    "$t_seg" "$(ratio "$s_seg" "$t_seg")" "$d_cols")")
+  if [ "$c_rc" -eq 0 ]; then
+    T3+=("$(printf '%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s' "$name" \
+      "$(jnum points "$c_json")" "$(jnum tets "$c_json")" "$(jnum missingSubfaces "$c_json")" \
+      "$(jnum regions "$c_json")" "$(jnum cavities "$c_json")" "$(jnum largestCavity "$c_json")" \
+      "$(jnum fallbacks "$c_json")" "$(printf '%.1f' "$(jnum minDihedral "$c_json")" 2>/dev/null || echo -)" \
+      "$(jnum msRead "$c_json")" "$(jnum msDelaunay "$c_json")" "$(jnum msSegments "$c_json")" \
+      "$(jnum msDegeneracy "$c_json")" "$(jnum msFacets "$c_json")" "$(jnum msCarve "$c_json")" \
+      "$(jnum msTotal "$c_json")")")
+  else
+    T3+=("$(printf '%-40s %7s' "$name" "$c_ms")")
+  fi
+done
+printf '\r%80s\r' '' >&2
+
+# 5. Tables.
+echo "bench_corpus: CORPUS=$CORPUS, ${#MODELS[@]} models, $(nproc 2>/dev/null || echo ?) cores, load $(cut -d' ' -f1-3 /proc/loadavg) at end, $(date -u '+%Y-%m-%d %H:%M UTC')"
+echo "  cdt3d: $BIN mesh MODEL --json (timed) / --validate; tetgen $(dpkg-query -W -f='${Version}' tetgen 2>/dev/null) $TG_FLAGS on the converted .poly (Steiner counts from $TG_VFLAGS); timeout ${TIMEOUT}s; fastest of $RUNS"
+echo
+echo "Table 1: full pipeline. ms = process wall time; user = user CPU s; MiB = peak RSS; Steiner = on segments/in facets/in volume"
+h1='%-40s %9s %6s %7s %13s %6s | %9s %6s %7s %13s %6s | %6s %6s %6s\n'
+printf "$h1" model cdt3d_ms user MiB Steiner valid tetgen_ms user MiB Steiner ok ms/t user/t mem/t
+printf '%s\n' "$(printf '%.0s-' {1..170})"
+printf '%s\n' "${T1[@]}"
+echo
+echo "Table 2: segment recovery (issue 4: --stop-after segments) and degeneracy removal (issue 5: --stop-after degeneracy)"
+echo "  seg_St = cdt3d Steiner points after segment recovery; rules = rule1/rule2/rule3 splits; acute = acuteBoth; max = maxSplits"
+echo "  tg_seg = tetgen \"Steiner points on segments\" (whole run); pert/brk/protS/protF = perturbations/breakPoints/protectSegment/protectFacet;"
+echo "  St_s/f = Steiner points on segments/in facets after degeneracy removal"
+h2='%-40s %7s %11s %6s %5s %8s %7s %6s | %6s %6s %7s %7s %9s %9s\n'
+printf "$h2" model seg_St rules acute max ms_seg tg_seg seg/t pert brk protS protF St_s/f ms_degen
+printf '%s\n' "$(printf '%.0s-' {1..150})"
+printf '%s\n' "${T2[@]}"
+echo
+echo "Table 3: facet recovery (issue 6) and cdt3d's own time per phase (ms) in the timed run"
+h3='%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s\n'
+printf "$h3" model points tets missing regions cavities largest fallbk minDih read delaunay segments degen facets carve total
+printf '%s\n' "$(printf '%.0s-' {1..170})"
+printf '%s\n' "${T3[@]}"
+if [ ${#NOTES[@]} -gt 0 ]; then
+  echo
+  echo "Failures and messages (verbatim):"
+  printf '  %s\n' "${NOTES[@]}"
+fi
