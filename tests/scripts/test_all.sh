@@ -21,7 +21,10 @@ if [ "${CDT3D_SKIP_SANITIZE:-0}" != 1 ]; then
 fi
 if [ "${CDT3D_SKIP_FUZZ:-0}" != 1 ]; then
   echo "== fuzzing (${FUZZ_SECONDS:-60} s per target)"
-  bash tests/scripts/fuzz.sh
+  # Internal errors of the pipeline are allowed in this short run (the open
+  # findings are tests/data/regress/pending-*); crashes, sanitizer reports,
+  # hangs, leaks and nondeterminism still fail it.
+  CDT3D_FUZZ_ALLOW_INTERNAL=1 bash tests/scripts/fuzz.sh
 fi
 
 echo "== WASM package, worker, web page (node --test)"
