@@ -128,7 +128,12 @@ num() { awk -v a="$1" -v d="$2" 'BEGIN{ if (a == "") print "-"; else printf "%."
 WASM_NOTE=""
 if [ "$DO_WASM" = 1 ]; then
   if [ ! -f wasm/dist/cdt3d.js ] || [ ! -f wasm/dist/cdt3d.wasm ]; then
-    WASM_NOTE="wasm rows skipped: wasm/dist is not built (npm run build)"
+    # A clean clone: build the package first (installs emscripten if missing).
+    echo "bench: building the WASM package (tests/scripts/setup.sh, build.sh)"
+    bash tests/scripts/setup.sh && bash tests/scripts/build.sh >/dev/null || true
+  fi
+  if [ ! -f wasm/dist/cdt3d.js ] || [ ! -f wasm/dist/cdt3d.wasm ]; then
+    WASM_NOTE="wasm rows skipped: wasm/dist could not be built (npm run build)"
   elif ! command -v node >/dev/null 2>&1; then
     WASM_NOTE="wasm rows skipped: node not found"
   fi

@@ -5,7 +5,7 @@
 // writers, and memory returning to the pool between calls.
 import assert from 'node:assert/strict';
 import { spawnSync } from 'node:child_process';
-import { mkdtempSync, readFileSync, rmSync } from 'node:fs';
+import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 import { before, describe, test } from 'node:test';
@@ -249,5 +249,37 @@ describe('memory', () => {
     const bad = cdt.readSurface(bytesOf('cube_duplicate_face.off'), 'cube_duplicate_face.off');
     assert.equal(bad.error.code, 'duplicate');
     assert.ok(bad.triangles.length > 0);
+  });
+});
+
+describe('step 1 alone: delaunay() equals native `cdt3d delaunay`', { skip: skipNative && 'CDT3D_SKIP_NATIVE=1' }, () => {
+  test('the vertices of every valid model, and random and grid points', () => {
+    const inputs = valid.map((file) => {
+      const r = cdt.tetrahedralize({ bytes: bytesOf(file), fileName: file }, { stopAfter: 'delaunay' });
+      return { name: file, points: r.points.slice(0, 3 * r.inputPoints) };
+    });
+    let s = 7;
+    const rnd = () => ((s = (s * 48271) % 2147483647) / 2147483647);
+    inputs.push({ name: 'random', points: Float64Array.from({ length: 3 * 5000 }, rnd) });
+    const grid = [];
+    for (let x = 0; x < 8; ++x) for (let y = 0; y < 8; ++y) for (let z = 0; z < 8; ++z) grid.push(x, y, z);
+    inputs.push({ name: 'grid', points: Float64Array.from(grid) });
+    const dir = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-dt-'));
+    try {
+      for (const { name, points } of inputs) {
+        const n = points.length / 3;
+        let text = `${n} 3 0 0\n`;
+        for (let i = 0; i < n; ++i) text += `${i} ${points[3 * i]} ${points[3 * i + 1]} ${points[3 * i + 2]}\n`;
+        const file = path.join(dir, 'p.node');
+        writeFileSync(file, text);
+        const out = spawnSync(requireNativeCli(), ['delaunay', file, '--json'], { encoding: 'utf8' });
+        assert.equal(out.status, 0, out.stderr);
+        const native = JSON.parse(out.stdout);
+        const w = cdt.delaunay(points);
+        assert.equal(w.stats.tets, native.tets, name);
+      }
+    } finally {
+      rmSync(dir, { recursive: true, force: true });
+    }
   });
 });
