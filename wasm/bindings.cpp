@@ -173,7 +173,8 @@ cdt3d::Status invalid(const std::string& message) {
 }
 
 // Builds a Plc from the flat arrays (or parses the file) of a normalized input.
-cdt3d::Status plc_from_js(const val& input, cdt3d::Plc& plc, double* ms_read, bool check = true) {
+cdt3d::Status plc_from_js(const val& input, cdt3d::Plc& plc, double* ms_read = nullptr,
+                          bool check = true) {
   const auto t0 = std::chrono::steady_clock::now();
   if (!input["bytes"].isUndefined()) {
     const std::string name = input["fileName"].as<std::string>();
@@ -189,7 +190,7 @@ cdt3d::Status plc_from_js(const val& input, cdt3d::Plc& plc, double* ms_read, bo
       return st;
     }
     cdt3d::Status st = cdt3d::read_plc(data.get(), size, name, plc, check);
-    *ms_read = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (ms_read) *ms_read = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return st;
   }
   std::vector<double> points, hole_points, holes, regions;
@@ -355,8 +356,7 @@ void result_from_js(const val& res, cdt3d::Result& r) {
 
 val validate_js(val input, val result) {
   cdt3d::Plc plc;
-  double ms_read = 0;
-  cdt3d::Status st = plc_from_js(input, plc, &ms_read);
+  cdt3d::Status st = plc_from_js(input, plc);
   if (!st.ok()) return failure(st.error);
   cdt3d::Result r;
   result_from_js(result, r);
@@ -385,37 +385,32 @@ val write_js(std::string format, val result) {
 
 val read_surface_js(val input) {
   cdt3d::Plc plc;
-  double ms_read = 0;
-  cdt3d::Status st = plc_from_js(input, plc, &ms_read, false);
+  cdt3d::Status st = plc_from_js(input, plc, nullptr, false);
+  if (plc.points.empty()) return failure(st.error);  // nothing could be read
   if (st.ok()) st = cdt3d::check_plc(plc);
-  std::vector<uint32_t> tris, tri_facet;
   // A file that fails its checks (e.g. a degenerate facet) still shows what
   // could be read, so that the page can highlight the facet named.
-  if (!plc.points.empty()) {
-    cdt3d::Status tri = cdt3d::triangulate_surface(plc, tris, tri_facet);
-    if (!tri.ok()) {
-      // Fall back to fans of the first loop of each facet (display only).
-      tris.clear(), tri_facet.clear();
-      for (uint32_t f = 0; f < plc.facets.size(); ++f)
-        for (const auto& L : plc.facets[f].loops) {
-          for (size_t k = 1; k + 1 < L.size(); ++k) {
-            tris.insert(tris.end(), {L[0], L[k], L[k + 1]});
-            tri_facet.push_back(f);
-          }
-          break;
-        }
+  std::vector<uint32_t> tris, tri_facet;
+  if (!cdt3d::triangulate_surface(plc, tris, tri_facet).ok()) {
+    // Fans of the first loop of each facet (display only).
+    tris.clear(), tri_facet.clear();
+    for (uint32_t f = 0; f < plc.facets.size(); ++f) {
+      if (plc.facets[f].loops.empty()) continue;
+      const auto& L = plc.facets[f].loops[0];
+      for (size_t k = 1; k + 1 < L.size(); ++k) {
+        tris.insert(tris.end(), {L[0], L[k], L[k + 1]});
+        tri_facet.push_back(f);
+      }
     }
   }
   std::vector<double> xyz;
   for (const auto& p : plc.points) xyz.insert(xyz.end(), {p.x, p.y, p.z});
-  val out = st.ok() || !plc.points.empty() ? val::object() : failure(st.error);
-  if (st.ok() || !plc.points.empty()) {
-    out.set("ok", val(true));
-    out.set("points", to_js(xyz));
-    out.set("triangles", to_js(tris));
-    out.set("triangleFacets", to_js(tri_facet));
-    out.set("error", st.ok() ? val::null() : failure(st.error)["error"]);
-  }
+  val out = val::object();
+  out.set("ok", val(true));
+  out.set("points", to_js(xyz));
+  out.set("triangles", to_js(tris));
+  out.set("triangleFacets", to_js(tri_facet));
+  out.set("error", st.ok() ? val::null() : failure(st.error)["error"]);
   return out;
 }
 

@@ -5,7 +5,6 @@
 // meshing error, 2 usage error), run on the WebAssembly build.
 import { readFileSync, writeFileSync } from 'node:fs';
 
-
 import { Cdt3dError, createCdt3d } from './node.js';
 
 const EXIT_OK = 0;

@@ -17,7 +17,6 @@
 #include <unordered_map>
 
 #include "delaunay.hpp"
-#include "expansion.hpp"
 #include "predicates.hpp"
 #include "spatial_sort.hpp"
 #include "subfaces.hpp"
@@ -65,42 +64,6 @@ V3 sphere_center(V3 a, V3 b, V3 c, V3 d) {
   const V3 u = b - a, v = c - a, w = d - a;
   const double den = 2 * dot(u, cross(v, w));
   return a + (1 / den) * (dot(u, u) * cross(v, w) + dot(v, v) * cross(w, u) + dot(w, w) * cross(u, v));
-}
-
-// Exact sign of (a - v) . (b - v): <= 0 when v lies inside or on the sphere
-// with diameter ab (v encroaches upon ab).
-int dot_sign(const double* a, const double* v, const double* b) {
-  double approx = 0, magnitude = 0;
-  for (int d = 0; d < 3; ++d) {
-    const double x = (a[d] - v[d]) * (b[d] - v[d]);
-    approx += x;
-    magnitude += std::fabs(x);
-  }
-  // Each difference, product and sum rounds once: the error is below
-  // 8 ulp-units of the magnitude sum.
-  const double bound = 8 * 1.1102230246251565e-16 * magnitude;
-  if (approx > bound) return 1;
-  if (-approx > bound) return -1;
-  double acc[24], tmp[24];
-  int n = 0;
-  for (int d = 0; d < 3; ++d) {
-    double x[2], y[2];  // exact differences as expansions (small component first)
-    exact::two_diff(a[d], v[d], x[1], x[0]);
-    exact::two_diff(b[d], v[d], y[1], y[0]);
-    const int nx = x[1] == 0 ? 0 : (x[0] == 0 ? 1 : 2);
-    const double* xs = nx == 1 ? x + 1 : x;
-    double p0[4], p1[4], prod[8];
-    int np = 0;
-    if (nx > 0) {
-      const int n0 = exact::scale(nx, xs, y[0], p0);
-      const int n1 = exact::scale(nx, xs, y[1], p1);
-      np = exact::sum(n0, p0, n1, p1, prod);
-    }
-    const int m = exact::sum(n, acc, np, prod, tmp);
-    std::copy(tmp, tmp + m, acc);
-    n = m;
-  }
-  return exact::sign(n, acc);
 }
 
 // Four points on one circle in one plane. `q` holds 4 points; the circle is
@@ -767,7 +730,7 @@ Status DegeneracyRemoval::ensure_index() {
 // protection point, and the points that matter (break points in a facet's
 // plane, near its center) are far inside the ball.
 bool DegeneracyRemoval::encroaches(const Ball& b, const double* p) const {
-  if (b.v[2] == kNone) return dot_sign(mesh_.point(b.v[0]), p, mesh_.point(b.v[1])) <= 0;
+  if (b.v[2] == kNone) return pred::dot_sign(mesh_.point(b.v[0]), p, mesh_.point(b.v[1])) <= 0;
   if (!std::isfinite(b.radius) || !finite(b.center)) return true;
   const V3 d = at(p) - b.center;
   return dot(d, d) <= b.radius * b.radius * (1 + 1e-6);

@@ -71,7 +71,7 @@ class Pipeline {
       : plc_(&plc), opt_(options), out_(out) {}
 
   void run();
-  void finish(const Plc& input) { report_input_ids(input); }
+  void report_input_ids(const Plc& input);
 
  private:
   bool cancelled() const { return opt_.cancel != nullptr && *opt_.cancel; }
@@ -83,8 +83,7 @@ class Pipeline {
                          : kPhaseStart[i] + (kPhaseStart[i + 1] - kPhaseStart[i]) * fraction;
     opt_.progress(opt_.progress_user, phase, std::min(1.0, std::max(0.0, f)));
   }
-  // Starts `phase`; false when the run must stop here (error, cancel, or
-  // stop_after reached before it).
+  // Starts `phase`; false when the run was cancelled.
   bool begin(Phase phase);
   bool end(Phase phase, const Status& st, double* ms);
   bool fail(const Status& st) {
@@ -94,7 +93,6 @@ class Pipeline {
   void mesh_to_result(const std::vector<TetId>& tets, const std::vector<double>* attributes,
                       const CarveResult* carved);
   Status check_open_facets(const CarveResult& carved) const;
-  void report_input_ids(const Plc& input);
   size_t move_flat_tets_outside(const CarveResult& carved);
 
   const Plc* plc_;              // the input, or merged_ when facets were merged
@@ -125,7 +123,7 @@ bool Pipeline::begin(Phase phase) {
 bool Pipeline::end(Phase phase, const Status& st, double* ms) {
   *ms = ms_since(t_phase_);
   if (!st.ok()) return fail(st);
-  if (opt_.validate && phase != Phase::Carve) {
+  if (opt_.validate && phase != Phase::Read && phase != Phase::Carve) {
     // Cheap invariants after each phase: adjacency, orientation, ghosts.
     Status mc = check_mesh(mesh_);
     if (!mc.ok()) {
@@ -482,7 +480,7 @@ Result tetrahedralize(const Plc& plc, const Options& options) {
   try {
     Pipeline p(plc, options, out);
     p.run();
-    p.finish(plc);
+    p.report_input_ids(plc);
   } catch (const std::bad_alloc&) {
     out = Result();
     out.status.error = {ErrorCode::OutOfMemory, "Out of memory while meshing.", plc.file};
@@ -490,7 +488,7 @@ Result tetrahedralize(const Plc& plc, const Options& options) {
 #else
   Pipeline p(plc, options, out);
   p.run();
-  p.finish(plc);
+  p.report_input_ids(plc);
 #endif
   if (!out.status.ok() && out.status.error.file.empty()) out.status.error.file = plc.file;
   return out;

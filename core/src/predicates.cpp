@@ -25,6 +25,7 @@
 // are compressed, which keeps them to a few components in practice.
 #include "predicates.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -371,6 +372,41 @@ bool collinear3d(const double* a, const double* b, const double* c) {
   return orient2d_projected(a, b, c, 2) == 0 && orient2d_projected(a, b, c, 0) == 0 &&
          orient2d_projected(a, b, c, 1) == 0;
 }
+
+int dot_sign(const double* a, const double* v, const double* b) {
+  double approx = 0, magnitude = 0;
+  for (int d = 0; d < 3; ++d) {
+    const double x = (a[d] - v[d]) * (b[d] - v[d]);
+    approx += x;
+    magnitude += std::fabs(x);
+  }
+  // Each difference, product and sum rounds once: the error is below
+  // 8 ulp-units of the magnitude sum.
+  const double bound = 8 * 1.1102230246251565e-16 * magnitude;
+  if (approx > bound) return 1;
+  if (-approx > bound) return -1;
+  double acc[24], tmp[24];
+  int n = 0;
+  for (int d = 0; d < 3; ++d) {
+    double x[2], y[2];  // exact differences as expansions (small component first)
+    exact::two_diff(a[d], v[d], x[1], x[0]);
+    exact::two_diff(b[d], v[d], y[1], y[0]);
+    const int nx = x[1] == 0 ? 0 : (x[0] == 0 ? 1 : 2);
+    const double* xs = nx == 1 ? x + 1 : x;
+    double p0[4], p1[4], prod[8];
+    int np = 0;
+    if (nx > 0) {
+      const int n0 = exact::scale(nx, xs, y[0], p0);
+      const int n1 = exact::scale(nx, xs, y[1], p1);
+      np = exact::sum(n0, p0, n1, p1, prod);
+    }
+    const int m = exact::sum(n, acc, np, prod, tmp);
+    std::copy(tmp, tmp + m, acc);
+    n = m;
+  }
+  return exact::sign(n, acc);
+}
+
 
 int incircle_coplanar(const double* a, const double* b, const double* c, const double* d) {
   // Rounded normal, only to pick a well-conditioned axis first.

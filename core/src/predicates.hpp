@@ -83,6 +83,11 @@ int incircle(const double* a, const double* b, const double* c, const double* d)
 /// meets the plane in the circumcircle; 0 if a, b, c are collinear.)
 int incircle_coplanar(const double* a, const double* b, const double* c, const double* d);
 
+/// Sign of (a - v) . (b - v), exact: > 0 when the angle avb is acute, 0 when
+/// right, < 0 when obtuse; <= 0 exactly when v lies in the closed ball with
+/// diameter ab (v encroaches upon the segment ab, §5).
+int dot_sign(const double* a, const double* v, const double* b);
+
 /// Collinearity of three 3D points, exact.
 bool collinear3d(const double* a, const double* b, const double* c);
 

@@ -6,7 +6,6 @@
 #include <string>
 
 #include "delaunay.hpp"
-#include "expansion.hpp"
 #include "predicates.hpp"
 
 namespace cdt3d {
@@ -18,37 +17,6 @@ namespace {
 // local feature size); reaching it means rounding or invalid input made the
 // loop cycle, and we stop with an error instead of looping forever.
 constexpr size_t kMaxSplitsPerSegment = 4096;
-
-// Exact sign of (a - v) . (b - v): > 0 when the angle avb is acute, 0 when
-// right, < 0 when obtuse. Differences are kept exact as two-term expansions.
-int dot_sign(const double* a, const double* v, const double* b) {
-  // Filter: each difference, product and sum rounds once, so the computed
-  // value is within 8 * 2^-53 * (sum of |products|) of the exact one.
-  double approx = 0, perm = 0;
-  for (int d = 0; d < 3; ++d) {
-    const double x = (a[d] - v[d]) * (b[d] - v[d]);
-    approx += x;
-    perm += std::fabs(x);
-  }
-  const double bound = 8 * 1.1102230246251565e-16 * perm;
-  if (approx > bound) return 1;
-  if (-approx > bound) return -1;
-  double total[24];
-  int n = 0;
-  for (int d = 0; d < 3; ++d) {
-    double x[2], y[2], t1[4], t2[4], prod[8], acc[24];
-    exact::two_diff(a[d], v[d], x[1], x[0]);
-    exact::two_diff(b[d], v[d], y[1], y[0]);
-    const int nx = x[1] == 0 ? 0 : (x[0] == 0 ? 1 : 2);  // zero-eliminated
-    const double* xs = nx == 1 ? x + 1 : x;
-    const int n1 = exact::scale(nx, xs, y[0], t1);
-    const int n2 = exact::scale(nx, xs, y[1], t2);
-    const int np = exact::sum(n1, t1, n2, t2, prod);
-    n = exact::sum(n, total, np, prod, acc);
-    std::copy(acc, acc + n, total);
-  }
-  return exact::sign(n, total);
-}
 
 struct Vec {
   double x, y, z;
@@ -208,7 +176,7 @@ VertexId SegmentRecovery::reference_point(VertexId a, VertexId b) {
       if (v != a && v != b && vertex_mark_[v] != seen) {
         vertex_mark_[v] = seen;
         // Encroaches: the angle avb is not acute, i.e. (a-v).(b-v) <= 0.
-        if (dot_sign(mesh_.point(a), mesh_.point(v), mesh_.point(b)) <= 0) {
+        if (pred::dot_sign(mesh_.point(a), mesh_.point(v), mesh_.point(b)) <= 0) {
           const double rv = circumradius(pa, pb, at(mesh_, v));
           if (rv > best_r || (rv == best_r && v < best)) {
             best = v, best_r = rv;
@@ -500,7 +468,7 @@ void init_segments(const Plc& plc, SegmentSet& segs) {
     const auto& n = nbr[v];
     for (size_t i = 0; i < n.size() && !segs.acute[v]; ++i)
       for (size_t j = i + 1; j < n.size(); ++j)
-        if (dot_sign(&plc.points[n[i]].x, pv, &plc.points[n[j]].x) > 0) {
+        if (pred::dot_sign(&plc.points[n[i]].x, pv, &plc.points[n[j]].x) > 0) {
           segs.acute[v] = 1;
           break;
         }

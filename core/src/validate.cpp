@@ -43,8 +43,6 @@
 #include <vector>
 
 #include "predicates.hpp"
-#include "segment_recovery.hpp"
-#include "subfaces.hpp"
 #include "tet_mesh.hpp"
 
 namespace cdt3d {
@@ -359,21 +357,17 @@ Status Validator::segments() {
 Status Validator::facets() {
   // The input facets triangulated without Steiner points: their vertices
   // (loop vertices, PLC points and segments lying in them) and areas.
-  TetMesh input;
-  input.reserve(plc_.points.size(), 0);
-  for (const Vec3& p : plc_.points) input.add_vertex(&p.x, kVertexInput);
-  SegmentSet unsplit;
-  init_segments(plc_, unsplit);
-  Subfaces sub;
-  Status st = triangulate_facets(plc_, unsplit, input, {}, sub);
+  std::vector<uint32_t> tris, tri_facet;
+  Status st = triangulate_surface(plc_, tris, tri_facet);
   if (!st.ok()) {
     st.error.code = ErrorCode::Internal;
     st.error.message = "Validation: the input facet cannot be triangulated: " + st.error.message;
     return st;
   }
+  auto input_tri = [&](size_t i) { return Tri3{tris[3 * i], tris[3 * i + 1], tris[3 * i + 2]}; };
   const size_t nfacets = plc_.facets.size();
   std::vector<std::vector<size_t>> sub_of(nfacets), faces_of(nfacets);
-  for (size_t i = 0; i < sub.tri.size(); ++i) sub_of[sub.facet[i]].push_back(i);
+  for (size_t i = 0; i < tri_facet.size(); ++i) sub_of[tri_facet[i]].push_back(i);
   for (size_t i = 0; i < nf_; ++i) faces_of[r_.face_facet[i]].push_back(i);
 
   struct Probe {
@@ -392,7 +386,7 @@ Status Validator::facets() {
     std::vector<uint32_t>& segs_in = fsegs_[f];
     double area_in = 0;
     for (size_t i : sub_of[f]) {
-      const Tri3 t = {sub.tri[i][0], sub.tri[i][1], sub.tri[i][2]};
+      const Tri3 t = input_tri(i);
       ftris_[f].push_back(t);
       area_in += tri_area(t);
       for (int k = 0; k < 3; ++k) {
@@ -453,14 +447,14 @@ Status Validator::facets() {
       size_t best = 0;
       double best_area = -1;
       for (size_t i : sub_of[f]) {
-        const double a = tri_area({sub.tri[i][0], sub.tri[i][1], sub.tri[i][2]});
+        const double a = tri_area(input_tri(i));
         if (a > best_area) best_area = a, best = i;
       }
       if (best_area < 0) continue;
       Probe q;
       q.facet = static_cast<uint32_t>(f);
       for (int k = 0; k < 3; ++k) {
-        const Vec3& v = plc_.points[sub.tri[best][k]];
+        const Vec3& v = plc_.points[tris[3 * best + k]];
         q.p[0] += v.x / 3, q.p[1] += v.y / 3, q.p[2] += v.z / 3;
       }
       probes.push_back(q);
@@ -469,20 +463,7 @@ Status Validator::facets() {
 
     // Vertices, orientation in the facet's plane, edges.
     const Facet& facet = plc_.facets[f];
-    double n[3] = {0, 0, 0};  // Newell normal of loop 0
-    {
-      const auto& L = facet.loops[0];
-      for (size_t i = 0; i < L.size(); ++i) {
-        const Vec3& p = plc_.points[L[i]];
-        const Vec3& q = plc_.points[L[(i + 1) % L.size()]];
-        n[0] += (p.y - q.y) * (p.z + q.z);
-        n[1] += (p.z - q.z) * (p.x + q.x);
-        n[2] += (p.x - q.x) * (p.y + q.y);
-      }
-    }
-    const int drop = std::fabs(n[0]) >= std::fabs(n[1])
-                         ? (std::fabs(n[0]) >= std::fabs(n[2]) ? 0 : 2)
-                         : (std::fabs(n[1]) >= std::fabs(n[2]) ? 1 : 2);
+    const int drop = fdrop_[f];
     int side = 0;
     double area_out = 0, perimeter = 0;
     std::vector<uint64_t> fedges;

@@ -21,7 +21,7 @@
 #                                            inside domain" lines (untimed)
 # Every process runs under `timeout` (BENCH_TIMEOUT, default 300 s); a hang or a
 # crash becomes a row that says so. tetgen runs in a scratch folder
-# (build-bench/bench/corpus/) so nothing is written next to the models.
+# (.build/bench/bench/corpus/) so nothing is written next to the models.
 #
 # Tables:
 #   1  time, memory, Steiner points seg/facet/vol, validation, tetgen's, ratios
@@ -36,7 +36,7 @@
 #   BENCH_RUNS=1             timed runs per program and model (fastest kept)
 #   BENCH_FILTER=REGEX       only models whose manifest path matches (grep -E)
 #   TETGEN_FLAGS=-pMQNEF     flags of the timed tetgen run (the stats run swaps Q for V)
-#   CDT3D_BIN=build-bench/core/cdt3d   the CLI to use (not rebuilt if set)
+#   CDT3D_BIN=.build/bench/core/cdt3d   the CLI to use (not rebuilt if set)
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 ROOT=$PWD
@@ -47,25 +47,13 @@ RUNS=${BENCH_RUNS:-1}
 FILTER=${BENCH_FILTER:-}
 TG_FLAGS=${TETGEN_FLAGS:--pMQNEF}
 TG_VFLAGS=${TG_FLAGS//Q/}V
-WORK=$ROOT/build-bench/bench/corpus
+WORK=$ROOT/.build/bench/bench/corpus
 SHARED=/work/shared/corpus
 
 die() { echo "bench_corpus: $*" >&2; exit 1; }
 
-# 1. Tools.
-need=()
-command -v tetgen >/dev/null 2>&1 || need+=(tetgen)
-[ -x /usr/bin/time ] || need+=(time)
-command -v timeout >/dev/null 2>&1 || need+=(coreutils)
-if [ ${#need[@]} -gt 0 ]; then
-  echo "bench_corpus: installing ${need[*]}"
-  SUDO=""
-  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
-  export DEBIAN_FRONTEND=noninteractive
-  $SUDO apt-get -o DPkg::Lock::Timeout=600 update -qq || die "apt-get update failed"
-  $SUDO apt-get -o DPkg::Lock::Timeout=600 install -y -qq --no-install-recommends "${need[@]}" >/dev/null ||
-    die "apt-get install ${need[*]} failed"
-fi
+# 1. Tools: the project's set-up plus Debian's tetgen (the reference).
+CDT3D_EXTRA_APT=tetgen bash tests/scripts/setup.sh || die "tests/scripts/setup.sh failed"
 
 # 2. The CLI and the converter (library from the same build tree).
 mkdir -p "$WORK"
@@ -73,21 +61,21 @@ if [ -n "${CDT3D_BIN:-}" ]; then
   BIN=$CDT3D_BIN
   LIB=$(dirname "$BIN")/libcdt3d.a
 else
-  BIN=$ROOT/build-bench/core/cdt3d
-  LIB=$ROOT/build-bench/core/libcdt3d.a
-  if [ ! -f build-bench/CMakeCache.txt ]; then
-    cmake -S . -B build-bench -DCMAKE_BUILD_TYPE=Release -DCDT3D_BUILD_TESTS=OFF \
-      >build-bench/bench-build.log 2>&1 || { cat build-bench/bench-build.log; die "cmake configure failed"; }
+  BIN=$ROOT/.build/bench/core/cdt3d
+  LIB=$ROOT/.build/bench/core/libcdt3d.a
+  if [ ! -f .build/bench/CMakeCache.txt ]; then
+    cmake -S . -B .build/bench -DCMAKE_BUILD_TYPE=Release -DCDT3D_BUILD_TESTS=OFF \
+      >.build/bench/bench-build.log 2>&1 || { cat .build/bench/bench-build.log; die "cmake configure failed"; }
   fi
-  if ! cmake --build build-bench -j"$(nproc 2>/dev/null || echo 2)" --target cdt3d_cli \
-    >build-bench/bench-build.log 2>&1; then
-    tail -n 20 build-bench/bench-build.log
-    [ -x "$BIN" ] || die "building build-bench/core/cdt3d failed"
+  if ! cmake --build .build/bench -j"$(nproc 2>/dev/null || echo 2)" --target cdt3d_cli \
+    >.build/bench/bench-build.log 2>&1; then
+    tail -n 20 .build/bench/bench-build.log
+    [ -x "$BIN" ] || die "building .build/bench/core/cdt3d failed"
     echo "bench_corpus: WARNING: the build failed; using the existing, possibly stale $BIN" >&2
   fi
 fi
 [ -x "$BIN" ] || die "$BIN missing"
-CONV=$ROOT/build-bench/bench/plc_to_poly
+CONV=$ROOT/.build/bench/bench/plc_to_poly
 if [ ! -x "$CONV" ] || [ tests/bench/plc_to_poly.cpp -nt "$CONV" ] || [ "$LIB" -nt "$CONV" ]; then
   c++ -O2 -std=c++17 -I core/include tests/bench/plc_to_poly.cpp "$LIB" -o "$CONV" ||
     die "cannot build tests/bench/plc_to_poly.cpp"

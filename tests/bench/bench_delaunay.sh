@@ -9,11 +9,11 @@
 #
 # What it does:
 #   1. installs `tetgen` and `time` (/usr/bin/time) with apt-get if missing;
-#   2. builds the native CLI in build-bench/ (Release, no tests); the WASM rows
+#   2. builds the native CLI in .build/bench/ (Release, no tests); the WASM rows
 #      use the package as built in wasm/dist (npm run build); without it, or
 #      without cdt.delaunay in it, the WASM rows say why and are skipped;
 #   3. compiles tests/bench/gen_points.cpp and writes uniformly random points
-#      in the unit cube (deterministic, seed 1) to build-bench/bench/random_N.node;
+#      in the unit cube (deterministic, seed 1) to .build/bench/bench/random_N.node;
 #   4. runs each program BENCH_RUNS times per size, keeps the fastest run (by
 #      wall time) with its user CPU time and peak RSS (/usr/bin/time), and runs
 #      `tetgen -VNEF` once more to read its own "Delaunay seconds";
@@ -38,7 +38,7 @@
 #   BENCH_RUNS=3                  runs per program and size (fastest kept)
 #   BENCH_TIMEOUT=600             seconds before a run is killed ("timeout")
 #   BENCH_WASM=1                  0: skip the WASM rows
-#   CDT3D_BIN=build-bench/core/cdt3d   the native CLI to time (not rebuilt if set)
+#   CDT3D_BIN=.build/bench/core/cdt3d   the native CLI to time (not rebuilt if set)
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 
@@ -46,36 +46,25 @@ SIZES=${BENCH_SIZES:-"100000 1000000"}
 RUNS=${BENCH_RUNS:-3}
 TIMEOUT=${BENCH_TIMEOUT:-600}
 DO_WASM=${BENCH_WASM:-1}
-WORK=build-bench/bench
+WORK=.build/bench/bench
 
 die() { echo "bench_delaunay: $*" >&2; exit 1; }
 
-# 1. Tools.
-need=()
-command -v tetgen >/dev/null 2>&1 || need+=(tetgen)
-[ -x /usr/bin/time ] || need+=(time)
-if [ ${#need[@]} -gt 0 ]; then
-  echo "bench_delaunay: installing ${need[*]}"
-  SUDO=""
-  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
-  export DEBIAN_FRONTEND=noninteractive
-  $SUDO apt-get -o DPkg::Lock::Timeout=600 update -qq || die "apt-get update failed"
-  $SUDO apt-get -o DPkg::Lock::Timeout=600 install -y -qq --no-install-recommends "${need[@]}" >/dev/null ||
-    die "apt-get install ${need[*]} failed"
-fi
+# 1. Tools: the project's set-up plus Debian's tetgen (the reference).
+CDT3D_EXTRA_APT=tetgen bash tests/scripts/setup.sh || die "tests/scripts/setup.sh failed"
 
 # 2. The native CLI (incremental: cheap when up to date).
 if [ -n "${CDT3D_BIN:-}" ]; then
   BIN=$CDT3D_BIN
 else
-  BIN=build-bench/core/cdt3d
-  mkdir -p build-bench
-  if [ ! -f build-bench/CMakeCache.txt ]; then
-    cmake -S . -B build-bench -DCMAKE_BUILD_TYPE=Release -DCDT3D_BUILD_TESTS=OFF \
-      >build-bench/bench-build.log 2>&1 || { cat build-bench/bench-build.log; die "cmake configure failed"; }
+  BIN=.build/bench/core/cdt3d
+  mkdir -p .build/bench
+  if [ ! -f .build/bench/CMakeCache.txt ]; then
+    cmake -S . -B .build/bench -DCMAKE_BUILD_TYPE=Release -DCDT3D_BUILD_TESTS=OFF \
+      >.build/bench/bench-build.log 2>&1 || { cat .build/bench/bench-build.log; die "cmake configure failed"; }
   fi
-  cmake --build build-bench -j"$(nproc 2>/dev/null || echo 2)" --target cdt3d_cli \
-    >build-bench/bench-build.log 2>&1 || { cat build-bench/bench-build.log; die "building build-bench/core/cdt3d failed"; }
+  cmake --build .build/bench -j"$(nproc 2>/dev/null || echo 2)" --target cdt3d_cli \
+    >.build/bench/bench-build.log 2>&1 || { cat .build/bench/bench-build.log; die "building .build/bench/core/cdt3d failed"; }
 fi
 [ -x "$BIN" ] || die "$BIN missing"
 
@@ -128,9 +117,9 @@ num() { awk -v a="$1" -v d="$2" 'BEGIN{ if (a == "") print "-"; else printf "%."
 WASM_NOTE=""
 if [ "$DO_WASM" = 1 ]; then
   if [ ! -f wasm/dist/cdt3d.js ] || [ ! -f wasm/dist/cdt3d.wasm ]; then
-    # A clean clone: build the package first (installs emscripten if missing).
-    echo "bench: building the WASM package (tests/scripts/setup.sh, build.sh)"
-    bash tests/scripts/setup.sh && bash tests/scripts/build.sh >/dev/null || true
+    # A clean clone: build the package first (setup.sh above installed emscripten).
+    echo "bench: building the WASM package (tests/scripts/build.sh)"
+    bash tests/scripts/build.sh >/dev/null || true
   fi
   if [ ! -f wasm/dist/cdt3d.js ] || [ ! -f wasm/dist/cdt3d.wasm ]; then
     WASM_NOTE="wasm rows skipped: wasm/dist could not be built (npm run build)"

@@ -7,7 +7,7 @@
 // usage: plc_to_poly MODEL OUT.poly
 // Build (bench_corpus.sh does this):
 //   c++ -O2 -std=c++17 -Icore/include tests/bench/plc_to_poly.cpp
-//       build-bench/core/libcdt3d.a -o build-bench/bench/plc_to_poly
+//       .build/bench/core/libcdt3d.a -o .build/bench/bench/plc_to_poly
 //
 // Output, numbered from 1, coordinates printed with %.17g (exact round trip):
 //   part 1  nodes: every PLC point (isolated points too; TetGen keeps them)

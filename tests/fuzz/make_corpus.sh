@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # Builds the seed corpora of the fuzz targets in <out>/<target>/ (default
-# build-fuzz/corpus): the models of tests/data by extension, cut to the
+# .build/fuzz/corpus): the models of tests/data by extension, cut to the
 # target's max_len when larger, plus a few tiny hand-written files for the
 # formats that tests/data covers thinly, and encoded PLCs for fuzz_pipeline.
 # Idempotent: existing files are overwritten, files the fuzzers added stay.
 #   bash tests/fuzz/make_corpus.sh [out-dir]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-OUT=${1:-build-fuzz/corpus}
+OUT=${1:-.build/fuzz/corpus}
 DATA=tests/data
 
 # Must match fuzz.sh.

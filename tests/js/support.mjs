@@ -26,7 +26,7 @@ export async function importPackage() {
   } catch (e) {
     throw new Error(
       `cannot import the package "cdt3d" (${e.message}).\n` +
-        'Build it with `npm run build:wasm` (wasm/dist/cdt3d.{js,wasm}) and link it with ' +
+        'Build it with `npm run build` (wasm/dist/cdt3d.{js,wasm}) and link it with ' +
         '`npm install` at the repository root (workspaces: ["wasm"]).',
       { cause: e },
     );
@@ -80,9 +80,9 @@ export function readManifest() {
 /** True when the native comparisons are switched off explicitly. */
 export const skipNative = process.env.CDT3D_SKIP_NATIVE === '1';
 
-/** Path of the native CLI: $CDT3D_NATIVE_CLI or <repo>/build/core/cdt3d. */
+/** Path of the native CLI: $CDT3D_NATIVE_CLI or <repo>/.build/native/core/cdt3d. */
 export function nativeCliPath() {
-  return process.env.CDT3D_NATIVE_CLI || path.join(repoRoot, 'build', 'core', 'cdt3d');
+  return process.env.CDT3D_NATIVE_CLI || path.join(repoRoot, '.build', 'native', 'core', 'cdt3d');
 }
 
 /** Throws a clear error when the native CLI is missing. */
@@ -90,7 +90,7 @@ export function requireNativeCli() {
   const cli = nativeCliPath();
   if (!existsSync(cli)) {
     throw new Error(
-      `the native CLI ${cli} is missing: build it first (cmake -S . -B build && cmake --build build), ` +
+      `the native CLI ${cli} is missing: build it first (npm run build, or cmake -S . -B .build/native && cmake --build .build/native), ` +
         'point CDT3D_NATIVE_CLI at it, or set CDT3D_SKIP_NATIVE=1 to skip the native comparisons.',
     );
   }

@@ -12,7 +12,7 @@ bash tests/scripts/setup.sh
 bash tests/scripts/build.sh
 model=${1:-tests/data/bunny.off}
 echo "== native:"
-build/core/cdt3d info "$model"
+.build/native/core/cdt3d info "$model"
 echo "== WASM (Node):"
 node --input-type=module -e '
 import { readFileSync } from "node:fs";

@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets of tests/fuzz in build-fuzz/ (Debian's clang 14,
+# Builds the libFuzzer targets of tests/fuzz in .build/fuzz/ (Debian's clang 14,
 # -fsanitize=fuzzer,address,undefined) and runs each for FUZZ_SECONDS on its
-# seed corpus (build-fuzz/corpus/<target>, from tests/fuzz/make_corpus.sh;
+# seed corpus (.build/fuzz/corpus/<target>, from tests/fuzz/make_corpus.sh;
 # new inputs the fuzzer finds are kept there for the next run). Fails when any
 # target finds a crash, a sanitizer report, a timeout, a leak or runs out of
-# memory; the input is saved as build-fuzz/artifacts/<target>-crash-<sha1>
+# memory; the input is saved as .build/fuzz/artifacts/<target>-crash-<sha1>
 # (or -timeout-, -leak-, -oom-). Reproduce one with
-#   build-fuzz/tests/fuzz/<target> build-fuzz/artifacts/<target>-crash-<sha1>
+#   .build/fuzz/tests/fuzz/<target> .build/fuzz/artifacts/<target>-crash-<sha1>
 #
 # Environment:
 #   FUZZ_SECONDS=60   time per target (CI). A longer local run, e.g. an hour each:
@@ -17,36 +17,24 @@
 #                     through (by default they count as crashes: they are bugs)
 #
 # To keep exploring after a finding (collects every artifact; no pass/fail):
-#   build-fuzz/tests/fuzz/fuzz_pipeline build-fuzz/corpus/fuzz_pipeline -max_len=64 \
+#   .build/fuzz/tests/fuzz/fuzz_pipeline .build/fuzz/corpus/fuzz_pipeline -max_len=64 \
 #     -fork=1 -ignore_crashes=1 -max_total_time=1800 -artifact_prefix=/tmp/finds/
 # Replay a pipeline input as a .poly model for the CLI:
-#   CDT3D_FUZZ_DUMP=/tmp/x.poly build-fuzz/tests/fuzz/fuzz_pipeline ARTIFACT
+#   CDT3D_FUZZ_DUMP=/tmp/x.poly .build/fuzz/tests/fuzz/fuzz_pipeline ARTIFACT
 #
 # Needs clang-14, libclang-rt-14-dev (libFuzzer and the sanitizer runtimes)
-# and llvm-14 (llvm-symbolizer, for readable stacks); installed below when
-# missing, like setup.sh does.
+# and llvm-14 (llvm-symbolizer, for readable stacks); tests/scripts/setup.sh
+# installs them when missing.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 FUZZ_SECONDS=${FUZZ_SECONDS:-60}
 FUZZ_JOBS=${FUZZ_JOBS:-2}
 ALL_TARGETS="fuzz_read_stl fuzz_read_off fuzz_read_obj fuzz_read_ply fuzz_read_poly fuzz_read_smesh fuzz_pipeline"
 FUZZ_TARGETS=${FUZZ_TARGETS:-$ALL_TARGETS}
-BUILD=build-fuzz
+BUILD=.build/fuzz
 
-# --- packages (idempotent, unattended) ---------------------------------------
-need=()
-have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
-for pkg in cmake make clang-14 libclang-rt-14-dev llvm-14; do
-  have_pkg "$pkg" || need+=("$pkg")
-done
-if [ ${#need[@]} -gt 0 ]; then
-  echo "fuzz: installing ${need[*]}"
-  SUDO=""
-  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
-  export DEBIAN_FRONTEND=noninteractive
-  $SUDO apt-get update -qq
-  $SUDO apt-get install -y -qq --no-install-recommends "${need[@]}" >/dev/null
-fi
+# --- packages: clang-14, libclang-rt-14-dev, llvm-14 come with setup.sh ------
+bash tests/scripts/setup.sh
 
 # --- build -------------------------------------------------------------------
 cmake -S . -B "$BUILD" -DCMAKE_CXX_COMPILER=clang++-14 \

@@ -1,17 +1,17 @@
 #!/usr/bin/env bash
 # Builds the Catch2 suite and the CLI with AddressSanitizer + UndefinedBehaviorSanitizer
-# (-DCDT3D_SANITIZE=ON, -O1 -g) in build-asan/ and runs it through ctest.
+# (-DCDT3D_SANITIZE=ON, -O1 -g) in .build/asan/ and runs it through ctest.
 # Any sanitizer report fails the run: UBSan does not recover
 # (-fno-sanitize-recover=all), ASan halts on the first error, LeakSanitizer is on.
 #
 #   bash tests/scripts/sanitize.sh            # configure (once), build, test
-#   CC=clang CXX=clang++ bash tests/scripts/sanitize.sh   # with clang (fresh build-asan/)
+#   CC=clang CXX=clang++ bash tests/scripts/sanitize.sh   # with clang (fresh .build/asan/)
 #
 # About 6-7 minutes from scratch on a 2-core machine, most of it compiling.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 JOBS=${JOBS:-$(nproc 2>/dev/null || echo 2)}
-BUILD=build-asan
+BUILD=.build/asan
 
 cmake -S . -B "$BUILD" -DCDT3D_SANITIZE=ON -DCDT3D_BUILD_TESTS=ON -DCDT3D_BUILD_CLI=ON \
   -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" >/dev/null

@@ -13,7 +13,7 @@ bash tests/scripts/build.sh
 JOBS=$(nproc 2>/dev/null || echo 2)
 
 echo "== native tests (ctest)"
-ctest --test-dir build --output-on-failure -j"$JOBS"
+ctest --test-dir .build/native --output-on-failure -j"$JOBS"
 
 if [ "${CDT3D_SKIP_SANITIZE:-0}" != 1 ]; then
   echo "== sanitizers"

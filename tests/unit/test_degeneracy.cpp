@@ -15,6 +15,7 @@
 
 #include "degeneracy.hpp"
 #include "delaunay.hpp"
+#include "corpus.hpp"
 #include "predicates.hpp"
 #include "segment_recovery.hpp"
 #include "tet_mesh.hpp"
@@ -371,18 +372,8 @@ TEST_CASE("degeneracy removal is deterministic", "[degeneracy]") {
 }
 
 TEST_CASE("degeneracy removal on every valid model of tests/data", "[degeneracy][corpus]") {
-  std::ifstream manifest(std::string(CDT3D_TEST_DATA) + "/MANIFEST.tsv");
-  REQUIRE(manifest.good());
-  std::string line;
-  std::getline(manifest, line);  // header
   int models = 0;
-  while (std::getline(manifest, line)) {
-    std::istringstream cols(line);
-    std::string file, format, verts, tris, closed, manifold, expected;
-    std::getline(cols, file, '\t');
-    for (std::string* c : {&format, &verts, &tris, &closed, &manifold, &expected})
-      std::getline(cols, *c, '\t');
-    if (expected != "valid" && expected != "valid-plc") continue;
+  for (const std::string& file : corpus::valid_models()) {
     DYNAMIC_SECTION(file) {
       Plc plc;
       Status st = read_plc_file(std::string(CDT3D_TEST_DATA) + "/" + file, plc);

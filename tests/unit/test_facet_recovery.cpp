@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "cavity.hpp"
+#include "corpus.hpp"
 #include "delaunay.hpp"
 #include "facet_recovery.hpp"
 #include "predicates.hpp"
@@ -41,16 +42,15 @@ struct Run {
 };
 
 // The subfaces: each facet's 2D constrained Delaunay triangulation.
-bool make_subfaces(Run& r) {
+void make_subfaces(Run& r) {
   std::vector<std::vector<VertexId>> interior;
   Status st = triangulate_facets(r.plc, r.segs, r.mesh, interior, r.sf);
   INFO(st.error.to_string());
   REQUIRE(st.ok());
-  return true;
 }
 
-// D0, step 2; false when the helper cannot make subfaces.
-bool prepare(Run& r, bool subfaces = true) {
+// D0, step 2, and (unless subfaces is false) the subfaces.
+void prepare(Run& r, bool subfaces = true) {
   Status st = delaunay_tetrahedralize(r.mesh, &r.plc.points[0].x, r.plc.points.size());
   INFO(st.error.to_string());
   REQUIRE(st.ok());
@@ -58,7 +58,7 @@ bool prepare(Run& r, bool subfaces = true) {
   st = recover_segments(r.mesh, r.segs);
   INFO(st.error.to_string());
   REQUIRE(st.ok());
-  return !subfaces || make_subfaces(r);
+  if (subfaces) make_subfaces(r);
 }
 
 void recover(Run& r) {
@@ -261,7 +261,7 @@ TEST_CASE("a triangle pierced by a Delaunay edge is recovered", "[facets]") {
   Run r;
   r.plc.points = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {3, 3, 0.5}, {3, 3, -0.5}};
   add_triangle(r.plc, 0, 1, 2);
-  REQUIRE(prepare(r));
+  prepare(r);
   REQUIRE(r.sf.tri.size() == 1);
   REQUIRE(r.mesh.find_edge(3, 4) != kNone);  // the piercing edge
   REQUIRE_FALSE(is_face(r.mesh, 0, 1, 2));
@@ -290,7 +290,7 @@ TEST_CASE("a quadrilateral facet crossed by many edges is recovered", "[facets]"
   Facet f;
   f.loops.push_back({0, 1, 2, 3});
   r.plc.facets.push_back(f);
-  REQUIRE(prepare(r, false));
+  prepare(r, false);
   // Subfaces by hand: the Delaunay diagonal of the quadrilateral.
   const double* p0 = r.mesh.point(0);
   const double* p1 = r.mesh.point(1);
@@ -322,7 +322,7 @@ TEST_CASE("a co-circular facet diagonal is flipped to the mesh's tie-break", "[f
     f.loops.push_back({qd[0], qd[1], qd[2], qd[3]});
     r.plc.facets.push_back(f);
   }
-  REQUIRE(prepare(r, false));
+  prepare(r, false);
   for (uint32_t fi = 0; fi < quads.size(); ++fi) {
     const auto& qd = quads[fi];
     int top = 0;
@@ -355,7 +355,7 @@ TEST_CASE("facet recovery is deterministic", "[facets]") {
     Facet f;
     f.loops.push_back({0, 1, 2, 3});
     r.plc.facets.push_back(f);
-    REQUIRE(prepare(r, false));
+    prepare(r, false);
     r.sf.tri = {{0, 1, 3}, {1, 2, 3}};
     if (pred::incircle_coplanar(r.mesh.point(0), r.mesh.point(1), r.mesh.point(2),
                                 r.mesh.point(3)) < 0)
@@ -401,7 +401,7 @@ TEST_CASE("stacked facets among random points: expansions and fallbacks", "[face
         r.plc.facets.push_back(F);
       }
       for (int i = 0; i < npoints; ++i) r.plc.points.push_back({U(), U(), U()});
-      REQUIRE(prepare(r));
+      prepare(r);
       recover(r);
       require_cdt(r);
       expansions += r.st.expansions;
@@ -419,55 +419,30 @@ TEST_CASE("facet recovery on the small models", "[facets]") {
     Status st = read_plc_file(std::string(CDT3D_TEST_DATA) + "/" + name, r.plc);
     INFO(st.error.to_string());
     REQUIRE(st.ok());
-    if (!prepare(r)) {
-      WARN(std::string(name) + ": skipped (its facets need triangulate_facets)");
-      continue;
-    }
+    prepare(r);
     recover(r);
     require_cdt(r);
   }
 }
 
 TEST_CASE("facet recovery on every valid model of tests/data", "[facets][corpus]") {
-  std::ifstream manifest(std::string(CDT3D_TEST_DATA) + "/MANIFEST.tsv");
-  REQUIRE(manifest.good());
-  std::string line;
-  std::getline(manifest, line);
   size_t ran = 0;
-  while (std::getline(manifest, line)) {
-    std::istringstream in(line);
-    std::string file, format, nv, nt, closed, manifold, expected;
-    std::getline(in, file, '\t');
-    std::getline(in, format, '\t');
-    std::getline(in, nv, '\t');
-    std::getline(in, nt, '\t');
-    std::getline(in, closed, '\t');
-    std::getline(in, manifold, '\t');
-    std::getline(in, expected, '\t');
-    if (expected != "valid" && expected != "valid-plc") continue;
-    if (file == "chazelle_n3.off" || file == "schonhardt.off") {
-      // These need Steiner points that only step 3 / a later fallback adds;
-      // facet recovery must stop with an error naming a facet, not loop.
-      Run r;
-      REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) + "/" + file, r.plc).ok());
-      if (!prepare(r)) continue;
-      recover(r);
-      if (!r.status.ok())
-        CHECK(r.status.error.facet >= 0);
-      else
-        require_cdt(r);
-      continue;
-    }
+  for (const std::string& file : corpus::valid_models()) {
     INFO(file);
     Run r;
-    Status st = read_plc_file(std::string(CDT3D_TEST_DATA) + "/" + file, r.plc);
+    Status st = read_plc_file(corpus::kData + "/" + file, r.plc);
     INFO(st.error.to_string());
     REQUIRE(st.ok());
-    if (!prepare(r)) {
-      WARN(file + ": skipped (its facets need triangulate_facets)");
-      continue;
-    }
+    prepare(r);
     recover(r);
+    if (file == "chazelle_n3.off" || file == "schonhardt.off") {
+      // Without step 3 these may need Steiner points that facet recovery
+      // does not add: it must then stop with an error naming a facet, not loop.
+      if (!r.status.ok()) {
+        CHECK(r.status.error.facet >= 0);
+        continue;
+      }
+    }
     require_cdt(r);
     ++ran;
   }

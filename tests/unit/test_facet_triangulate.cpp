@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "delaunay.hpp"
+#include "corpus.hpp"
 #include "predicates.hpp"
 #include "segment_recovery.hpp"
 #include "subfaces.hpp"
@@ -466,18 +467,8 @@ TEST_CASE("a loop edge that is not a segment is an error naming the facet", "[su
 }
 
 TEST_CASE("facet triangulation on every valid model of tests/data", "[subfaces][corpus]") {
-  std::ifstream manifest(std::string(CDT3D_TEST_DATA) + "/MANIFEST.tsv");
-  REQUIRE(manifest.good());
-  std::string line;
-  std::getline(manifest, line);  // header
   int models = 0;
-  while (std::getline(manifest, line)) {
-    std::istringstream cols(line);
-    std::string file, format, verts, tris, closed, manifold, expected;
-    std::getline(cols, file, '\t');
-    for (std::string* c : {&format, &verts, &tris, &closed, &manifold, &expected})
-      std::getline(cols, *c, '\t');
-    if (expected != "valid" && expected != "valid-plc") continue;
+  for (const std::string& file : corpus::valid_models()) {
     DYNAMIC_SECTION(file) {
       Pipeline p;
       pipeline(file, p);

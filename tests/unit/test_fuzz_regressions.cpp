@@ -8,7 +8,7 @@
 //                           internal error, with or without keep_convex_hull,
 //                           and a success must pass validate().
 //   *.fuzz                  the raw fuzz input of the model beside it (replay
-//                           with build-fuzz/tests/fuzz/<target> FILE).
+//                           with .build/fuzz/tests/fuzz/<target> FILE).
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cdt3d/cdt3d.hpp>

@@ -13,59 +13,16 @@
 #include <string>
 #include <vector>
 
+#include "corpus.hpp"
+
 using namespace cdt3d;
 
 namespace {
 
 const std::string kData = CDT3D_TEST_DATA;
 
-std::vector<std::string> split_tabs(const std::string& line) {
-  std::vector<std::string> cols;
-  size_t start = 0;
-  for (;;) {
-    const size_t tab = line.find('\t', start);
-    cols.push_back(line.substr(start, tab == std::string::npos ? std::string::npos : tab - start));
-    if (tab == std::string::npos) break;
-    start = tab + 1;
-  }
-  return cols;
-}
-
-struct Row {
-  std::string file, format, vertices, triangles, expected;
-};
-
-std::vector<Row> read_manifest() {
-  std::vector<Row> rows;
-  std::FILE* f = std::fopen((kData + "/MANIFEST.tsv").c_str(), "rb");
-  if (!f) return rows;
-  std::string text;
-  char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) text.append(buf, n);
-  std::fclose(f);
-  std::istringstream in(text);
-  std::string line;
-  std::map<std::string, size_t> col;
-  bool header = true;
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    const std::vector<std::string> c = split_tabs(line);
-    if (header) {
-      for (size_t i = 0; i < c.size(); ++i) col[c[i]] = i;
-      header = false;
-      continue;
-    }
-    Row r;
-    r.file = c.at(col.at("file"));
-    r.format = c.at(col.at("format"));
-    r.vertices = c.at(col.at("vertices"));
-    r.triangles = c.at(col.at("triangles"));
-    r.expected = c.at(col.at("expected"));
-    rows.push_back(r);
-  }
-  return rows;
-}
+using corpus::Row;
+using corpus::read_manifest;
 
 bool is_number(const std::string& s) {
   return !s.empty() && s.find_first_not_of("0123456789") == std::string::npos;

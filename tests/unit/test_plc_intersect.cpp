@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "corpus.hpp"
+
 #include "plc_intersect.hpp"
 
 using namespace cdt3d;
@@ -48,25 +50,6 @@ void add_cube(Plc& plc, double x0, double y0, double z0, double s) {
     plc.facets.push_back(poly({b + f[0], b + f[1], b + f[2]}));
     plc.facets.push_back(poly({b + f[0], b + f[2], b + f[3]}));
   }
-}
-
-struct ManifestRow {
-  std::string file, expected;
-};
-
-std::vector<ManifestRow> read_manifest(const std::string& path) {
-  std::vector<ManifestRow> rows;
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::vector<std::string> cols;
-    std::stringstream ss(line);
-    std::string c;
-    while (std::getline(ss, c, '\t')) cols.push_back(c);
-    if (cols.size() >= 7) rows.push_back({cols[0], cols[6]});
-  }
-  return rows;
 }
 
 std::string describe(const Plc& plc, const std::vector<Intersection>& found) {
@@ -399,8 +382,8 @@ TEST_CASE("intersect: models in tests/data", "[intersect]") {
   }
   SECTION("valid models are clean") {
     size_t checked = 0;
-    for (const auto& row : read_manifest(dir + "/MANIFEST.tsv")) {
-      if (row.expected != "valid" && row.expected != "valid-plc") continue;
+    for (const auto& row : corpus::read_manifest(dir + "/MANIFEST.tsv")) {
+      if (!row.valid()) continue;
       INFO(row.file);
       Plc plc;
       REQUIRE(read_plc_file(dir + "/" + row.file, plc).ok());
@@ -414,9 +397,10 @@ TEST_CASE("intersect: models in tests/data", "[intersect]") {
 }
 
 TEST_CASE("intersect: shared corpus (slow)", "[intersect][.slow]") {
-  const std::string dir = "/work/shared/corpus";
-  for (const auto& row : read_manifest(dir + "/MANIFEST.tsv")) {
-    const bool valid = row.expected == "valid" || row.expected == "valid-plc";
+  // The shared corpus next to the repository (../shared/corpus), when present.
+  const std::string dir = corpus::kData + "/../../../shared/corpus";
+  for (const auto& row : corpus::read_manifest(dir + "/MANIFEST.tsv")) {
+    const bool valid = row.valid();
     if (!valid && row.expected != "invalid-selfintersect") continue;
     INFO(row.file);
     Plc plc;

@@ -534,6 +534,28 @@ TEST_CASE("collinear3d matches the exact oracle", "[predicates]") {
   }
 }
 
+TEST_CASE("dot_sign matches the exact oracle, right angles included", "[predicates]") {
+  Rng r(17);
+  for (int it = 0; it < 20000; ++it) {
+    const Frame f = random_frame(r);
+    // v and two lattice directions; every third case makes them orthogonal.
+    const P3 o = {double(r.range(-9, 9)), double(r.range(-9, 9)), double(r.range(-9, 9))};
+    const P3 u = {double(r.range(-5, 5)), double(r.range(-5, 5)), double(r.range(-5, 5))};
+    P3 w = {double(r.range(-5, 5)), double(r.range(-5, 5)), double(r.range(-5, 5))};
+    // Every third case a right angle: w = u x (1, 2, 3) is orthogonal to u.
+    if (it % 3 == 0) w = {2 * u[2] - 3 * u[1], 3 * u[0] - u[2], u[1] - 2 * u[0]};
+    P3 v = place(o, f.base, f.k);
+    P3 a = place({o[0] + u[0], o[1] + u[1], o[2] + u[2]}, f.base, f.k);
+    P3 b = place({o[0] + w[0], o[1] + w[1], o[2] + w[2]}, f.base, f.k);
+    if (it % 2) maybe_bump(r, a);
+    if (it % 7 == 0) v = {mixed_coordinate(r), mixed_coordinate(r), mixed_coordinate(r)};
+    mpq_class dot = 0;
+    for (int k = 0; k < 3; ++k) dot += (Q(a[k]) - Q(v[k])) * (Q(b[k]) - Q(v[k]));
+    INFO(hex(a) << " " << hex(v) << " " << hex(b));
+    CHECK(pred::dot_sign(a.data(), v.data(), b.data()) == sgn_q(dot));
+  }
+}
+
 namespace {
 
 // Integer rotation (times |q|^2) from a quaternion with integer components:

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "corpus.hpp"
 #include "delaunay.hpp"
 #include "segment_recovery.hpp"
 #include "tet_mesh.hpp"
@@ -193,18 +194,8 @@ TEST_CASE("a long thin box keeps all its segments", "[segments]") {
 }
 
 TEST_CASE("segment recovery on every valid model of tests/data", "[segments][corpus]") {
-  std::ifstream manifest(std::string(CDT3D_TEST_DATA) + "/MANIFEST.tsv");
-  REQUIRE(manifest.good());
-  std::string line;
-  std::getline(manifest, line);  // header
   int models = 0;
-  while (std::getline(manifest, line)) {
-    std::istringstream cols(line);
-    std::string file, format, verts, tris, closed, manifold, expected;
-    std::getline(cols, file, '\t');
-    for (std::string* c : {&format, &verts, &tris, &closed, &manifold, &expected})
-      std::getline(cols, *c, '\t');
-    if (expected != "valid" && expected != "valid-plc") continue;
+  for (const std::string& file : corpus::valid_models()) {
     DYNAMIC_SECTION(file) {
       Plc plc;
       Status st = read_plc_file(std::string(CDT3D_TEST_DATA) + "/" + file, plc);
