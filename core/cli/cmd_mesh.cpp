@@ -37,6 +37,8 @@ void usage(std::FILE* out) {
       "  -q                quiet: print nothing but errors\n"
       "  --merge           join coplanar edge-adjacent facets into one (TetGen's default;\n"
       "                    by default every input facet is kept, like tetgen -M)\n"
+      "  --paper-degeneracy  step 3 as in Si & Gaertner 2005, section 6 (perturbations, break points,\n"
+      "                    boundary protection) instead of the symbolic perturbation\n"
       "  --no-intersection-check  skip the exact self-intersection test of the input\n"
       "  --stop-after P    delaunay | segments | degeneracy | facets: stop after that step,\n"
       "                    write all tets as PREFIX.node/.ele and the subsegments as .edge\n"
@@ -87,14 +89,14 @@ void print_json(const Result& r, Phase stop, bool validated, const Status& valid
       "\"protectSegment\":%zu,\"protectFacet\":%zu,\"missingSubfaces\":%zu,\"regions\":%zu,"
       "\"mergedFacets\":%zu,\"cavities\":%zu,\"largestCavity\":%zu,\"fallbacks\":%zu,\"msRead\":%.3f,"
       "\"msDelaunay\":%.3f,\"msSegments\":%.3f,\"msDegeneracy\":%.3f,\"msFacets\":%.3f,"
-      "\"msCarve\":%.3f,\"msTotal\":%.3f,\"minDihedral\":%s,\"maxDihedral\":%s,"
+      "\"msCarve\":%.3f,\"msTotal\":%.3f,\"flatTets\":%zu,\"minDihedral\":%s,\"maxDihedral\":%s,"
       "\"radiusEdgeHistogram\":[",
       json_string(phase_name(stop)).c_str(), s.input_points, s.input_facets, s.input_segments,
       s.points, s.tets, s.faces, r.edges.size() / 2, s.steiner_segment, s.steiner_facet,
       s.steiner_volume, s.rule1, s.rule2, s.rule3, s.acute_both, s.max_splits, s.perturbations,
       s.break_points, s.protect_segment, s.protect_facet, s.missing_subfaces, s.regions,
       s.merged_facets, s.cavities, s.largest_cavity, s.fallbacks, s.ms_read, s.ms_delaunay, s.ms_segments,
-      s.ms_degeneracy, s.ms_facets, s.ms_carve, s.ms_total, json_number(s.min_dihedral).c_str(),
+      s.ms_degeneracy, s.ms_facets, s.ms_carve, s.ms_total, s.flat_tets, json_number(s.min_dihedral).c_str(),
       json_number(s.max_dihedral).c_str());
   for (size_t i = 0; i < s.radius_edge_histogram.size(); ++i)
     std::printf("%s%zu", i ? "," : "", s.radius_edge_histogram[i]);
@@ -164,6 +166,8 @@ int run_mesh(int argc, char** argv) {
       opt.keep_convex_hull = true;
     } else if (a == "--validate") {
       opt.validate = true;
+    } else if (a == "--paper-degeneracy") {
+      opt.degeneracy = DegeneracyMode::Paper;
     } else if (a == "--merge") {
       opt.merge_coplanar_facets = true;
     } else if (a == "--no-intersection-check") {

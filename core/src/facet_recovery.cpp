@@ -202,8 +202,8 @@ int dominant_axis(const double* a, const double* b, const double* c) {
 // agree with the mesh where the two may legitimately differ. For a missing
 // edge ab (not a segment) between subfaces abc and bad of one facet:
 //  * Co-circular tie. For four exactly co-circular coplanar points the
-//    symbolic perturbation of insphere (sos.cpp, ordered by id) puts the
-//    point with the largest id outside the circle of the other three, so the
+//    symbolic perturbation of insphere (sos.cpp, pred::sos_raised_before)
+//    puts the point raised first outside the circle of the other three, so the
 //    perturbed Delaunay diagonal is the one not touching it. A facet
 //    triangulated with the other diagonal has subfaces that are not
 //    Delaunay in any perturbed sense, and no cavity could recover them.
@@ -254,7 +254,7 @@ size_t flip_toward_mesh_impl(TetMesh& mesh, Subfaces& sf, MeshQuery& q, std::vec
                      *pd = mesh.point(d);
         bool flip = false;
         if (pred::orient3d(pa, pb, pc, pd) == 0 && pred::incircle_coplanar(pa, pb, pc, pd) == 0) {
-          const VertexId top = std::max(std::max(a, b), std::max(c, d));
+          const VertexId top = pred::sos_first(a, b, c, d);
           flip = top == a || top == b;
         }
         if (!flip) {

@@ -148,12 +148,13 @@ int Cdt2::incircle_sos(uint32_t a, uint32_t b, uint32_t c, uint32_t d) const {
   const int s = pred::incircle(&xy_[2 * a], &xy_[2 * b], &xy_[2 * c], &xy_[2 * d]);
   if (s != 0) return s;
   // Cocircular: raise the lifted coordinate of each vertex by eps^rank, the
-  // largest raise going to the largest mesh id. That raise decides. Raising
+  // largest raise going to the mesh id first in pred::sos_raised_before
+  // order, as in 3D. That raise decides. Raising
   // d puts it outside. Raising a triangle vertex tilts the lifted plane up on
   // its side: d is inside iff d lies on that vertex's side of the opposite
   // edge (its barycentric coordinate is positive).
   const VertexId ia = ids_[a], ib = ids_[b], ic = ids_[c], id = ids_[d];
-  const VertexId m = std::max(std::max(ia, ib), std::max(ic, id));
+  const VertexId m = pred::sos_first(ia, ib, ic, id);
   if (m == id) return -1;
   int o = 0;
   if (m == ia) o = orient(b, c, d);

@@ -371,8 +371,9 @@ void Pipeline::run() {
     if (!end(Phase::Segments, st, &s.ms_segments)) return;
   }
 
-  // Step 3.
-  if (opt_.stop_after >= Phase::Degeneracy) {
+  // Step 3. Symbolically (default) there is nothing to do: the predicates of
+  // steps 1, 2 and 4 share one perturbation, so D1 has no local degeneracy.
+  if (opt_.stop_after >= Phase::Degeneracy && opt_.degeneracy == DegeneracyMode::Paper) {
     if (!begin(Phase::Degeneracy)) return;
     DegeneracyStats gst;
     st = remove_local_degeneracies(*plc_, mesh_, segs_, facet_interior_, volume_points_, &gst,

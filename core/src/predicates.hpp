@@ -31,6 +31,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 
 #if defined(__FAST_MATH__)
 #error "cdt3d predicates need IEEE arithmetic: never compile with -ffast-math or -Ofast"
@@ -91,15 +92,31 @@ int dot_sign(const double* a, const double* v, const double* b);
 /// Collinearity of three 3D points, exact.
 bool collinear3d(const double* a, const double* b, const double* c);
 
+/// The order of the symbolic perturbation: true when vertex id x gets a
+/// larger infinitesimal raise of its lifted coordinate than id y (x's raise
+/// decides a tie first). The smallest id is raised most, so the newest
+/// vertices (Steiner points have the largest ids) are raised least and win
+/// ties: a Steiner point inserted to split a segment keeps the edges it was
+/// inserted for when it is co-spherical with older vertices, which is what
+/// segment recovery needs (fewer further splits on CAD inputs). Every SoS
+/// decision in the library (sos.cpp, the 2D facet triangulation, the facet
+/// diagonal flips) orders by this one function.
+inline bool sos_raised_before(uint32_t x, uint32_t y) { return x > y; }
+/// The id among a, b, c, d whose raise decides first (sos_raised_before).
+inline uint32_t sos_first(uint32_t a, uint32_t b, uint32_t c, uint32_t d) {
+  uint32_t m = a;
+  for (uint32_t x : {b, c, d}) if (sos_raised_before(x, m)) m = x;
+  return m;
+}
 /// Symbolically perturbed insphere (Simulation of Simplicity on the lifted
 /// points, ordered by the vertex ids ia..ie, which must be distinct). Never 0
 /// when a,b,c,d is a proper tetrahedron with orient3d(a,b,c,d) > 0:
 /// > 0 inside, < 0 outside. Uses insphere() first; the perturbation only
 /// decides exact zeros.
 /// The perturbation: the lifted coordinate |p|^2 of each point is raised by
-/// eps^(k), k = 1 for the largest id, 2 for the next, ...; so on a tie the
-/// point with the larger id counts as slightly farther out, and the query e
-/// is outside when its id is the largest. See sos.cpp for the derivation.
+/// eps^(k), k = 1 for the first id in sos_raised_before order, 2 for the
+/// next, ...; so on a tie that point counts as slightly farther out, and the
+/// query e is outside when it comes first. See sos.cpp for the derivation.
 int insphere_sos(const double* a, const double* b, const double* c, const double* d,
                  const double* e, uint32_t ia, uint32_t ib, uint32_t ic, uint32_t id, uint32_t ie);
 

@@ -13,8 +13,9 @@
 // where M_i is the minor without row i and the lift column, i.e. the 4x4
 // determinant | p 1 | of the other four points in their order, which is
 // orient3d of those four points. With eps_i = eps^(rank of p_i), rank 1 for
-// the largest id, and D = 0, the sign of D(eps) for small eps > 0 is the sign
-// of the first nonzero C_i taken by decreasing id:
+// the id raised first (sos_raised_before: the smallest), and D = 0, the sign
+// of D(eps) for small eps > 0 is the sign of the first nonzero C_i taken in
+// that order:
 //     a: -orient3d(b,c,d,e)  b: +orient3d(a,c,d,e)  c: -orient3d(a,b,d,e)
 //     d: +orient3d(a,b,c,e)  e: -orient3d(a,b,c,d).
 // The last one is nonzero for a proper tetrahedron, so the result is never 0
@@ -35,8 +36,8 @@ int insphere_sos(const double* a, const double* b, const double* c, const double
   const double* p[5] = {a, b, c, d, e};
   const uint32_t ids[5] = {ia, ib, ic, id, ie};
   int order[5] = {0, 1, 2, 3, 4};
-  for (int i = 1; i < 5; ++i)  // insertion sort by decreasing id
-    for (int j = i; j > 0 && ids[order[j]] > ids[order[j - 1]]; --j) {
+  for (int i = 1; i < 5; ++i)  // insertion sort, first raised first
+    for (int j = i; j > 0 && sos_raised_before(ids[order[j]], ids[order[j - 1]]); --j) {
       const int t = order[j];
       order[j] = order[j - 1];
       order[j - 1] = t;
@@ -84,7 +85,7 @@ int incircle_coplanar_sos(const double* a, const double* b, const double* c, con
   const uint32_t ids[4] = {ia, ib, ic, ie};
   int order[4] = {0, 1, 2, 3};
   for (int i = 1; i < 4; ++i)
-    for (int j = i; j > 0 && ids[order[j]] > ids[order[j - 1]]; --j) {
+    for (int j = i; j > 0 && sos_raised_before(ids[order[j]], ids[order[j - 1]]); --j) {
       const int t = order[j];
       order[j] = order[j - 1];
       order[j - 1] = t;

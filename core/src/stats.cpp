@@ -27,6 +27,7 @@ void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
   const double pi = 3.14159265358979323846;
   double min_dihedral = 180, max_dihedral = 0;
   stats.radius_edge_histogram.fill(0);
+  stats.flat_tets = 0;
   const size_t n = mesh.tets.size() / 4;
   for (size_t t = 0; t < n; ++t) {
     V3 p[4];
@@ -56,9 +57,16 @@ void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
     // Radius-edge ratio: circumradius over the shortest edge.
     const V3 a = sub(p[0], p[3]), b = sub(p[1], p[3]), c = sub(p[2], p[3]);
     const double det = dot(a, cross(b, c));
-    double shortest = HUGE_VAL;
+    double shortest = HUGE_VAL, longest = 0;
     for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) shortest = std::min(shortest, norm(sub(p[i], p[j])));
+      for (int j = i + 1; j < 4; ++j) {
+        const double l = norm(sub(p[i], p[j]));
+        shortest = std::min(shortest, l), longest = std::max(longest, l);
+      }
+    // Numerically flat (or inverted) in doubles: the exact orientation of the
+    // stored points is positive, but a user's code that recomputes the volume
+    // in floating point would see (almost) nothing.
+    if (!(det > kFlatTetRatio * longest * longest * longest)) ++stats.flat_tets;
     double ratio = HUGE_VAL;
     if (det != 0 && shortest > 0) {
       const V3 bc = cross(b, c), ca = cross(c, a), ab = cross(a, b);

@@ -103,7 +103,16 @@ TEST_CASE("carving a convex model keeps its tets", "[carve]") {
     INFO(c.status.error.to_string());
     REQUIRE(c.status.ok());
     CHECK(c.result.regions == 1);
-    CHECK(c.result.tets.size() == c.mesh.num_real_tets());
+    // Every tet is kept, except that a Steiner point on a hull edge, rounded
+    // to doubles (§5), may dent the surface and leave slivers outside it.
+    if (c.segs.steiner.empty()) {
+      CHECK(c.result.tets.size() == c.mesh.num_real_tets());
+    } else {
+      double all = 0;
+      for (TetId t = 0; t < c.mesh.num_tet_slots(); ++t)
+        if (!c.mesh.is_dead(t) && !c.mesh.is_ghost(t)) all += tet_volume(c.mesh, t);
+      CHECK(volume(c) == Approx(all).epsilon(1e-12));
+    }
     CHECK(c.result.faces.size() == c.sf.tri.size());
     for (double a : c.result.attribute) CHECK(a == 1.0);
     check_faces(c);

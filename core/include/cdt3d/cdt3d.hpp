@@ -212,7 +212,21 @@ const char* phase_name(Phase phase);  ///< "read", "delaunay", "segments", ...
 /// Inverse of phase_name; false for an unknown name.
 bool phase_from_name(const std::string& name, Phase& out);
 
+/// How step 3 (local degeneracies: five co-spherical vertices) is handled.
+enum class DegeneracyMode : uint8_t {
+  /// Default. Symbolic perturbation of the lifting (Simulation of Simplicity
+  /// ordered by vertex id, the same in steps 1, 2 and 4): no vertex moves and
+  /// no point is added; the perturbed point set is in general position, so
+  /// with every segment a (perturbed) Delaunay edge a CDT exists (Shewchuk's
+  /// CDT theorem) and step 4 recovers it.
+  Symbolic = 0,
+  /// Si & Gärtner §6 literally: perturb segment-safe vertices, else break
+  /// points with boundary protection (reproduces the paper's point counts).
+  Paper = 1,
+};
+
 struct Options {
+  DegeneracyMode degeneracy = DegeneracyMode::Symbolic;  ///< step 3 (see DegeneracyMode)
   bool keep_convex_hull = false;  ///< keep the tets outside the PLC (like tetgen -c)
   bool validate = false;          ///< run validate() on the result (and after each phase)
   int verbosity = 0;              ///< 0 quiet; 1 phase summary on stderr
@@ -235,6 +249,10 @@ struct Options {
   const volatile bool* cancel = nullptr;
 };
 
+/// A tet is numerically flat when |6V| / l_max^3 < kFlatTetRatio (V and the
+/// longest edge l_max computed in doubles from the output coordinates).
+inline constexpr double kFlatTetRatio = 1e-12;
+
 struct Statistics {
   size_t input_points = 0, input_facets = 0, input_segments = 0;
   size_t points = 0, tets = 0, faces = 0;
@@ -247,6 +265,10 @@ struct Statistics {
   double ms_read = 0, ms_delaunay = 0, ms_segments = 0, ms_degeneracy = 0, ms_facets = 0,
          ms_carve = 0, ms_total = 0;
   double min_dihedral = 0, max_dihedral = 0;  ///< degrees, over the output tets
+  /// Output tets that are numerically flat: 6V computed in doubles from the
+  /// output coordinates is below kFlatTetRatio * (longest edge)^3. Always 0
+  /// on success (the pipeline removes them); reported for checks.
+  size_t flat_tets = 0;
   std::array<size_t, 10> radius_edge_histogram{};  ///< ratio bins [1,1.5,2,3,5,10,20,50,100,inf)
 };
 
