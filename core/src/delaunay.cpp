@@ -3,6 +3,8 @@
 // 2003), with ghost tets and SoS-perturbed conflict tests. See delaunay.hpp.
 #include "delaunay.hpp"
 
+#include "geometry.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -101,6 +103,24 @@ PointInserter::in_conflict(TetId t, const double* p, VertexId v) const {
   return pred::incircle_coplanar_sos(a, b, c, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(v)) > 0;
 }
 
+// Whether coning the cavity boundary to p makes a numerically flat real tet.
+bool PointInserter::cone_has_flat_tet(const double* p) const {
+  for (const BoundaryFace& f : boundary_) {
+    if (f.a == kInfinite || f.b == kInfinite || f.c == kInfinite) continue;
+    if (numerically_flat(mesh_.point(f.a), mesh_.point(f.b), mesh_.point(f.c), p)) return true;
+  }
+  return false;
+}
+
+// Leaves the mesh as it was before the cavity search (marks and local ids).
+void PointInserter::abandon_cavity() {
+  for (TetId t : cavity_) mesh_.tflag[t] &= uint8_t(~kTetInCavity);
+  for (VertexId x : locals_) vlocal_[x] = 0;
+  locals_.clear();
+  cavity_.clear();
+  boundary_.clear();
+}
+
 uint32_t PointInserter::local_id(VertexId x) {
   if (x == kInfinite) return 1;
   uint32_t& l = vlocal_[x];
@@ -175,6 +195,11 @@ Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result
     }
   }
   for (const BoundaryFace& f : boundary_) flag[hf_tet(f.outside)] &= uint8_t(~kTetTested);
+  if (reject_flat_ && cone_has_flat_tet(p)) {
+    abandon_cavity();
+    if (result) result->rejected = true;
+    return Status::success();
+  }
   cavity_tets += cavity_.size();
 
   // Cone each boundary face (a, b, c) to v: (a, b, c, v) is positive because
@@ -285,7 +310,16 @@ Status PointInserter::insert_point(const double* xyz, TetId hint, uint8_t kind,
   if (mesh_.num_vertices() >= (size_t(1) << 30))
     return make_error(ErrorCode::TooLarge, "Too many vertices.");
   const VertexId v = mesh_.add_vertex(xyz, kind);
-  Status s = insert_vertex(v, loc.tet, result);
+  InsertResult local;
+  InsertResult& res = result ? *result : local;
+  Status s = insert_vertex(v, loc.tet, &res);
+  if (s.ok() && res.rejected) {  // v is the last vertex: take it back
+    mesh_.coords.resize(3 * static_cast<size_t>(v));
+    mesh_.vkind.pop_back();
+    mesh_.vtet.pop_back();
+    res.vertex = kNone;
+    return s;
+  }
   if (s.ok()) mesh_.vkind[v] = kind;
   return s;
 }

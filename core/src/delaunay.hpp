@@ -93,6 +93,10 @@ struct InsertResult {
   VertexId vertex = kNone;  ///< vertex at the point (the existing one if duplicate)
   bool duplicate = false;   ///< the point coincided with an existing vertex
   TetId located = kNone;    ///< tet found by the walk
+  /// With PointInserter::set_reject_flat: the insertion would have created a
+  /// numerically flat tet and was not done (the mesh is unchanged; a vertex
+  /// appended by insert_point is removed again).
+  bool rejected = false;
 };
 
 /// Inserts points into a Delaunay (under SoS) tetrahedralization: walk to a
@@ -132,6 +136,13 @@ class PointInserter {
   /// caller's ids through this table. The table must outlive the inserter.
   void set_sos_ids(const VertexId* ids) { sos_id_ = ids; }
 
+  /// When on, an insertion that would create a numerically flat real tet
+  /// (geometry.hpp) is not done and reports InsertResult::rejected. Every tet
+  /// an insertion creates has the new vertex, so a caller that tries another
+  /// position (segment recovery moves its split point) keeps the mesh free of
+  /// flat tets.
+  void set_reject_flat(bool on) { reject_flat_ = on; }
+
   uint64_t walk_steps = 0;   ///< statistics, cumulative
   uint64_t cavity_tets = 0;  ///< statistics, cumulative
 
@@ -151,11 +162,14 @@ class PointInserter {
   };
 
   bool in_conflict(TetId t, const double* p, VertexId v) const;
+  bool cone_has_flat_tet(const double* p) const;
+  void abandon_cavity();
   uint32_t local_id(VertexId x);
   VertexId sos(VertexId v) const { return sos_id_ && v != kInfinite ? sos_id_[v] : v; }
 
   TetMesh& mesh_;
   const VertexId* sos_id_ = nullptr;
+  bool reject_flat_ = false;
   Rng rng_;
   TetId last_tet_ = kNone;
   std::vector<TetId> cavity_;

@@ -366,6 +366,7 @@ void Pipeline::run() {
     if (!begin(Phase::Segments)) return;
     SegmentRecoveryStats sst;
     st = recover_segments(mesh_, segs_, &sst, opt_.cancel);
+    s.missing_segments = sst.missing_initially;
     s.rule1 = sst.rule1, s.rule2 = sst.rule2, s.rule3 = sst.rule3, s.acute_both = sst.acute_both;
     s.max_splits = sst.max_splits;
     if (!end(Phase::Segments, st, &s.ms_segments)) return;

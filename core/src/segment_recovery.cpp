@@ -18,6 +18,11 @@ namespace {
 // loop cycle, and we stop with an error instead of looping forever.
 constexpr size_t kMaxSplitsPerSegment = 4096;
 
+// Moves of a split point that would make a numerically flat tet, as
+// fractions of its subsegment (insert_on_segment); the last one is final.
+constexpr double kFlatShifts[] = {0, 1e-8, -1e-8, 1e-6, -1e-6, 1e-4, -1e-4, 1e-2, -1e-2, 0.1, -0.1, 0};
+constexpr size_t kNumFlatShifts = sizeof(kFlatShifts) / sizeof(kFlatShifts[0]);
+
 struct Vec {
   double x, y, z;
 };
@@ -311,10 +316,33 @@ Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Ve
                            "a subsegment is too short to split in double precision");
   }
 
-  const double xyz[3] = {point.x, point.y, point.z};
+  // No numerically flat tets (cdt3d.hpp): the rounded split point can make
+  // one with nearly co-planar vertices around it (CAD models: points placed
+  // symmetrically on parallel segments). The insertion is then refused and
+  // the point moves along the subsegment; the rule's exact position matters
+  // for the bound on splits, not for correctness (any vertex strictly inside
+  // the subsegment splits it). After all tries it is inserted as planned.
+  const double tu = param(s, u), tw = param(s, w);
+  const double f0 = tw != tu ? (t - tu) / (tw - tu) : 0.5;
   InsertResult res;
-  Status st = inserter_.insert_point(xyz, mesh_.vtet[u], kVertexSteiner, &res);
-  if (!st.ok()) return st;
+  Status st;
+  for (size_t k = 0; k < kNumFlatShifts; ++k) {
+    const double shift = kFlatShifts[k];
+    const double f = std::min(0.95, std::max(0.05, f0 + shift));
+    Vec q = shift == 0 ? point : Vec{a.x + f * (b.x - a.x), a.y + f * (b.y - a.y), a.z + f * (b.z - a.z)};
+    if (shift != 0 && !strictly_between(q)) continue;
+    const double xyz[3] = {q.x, q.y, q.z};
+    inserter_.set_reject_flat(k + 1 < kNumFlatShifts);
+    st = inserter_.insert_point(xyz, mesh_.vtet[u], kVertexSteiner, &res);
+    if (!st.ok()) return st;
+    if (!res.rejected) {
+      if (shift != 0) t = tu + f * (tw - tu), ++stats_.flat_moves;
+      break;
+    }
+  }
+  inserter_.set_reject_flat(false);
+  if (res.rejected || res.vertex == kNone)
+    return segment_error(ErrorCode::Internal, segs_, s, "no position for the split point");
   if (res.duplicate)
     return segment_error(ErrorCode::InvalidPlc, segs_, s,
                          "vertex " + std::to_string(res.vertex) + " lies on the segment");

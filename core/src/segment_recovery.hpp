@@ -63,6 +63,7 @@ struct SegmentRecoveryStats {
   size_t rule1 = 0, rule2 = 0, rule3 = 0, acute_both = 0;
   size_t max_splits = 0;       ///< largest number of points added on one input segment
   size_t rounds = 0;           ///< passes of the outer repeat loop
+  size_t flat_moves = 0;       ///< split points moved so as not to make a flat tet
   size_t points() const { return rule1 + rule2 + rule3 + acute_both; }
 };
 

@@ -257,11 +257,18 @@ struct Statistics {
   size_t input_points = 0, input_facets = 0, input_segments = 0;
   size_t points = 0, tets = 0, faces = 0;
   size_t steiner_segment = 0, steiner_facet = 0, steiner_volume = 0;
+  size_t missing_segments = 0;     ///< input segments missing from the Delaunay tetrahedralization D0
   size_t rule1 = 0, rule2 = 0, rule3 = 0, acute_both = 0;  ///< segment recovery (§5)
   size_t max_splits = 0;           ///< most points on one input segment
   size_t perturbations = 0, break_points = 0, protect_segment = 0, protect_facet = 0;  ///< §6
   size_t merged_facets = 0;        ///< input facets joined into others (merge_coplanar_facets)
   size_t missing_subfaces = 0, regions = 0, cavities = 0, largest_cavity = 0, fallbacks = 0;  ///< §7
+  /// Steiner points inserted inside a facet because neither cavity
+  /// retetrahedralization nor gift-wrapping recovered a missing region
+  /// (counted in steiner_facet too).
+  size_t facet_splits = 0;
+  /// Numerically flat tets removed by flips before output.
+  size_t flat_flips = 0;
   double ms_read = 0, ms_delaunay = 0, ms_segments = 0, ms_degeneracy = 0, ms_facets = 0,
          ms_carve = 0, ms_total = 0;
   double min_dihedral = 0, max_dihedral = 0;  ///< degrees, over the output tets

@@ -1,0 +1,34 @@
+// Small floating-point geometry shared by the steps (never used for a
+// topological decision: those go through predicates.hpp).
+#pragma once
+
+#include <cdt3d/cdt3d.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace cdt3d {
+
+/// Whether tet (a, b, c, d) is numerically flat or inverted in doubles:
+/// 6V = (a - d) . ((b - d) x (c - d)) evaluated in floating point is not
+/// above kFlatTetRatio * (longest edge)^3. This is the usability test of the
+/// output (cdt3d.hpp), applied to the stored coordinates exactly as a user's
+/// code would compute it.
+inline bool numerically_flat(const double* a, const double* b, const double* c, const double* d) {
+  const double u[3] = {a[0] - d[0], a[1] - d[1], a[2] - d[2]};
+  const double v[3] = {b[0] - d[0], b[1] - d[1], b[2] - d[2]};
+  const double w[3] = {c[0] - d[0], c[1] - d[1], c[2] - d[2]};
+  const double det = u[0] * (v[1] * w[2] - v[2] * w[1]) + u[1] * (v[2] * w[0] - v[0] * w[2]) +
+                     u[2] * (v[0] * w[1] - v[1] * w[0]);
+  const double* p[4] = {a, b, c, d};
+  double l2 = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) {
+      const double x = p[i][0] - p[j][0], y = p[i][1] - p[j][1], z = p[i][2] - p[j][2];
+      l2 = std::max(l2, x * x + y * y + z * z);
+    }
+  const double l = std::sqrt(l2);
+  return !(det > kFlatTetRatio * l * l * l);
+}
+
+}  // namespace cdt3d
