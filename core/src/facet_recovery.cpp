@@ -313,7 +313,7 @@ size_t flip_subfaces_toward_mesh(TetMesh& mesh, Subfaces& subfaces) {
 }
 
 Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* stats,
-                      const volatile bool* cancel) {
+                      const volatile bool* cancel, bool force_failure) {
   FacetRecoveryStats st;
   if (stats) *stats = st;
   // Statistics are reported on failure as well (what was done until then).
@@ -399,6 +399,11 @@ Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* sta
     tris.clear();
     for (uint32_t s : region) tris.push_back(sf.tri[s]);
     CavityReport rep;
+    if (force_failure) {
+      st.unrecovered = sf.tri[s0], st.unrecovered_facet = sf.facet[s0];
+      return make_error(ErrorCode::Internal, "Facet recovery failed (forced for a test).",
+                        sf.facet[s0]);
+    }
     const CavityOutcome out = cm.recover_region(tris, rep);
     if (out == CavityOutcome::Recovered) {
       ++st.regions;
@@ -424,11 +429,13 @@ Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* sta
     // Fallback (documented in facet_recovery.hpp): first retry the region
     // after the rest of the queue, then its subfaces one at a time; a single
     // subface failing again is an error naming its facet.
-    if (single[s0] && failures[s0] >= 2)
+    if (single[s0] && failures[s0] >= 2) {
+      st.unrecovered = sf.tri[s0], st.unrecovered_facet = sf.facet[s0];
       return make_error(out == CavityOutcome::Limit ? ErrorCode::LimitReached : ErrorCode::Internal,
                         "Facet recovery failed for a missing region of " +
                             std::to_string(region.size()) + " subface(s): " + rep.failure + ".",
                         sf.facet[s0]);
+    }
     for (uint32_t s : region) {
       if (failures[s] < 255) ++failures[s];
       if (failures[s] >= 2) single[s] = 1;
@@ -439,9 +446,11 @@ Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* sta
   // queued again; the queue is empty, so every subface ever queued is
   // checked once more (the others were present and never touched).
   for (uint32_t s = 0; s < n; ++s)
-    if (ever[s] && !present(s))
+    if (ever[s] && !present(s)) {
+      st.unrecovered = sf.tri[s], st.unrecovered_facet = sf.facet[s];
       return make_error(ErrorCode::Internal, "Facet recovery ended with a subface missing.",
                         sf.facet[s]);
+    }
   return Status::success();
 }
 

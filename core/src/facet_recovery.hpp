@@ -5,6 +5,7 @@
 
 #include <cdt3d/cdt3d.hpp>
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -24,6 +25,11 @@ struct FacetRecoveryStats {
   size_t fallbacks = 0;           ///< regions recovered by a fallback (see recover_facets)
   size_t steiner_points = 0;      ///< points added by a fallback (none so far: no such fallback)
   size_t subface_flips = 0;       ///< facet diagonals flipped first (flip_subfaces_toward_mesh)
+  /// On failure: a subface that could not be recovered (vertex ids) and its
+  /// facet, or kNone. The pipeline inserts a Steiner point inside it and
+  /// starts again (Options: never fail on a valid PLC).
+  std::array<VertexId, 3> unrecovered = {kNone, kNone, kNone};
+  uint32_t unrecovered_facet = kNone;
 };
 
 /// The first pass of recover_facets. For an edge of the subfaces that is
@@ -60,7 +66,10 @@ size_t flip_subfaces_toward_mesh(TetMesh& mesh, Subfaces& subfaces);
 /// (no Steiner point fallback is implemented), LimitReached when a bound is
 /// reached, Cancelled when *cancel becomes true; InvalidArgument or
 /// DegenerateFacet for bad subfaces.
+/// `force_failure` (tests): the first missing region counts as
+/// unrecoverable without trying, as if both cavity retetrahedralization and
+/// gift-wrapping had failed on it.
 Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* stats = nullptr,
-                      const volatile bool* cancel = nullptr);
+                      const volatile bool* cancel = nullptr, bool force_failure = false);
 
 }  // namespace cdt3d

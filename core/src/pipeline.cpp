@@ -65,6 +65,10 @@ double ms_since(Clock::time_point t0) {
 // only used to turn per-phase progress into one overall fraction.
 constexpr double kPhaseStart[] = {0.0, 0.02, 0.45, 0.6, 0.7, 0.95, 1.0};
 
+// Facet Steiner points (one per failed region) before giving up: each run
+// of steps 1-4 costs a full meshing, and a valid PLC needs few.
+constexpr size_t kMaxFacetSplits = 64;
+
 class Pipeline {
  public:
   Pipeline(const Plc& plc, const Options& options, Result& out)
@@ -94,6 +98,15 @@ class Pipeline {
                       const CarveResult* carved);
   Status check_open_facets(const CarveResult& carved) const;
   size_t move_flat_tets_outside(const CarveResult& carved);
+  bool mesh_steps(FacetRecoveryStats& fst);
+  void add_facet_split(const FacetRecoveryStats& fst);
+  Status insert_facet_splits();
+
+  struct FacetSplit {
+    uint32_t facet;
+    double xyz[3];
+  };
+  std::vector<FacetSplit> facet_splits_;  ///< Steiner points added inside facets, in order
 
   const Plc* plc_;              // the input, or merged_ when facets were merged
   Plc merged_;                  // merge_coplanar_facets of the input
@@ -325,6 +338,86 @@ void Pipeline::mesh_to_result(const std::vector<TetId>& tets,
   }
 }
 
+// Steps 1-4 on a fresh mesh. False on failure (out_.status says why; fst
+// names the subface facet recovery could not recover, if any).
+bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
+  Statistics& s = out_.stats;
+  Status st;
+  mesh_ = TetMesh();
+  segs_ = SegmentSet();
+  subfaces_ = Subfaces();
+  volume_points_.clear();
+  // Step 1, then the facet Steiner points of earlier attempts.
+  if (!begin(Phase::Delaunay)) return false;
+  DelaunayStats dstats;
+  st = delaunay_tetrahedralize(mesh_, &plc_->points[0].x, plc_->points.size(), nullptr, &dstats);
+  init_segments(*plc_, segs_);
+  s.input_segments = segs_.input.size();
+  facet_interior_.assign(plc_->facets.size(), {});
+  if (st.ok()) st = insert_facet_splits();
+  if (!end(Phase::Delaunay, st, &s.ms_delaunay)) return false;
+
+  // Step 2.
+  if (opt_.stop_after >= Phase::Segments) {
+    if (!begin(Phase::Segments)) return false;
+    SegmentRecoveryStats sst;
+    st = recover_segments(mesh_, segs_, &sst, opt_.cancel);
+    s.missing_segments = sst.missing_initially;
+    s.rule1 = sst.rule1, s.rule2 = sst.rule2, s.rule3 = sst.rule3, s.acute_both = sst.acute_both;
+    s.max_splits = sst.max_splits;
+    if (!end(Phase::Segments, st, &s.ms_segments)) return false;
+  }
+
+  // Step 3. Symbolically (default) there is nothing to do: the predicates of
+  // steps 1, 2 and 4 share one perturbation, so D1 has no local degeneracy.
+  if (opt_.stop_after >= Phase::Degeneracy && opt_.degeneracy == DegeneracyMode::Paper) {
+    if (!begin(Phase::Degeneracy)) return false;
+    DegeneracyStats gst;
+    st = remove_local_degeneracies(*plc_, mesh_, segs_, facet_interior_, volume_points_, &gst,
+                                   opt_.cancel);
+    s.perturbations = gst.perturbations, s.break_points = gst.break_points;
+    s.protect_segment = gst.protect_segment, s.protect_facet = gst.protect_facet;
+    if (!end(Phase::Degeneracy, st, &s.ms_degeneracy)) return false;
+  }
+
+  // Step 4.
+  if (opt_.stop_after >= Phase::Facets) {
+    if (!begin(Phase::Facets)) return false;
+    st = triangulate_facets(*plc_, segs_, mesh_, facet_interior_, subfaces_);
+    const bool force = facet_splits_.size() < opt_.debug_forced_facet_splits;
+    if (st.ok()) st = recover_facets(mesh_, subfaces_, &fst, opt_.cancel, force);
+    s.missing_subfaces = fst.missing_initially, s.regions = fst.regions;
+    s.cavities = fst.cavities, s.largest_cavity = fst.largest_cavity, s.fallbacks = fst.fallbacks;
+    if (!end(Phase::Facets, st, &s.ms_facets)) return false;
+  }
+
+  return true;
+}
+
+// A Steiner point at the centroid of the subface facet recovery could not
+// recover, for its facet. Rounded to doubles, like every constructed point
+// (§5): the facet is then only nearly planar near it, which the later steps
+// already handle for rounded segment points (flat-tet test, validator).
+void Pipeline::add_facet_split(const FacetRecoveryStats& fst) {
+  double c[3] = {0, 0, 0};
+  for (VertexId v : fst.unrecovered)
+    for (int k = 0; k < 3; ++k) c[k] += mesh_.point(v)[k] / 3;
+  facet_splits_.push_back({fst.unrecovered_facet, {c[0], c[1], c[2]}});
+}
+
+// Inserts the facet Steiner points of earlier attempts into D0.
+Status Pipeline::insert_facet_splits() {
+  if (facet_splits_.empty()) return Status::success();
+  PointInserter ins(mesh_);
+  for (const FacetSplit& fs : facet_splits_) {
+    InsertResult res;
+    Status st = ins.insert_point(fs.xyz, ins.last_tet(), kVertexSteiner, &res);
+    if (!st.ok()) return st;
+    if (!res.duplicate) facet_interior_[fs.facet].push_back(res.vertex);
+  }
+  return Status::success();
+}
+
 void Pipeline::run() {
   const auto t_total = Clock::now();
   Statistics& s = out_.stats;
@@ -352,48 +445,23 @@ void Pipeline::run() {
   }
   if (!end(Phase::Read, st, &s.ms_read)) return;
 
-  // Step 1.
-  if (!begin(Phase::Delaunay)) return;
-  DelaunayStats dstats;
-  st = delaunay_tetrahedralize(mesh_, &plc_->points[0].x, plc_->points.size(), nullptr, &dstats);
-  if (!end(Phase::Delaunay, st, &s.ms_delaunay)) return;
-  init_segments(*plc_, segs_);
-  s.input_segments = segs_.input.size();
-  facet_interior_.assign(plc_->facets.size(), {});
-
-  // Step 2.
-  if (opt_.stop_after >= Phase::Segments) {
-    if (!begin(Phase::Segments)) return;
-    SegmentRecoveryStats sst;
-    st = recover_segments(mesh_, segs_, &sst, opt_.cancel);
-    s.missing_segments = sst.missing_initially;
-    s.rule1 = sst.rule1, s.rule2 = sst.rule2, s.rule3 = sst.rule3, s.acute_both = sst.acute_both;
-    s.max_splits = sst.max_splits;
-    if (!end(Phase::Segments, st, &s.ms_segments)) return;
-  }
-
-  // Step 3. Symbolically (default) there is nothing to do: the predicates of
-  // steps 1, 2 and 4 share one perturbation, so D1 has no local degeneracy.
-  if (opt_.stop_after >= Phase::Degeneracy && opt_.degeneracy == DegeneracyMode::Paper) {
-    if (!begin(Phase::Degeneracy)) return;
-    DegeneracyStats gst;
-    st = remove_local_degeneracies(*plc_, mesh_, segs_, facet_interior_, volume_points_, &gst,
-                                   opt_.cancel);
-    s.perturbations = gst.perturbations, s.break_points = gst.break_points;
-    s.protect_segment = gst.protect_segment, s.protect_facet = gst.protect_facet;
-    if (!end(Phase::Degeneracy, st, &s.ms_degeneracy)) return;
-  }
-
-  // Step 4.
-  if (opt_.stop_after >= Phase::Facets) {
-    if (!begin(Phase::Facets)) return;
-    st = triangulate_facets(*plc_, segs_, mesh_, facet_interior_, subfaces_);
+  // Steps 1-4. Never fail on a valid PLC: when facet recovery gives up on a
+  // missing region (cavity retetrahedralization and gift-wrapping both
+  // failed), a Steiner point inside the failing subface joins its facet and
+  // the steps run again from the Delaunay tetrahedralization (the point is
+  // in the vertex set from the start, so steps 1-4 stay exactly as the
+  // paper describes them, for a PLC with one more facet vertex).
+  for (;;) {
     FacetRecoveryStats fst;
-    if (st.ok()) st = recover_facets(mesh_, subfaces_, &fst, opt_.cancel);
-    s.missing_subfaces = fst.missing_initially, s.regions = fst.regions;
-    s.cavities = fst.cavities, s.largest_cavity = fst.largest_cavity, s.fallbacks = fst.fallbacks;
-    if (!end(Phase::Facets, st, &s.ms_facets)) return;
+    if (mesh_steps(fst)) break;
+    const Error& e = out_.status.error;
+    const bool retry = (e.code == ErrorCode::Internal || e.code == ErrorCode::LimitReached) &&
+                       fst.unrecovered_facet != kNone && facet_splits_.size() < kMaxFacetSplits;
+    if (!retry) return;
+    add_facet_split(fst);
+    out_.status = Status();
   }
+  s.facet_splits = facet_splits_.size();
 
   // Carving, or the intermediate mesh of a stopped run (all real tets).
   if (opt_.stop_after < Phase::Carve) {

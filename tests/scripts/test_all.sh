@@ -21,10 +21,9 @@ if [ "${CDT3D_SKIP_SANITIZE:-0}" != 1 ]; then
 fi
 if [ "${CDT3D_SKIP_FUZZ:-0}" != 1 ]; then
   echo "== fuzzing (${FUZZ_SECONDS:-60} s per target)"
-  # Internal errors of the pipeline are allowed in this short run (the open
-  # findings are tests/data/regress/pending-*); crashes, sanitizer reports,
-  # hangs, leaks and nondeterminism still fail it.
-  CDT3D_FUZZ_ALLOW_INTERNAL=1 bash tests/scripts/fuzz.sh
+  # An internal error of the pipeline fails the run, like a crash, a
+  # sanitizer report, a hang, a leak or nondeterminism.
+  bash tests/scripts/fuzz.sh
 fi
 
 echo "== WASM package, worker, web page (node --test)"

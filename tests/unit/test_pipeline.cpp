@@ -218,3 +218,29 @@ TEST_CASE("merge_coplanar_facets joins the two triangles of each cube face", "[p
   for (uint32_t f : joined.face_facet) CHECK(f < plc.facets.size());
   CHECK(volume(joined) == Approx(1));
 }
+
+TEST_CASE("a region facet recovery gives up on gets a Steiner point in its facet", "[pipeline]") {
+  // Facet recovery is forced to give up on its first missing region twice;
+  // each time the pipeline puts a point inside the failing subface and runs
+  // steps 1-4 again. The result is a valid CDT with those facet points.
+  Plc plc;
+  const Status st = read_plc_file(std::string(CDT3D_TEST_DATA) + "/chazelle_n3.off", plc);
+  REQUIRE(st.ok());
+  Options opt;
+  const Result plain = run(plc, opt);
+  REQUIRE(plain.stats.missing_subfaces > 0);
+  CHECK(plain.stats.facet_splits == 0);
+  opt.debug_forced_facet_splits = 2;
+  const Result r = run(plc, opt);
+  CHECK(r.stats.facet_splits == 2);
+  CHECK(r.stats.steiner_facet == 2);
+  CHECK(r.stats.flat_tets == 0);
+  size_t in_facets = 0;
+  for (size_t i = 0; i < r.steiner_kind.size(); ++i) {
+    if (r.steiner_kind[i] != SteinerKind::Facet) continue;
+    ++in_facets;
+    CHECK(r.steiner_parent[i] >= 0);
+    CHECK(r.steiner_parent[i] < static_cast<int64_t>(plc.facets.size()));
+  }
+  CHECK(in_facets == 2);
+}

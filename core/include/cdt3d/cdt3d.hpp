@@ -241,6 +241,10 @@ struct Options {
   /// result against merge_coplanar_facets() of the input.
   bool merge_coplanar_facets = false;
   Phase stop_after = Phase::Done; ///< stop after this phase (debugging); result holds that mesh
+  /// Testing only: the first N times facet recovery runs, its first missing
+  /// region counts as unrecoverable, which exercises the fallback that puts
+  /// a Steiner point inside the facet (Statistics::facet_splits).
+  size_t debug_forced_facet_splits = 0;
   /// Progress: called with the current phase and a fraction in [0, 1]. May be empty.
   void (*progress)(void* user, Phase phase, double fraction) = nullptr;
   void* progress_user = nullptr;
