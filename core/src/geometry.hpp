@@ -9,12 +9,10 @@
 
 namespace cdt3d {
 
-/// Whether tet (a, b, c, d) is numerically flat or inverted in doubles:
-/// 6V = (a - d) . ((b - d) x (c - d)) evaluated in floating point is not
-/// above kFlatTetRatio * (longest edge)^3. This is the usability test of the
-/// output (cdt3d.hpp), applied to the stored coordinates exactly as a user's
-/// code would compute it.
-inline bool numerically_flat(const double* a, const double* b, const double* c, const double* d) {
+/// 6V / l_max^3 of tet (a, b, c, d) in doubles: 6V = (a - d) . ((b - d) x
+/// (c - d)) evaluated in floating point, l_max its longest edge. Positive for
+/// a positively oriented tet (tet_mesh.hpp), up to rounding.
+inline double volume_ratio(const double* a, const double* b, const double* c, const double* d) {
   const double u[3] = {a[0] - d[0], a[1] - d[1], a[2] - d[2]};
   const double v[3] = {b[0] - d[0], b[1] - d[1], b[2] - d[2]};
   const double w[3] = {c[0] - d[0], c[1] - d[1], c[2] - d[2]};
@@ -28,7 +26,14 @@ inline bool numerically_flat(const double* a, const double* b, const double* c, 
       l2 = std::max(l2, x * x + y * y + z * z);
     }
   const double l = std::sqrt(l2);
-  return !(det > kFlatTetRatio * l * l * l);
+  return l > 0 ? det / (l * l * l) : 0;
+}
+
+/// Whether tet (a, b, c, d) is numerically flat or inverted in doubles:
+/// volume_ratio <= kFlatTetRatio. This is the usability test of the output
+/// (cdt3d.hpp), applied to the stored coordinates as a user's code would.
+inline bool numerically_flat(const double* a, const double* b, const double* c, const double* d) {
+  return !(volume_ratio(a, b, c, d) > kFlatTetRatio);
 }
 
 }  // namespace cdt3d

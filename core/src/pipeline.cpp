@@ -21,6 +21,7 @@
 #include "degeneracy.hpp"
 #include "delaunay.hpp"
 #include "facet_recovery.hpp"
+#include "flat_flips.hpp"
 #include "plc_intersect.hpp"
 #include "segment_recovery.hpp"
 #include "stats.hpp"
@@ -471,6 +472,9 @@ void Pipeline::run() {
     mesh_to_result(tets, nullptr, nullptr);
   } else {
     if (!begin(Phase::Carve)) return;
+    FlatFlipStats ff;
+    remove_flat_tets(mesh_, subfaces_, segs_, &ff);
+    s.flat_flips = ff.flips;
     CarveResult carved;
     st = carve(*plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved);
     if (st.ok() && move_flat_tets_outside(carved) > 0) {

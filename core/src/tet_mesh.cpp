@@ -98,6 +98,70 @@ void TetMesh::free_tet(TetId t) {
   free_tets.push_back(t);
 }
 
+bool TetMesh::replace_tets(const TetId* old, size_t n_old, const std::array<VertexId, 4>* fresh,
+                           size_t n_fresh, std::vector<TetId>* created) {
+  using Key = std::array<VertexId, 3>;
+  auto key = [](VertexId a, VertexId b, VertexId c) {
+    Key k = {a, b, c};
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  auto is_old = [&](TetId t) { return std::find(old, old + n_old, t) != old + n_old; };
+  // Boundary of the old region: face key -> half-face outside it.
+  std::vector<std::pair<Key, HalfFace>> outer;
+  for (size_t k = 0; k < n_old; ++k)
+    for (int i = 0; i < 4; ++i) {
+      const HalfFace out = tadj[4 * static_cast<size_t>(old[k]) + i];
+      if (is_old(hf_tet(out))) continue;
+      const VertexId* w = &tv[4 * static_cast<size_t>(old[k])];
+      outer.push_back({key(w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]), out});
+    }
+  // Match every fresh face before touching anything: to an outer face, or
+  // to the face of another fresh tet (by index 4 * j + i).
+  std::vector<uint32_t> match(4 * n_fresh, kNone);
+  std::vector<uint8_t> outer_used(outer.size(), 0);
+  for (size_t j = 0; j < n_fresh; ++j)
+    for (int i = 0; i < 4; ++i) {
+      const auto& w = fresh[j];
+      const Key k = key(w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]);
+      for (size_t o = 0; o < outer.size() && match[4 * j + i] == kNone; ++o)
+        if (!outer_used[o] && outer[o].first == k) outer_used[o] = 1, match[4 * j + i] = 0x80000000u | uint32_t(o);
+      for (size_t j2 = 0; j2 < n_fresh && match[4 * j + i] == kNone; ++j2)
+        for (int i2 = 0; i2 < 4 && j2 != j; ++i2) {
+          const auto& w2 = fresh[j2];
+          if (key(w2[kFaceVertex[i2][0]], w2[kFaceVertex[i2][1]], w2[kFaceVertex[i2][2]]) == k) {
+            match[4 * j + i] = static_cast<uint32_t>(4 * j2 + i2);
+            break;
+          }
+        }
+      if (match[4 * j + i] == kNone) return false;
+    }
+  for (uint8_t u : outer_used)
+    if (!u) return false;
+  // Rewire.
+  std::vector<TetId> ids(n_fresh);
+  for (size_t j = 0; j < n_fresh; ++j) ids[j] = j < n_old ? old[j] : alloc_tet();
+  for (size_t k = n_fresh; k < n_old; ++k) free_tet(old[k]);
+  for (size_t j = 0; j < n_fresh; ++j) {
+    tflag[ids[j]] = 0;
+    set_tet(ids[j], fresh[j][0], fresh[j][1], fresh[j][2], fresh[j][3]);
+  }
+  for (size_t j = 0; j < n_fresh; ++j)
+    for (int i = 0; i < 4; ++i) {
+      const uint32_t m = match[4 * j + i];
+      const HalfFace me = make_hf(ids[j], i);
+      if (m & 0x80000000u) {
+        glue(me, outer[m & 0x7fffffffu].second);
+      } else {
+        tadj[me] = make_hf(ids[m / 4], static_cast<int>(m % 4));
+      }
+    }
+  for (size_t j = 0; j < n_fresh; ++j)
+    for (int i = 0; i < 4; ++i) vtet[fresh[j][i]] = ids[j];
+  if (created) *created = ids;
+  return true;
+}
+
 uint32_t TetMesh::next_epoch() {
   if (epoch == 0xffffffffu) {  // wrapped: forget every old stamp
     std::fill(tstamp.begin(), tstamp.end(), 0u);

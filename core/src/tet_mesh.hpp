@@ -25,6 +25,7 @@
 
 #include <cdt3d/cdt3d.hpp>
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -117,6 +118,15 @@ struct TetMesh {
   }
   /// Makes a and b mirror half-faces of each other.
   void glue(HalfFace a, HalfFace b) { tadj[a] = b, tadj[b] = a; }
+  /// Replaces the live tets `old` (n_old of them) by real tets `fresh`
+  /// (n_fresh, each positively oriented) that fill the same region: every
+  /// face on the boundary of `old` must be a face of exactly one fresh tet,
+  /// every other fresh face of exactly two. Rewires adjacency and vtet; the
+  /// fresh tets reuse the old slots first and get tflag 0. Returns false,
+  /// changing nothing, when the faces do not match (a caller's bug). The
+  /// flips of step 4's output (flat_flips.cpp) are built on it.
+  bool replace_tets(const TetId* old, size_t n_old, const std::array<VertexId, 4>* fresh,
+                    size_t n_fresh, std::vector<TetId>* created = nullptr);
 
   // --- marks -------------------------------------------------------------
   /// A fresh epoch: every tet stamp differs from it until stamped.

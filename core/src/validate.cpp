@@ -33,7 +33,8 @@
 //     boundary facets enclose (divergence theorem on the input loops).
 //  8. Constrained Delaunay: every face shared by two tets that is not
 //     constrained is locally Delaunay: insphere of the opposite vertex <= 0
-//     (exact, unperturbed; co-spherical allowed).
+//     (exact, unperturbed; co-spherical allowed), unless four of its five
+//     points are numerically flat (a flat tet flipped away, flat_flips.hpp).
 #include <algorithm>
 #include <array>
 #include <iterator>
@@ -42,6 +43,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry.hpp"
 #include "predicates.hpp"
 #include "tet_mesh.hpp"
 
@@ -111,6 +113,7 @@ class Validator {
   Status segments();
   Status volume();
   Status delaunay();
+  bool flipped_for_flat_tet(const uint32_t* w, uint32_t e) const;
 
   const Plc& plc_;
   const Result& r_;
@@ -561,6 +564,10 @@ Status Validator::facets() {
 // vertices all belong to facet f, its projection must not overlap the
 // interior of any triangle of f (exact orient2d in f's projection; two
 // triangles' interiors are disjoint iff an edge line of one separates them).
+// Rounded Steiner points (§5) put a subsegment a few ulps off its segment's
+// line, so a face on the far side of a subsegment of f can overlap f in a
+// sliver: that is no error when the face overlaps none of f's constrained
+// faces and lies across that subsegment from f's constrained face on it.
 Status Validator::unconstrained_in_facets() {
   const size_t nfacets = plc_.facets.size();
   std::vector<std::vector<uint32_t>> seg_facets(segments_.size());
@@ -620,6 +627,61 @@ Status Validator::unconstrained_in_facets() {
   };
   std::vector<Tri3> keys = constrained_;
   std::sort(keys.begin(), keys.end());
+  std::vector<std::vector<size_t>> faces_of_facet(nfacets);
+  for (size_t j = 0; j < nf_; ++j) faces_of_facet[r_.face_facet[j]].push_back(j);
+  std::vector<std::array<uint32_t, 2>> subsegs;
+  for (size_t j = 0; j + 1 < r_.edges.size(); j += 2)
+    subsegs.push_back({std::min(r_.edges[j], r_.edges[j + 1]), std::max(r_.edges[j], r_.edges[j + 1])});
+  std::sort(subsegs.begin(), subsegs.end());
+  auto proj = [&](uint32_t v, int drop, double out[2]) {
+    const double* p = pt(v);
+    out[0] = p[(drop + 1) % 3], out[1] = p[(drop + 2) % 3];
+  };
+  // The sliver case above: face k shares a subsegment (x, y) with a
+  // constrained face of f whose third vertex is on the other side of xy,
+  // and overlaps no constrained face of f.
+  auto beyond_subsegment = [&](const Tri3& k, uint32_t f, int drop) {
+    double g[3][2];
+    for (int x = 0; x < 3; ++x) proj(k[x], drop, g[x]);
+    bool across = false;
+    for (int e = 0; e < 3 && !across; ++e) {
+      const uint32_t x = k[e], y = k[(e + 1) % 3], z = k[(e + 2) % 3];
+      if (!std::binary_search(subsegs.begin(), subsegs.end(),
+                              std::array<uint32_t, 2>{std::min(x, y), std::max(x, y)}))
+        continue;
+      for (size_t j : faces_of_facet[f]) {
+        const uint32_t* c = &m_.faces[3 * j];
+        int at = -1;
+        for (int q = 0; q < 3; ++q)
+          if (c[q] != x && c[q] != y) at = q;
+        if (at < 0 || (c[(at + 1) % 3] != x && c[(at + 2) % 3] != x) ||
+            (c[(at + 1) % 3] != y && c[(at + 2) % 3] != y))
+          continue;
+        double px[2], py[2], pz[2], pw[2];
+        proj(x, drop, px), proj(y, drop, py), proj(z, drop, pz), proj(c[at], drop, pw);
+        if (pred::orient2d(px, py, pz) * pred::orient2d(px, py, pw) < 0) across = true;
+      }
+    }
+    if (!across) return false;
+    if (pred::orient2d(g[0], g[1], g[2]) < 0) std::swap(g[1], g[2]);
+    for (size_t j : faces_of_facet[f]) {
+      double h[3][2];
+      for (int x = 0; x < 3; ++x) proj(m_.faces[3 * j + x], drop, h[x]);
+      if (pred::orient2d(h[0], h[1], h[2]) < 0) std::swap(h[1], h[2]);
+      bool apart = false;
+      for (const auto* pair : {&g, &h}) {
+        const auto& u = *pair;
+        const auto& w = pair == &g ? h : g;
+        for (int e = 0; e < 3 && !apart; ++e) {
+          bool all = true;
+          for (int x = 0; x < 3 && all; ++x) all = pred::orient2d(u[e], u[(e + 1) % 3], w[x]) <= 0;
+          apart = all;
+        }
+      }
+      if (!apart) return false;
+    }
+    return true;
+  };
   std::vector<uint32_t> ab, abc;
   for (size_t i = 0; i < faces_.size(); ++i) {
     if (i > 0 && faces_[i].key == faces_[i - 1].key) continue;
@@ -660,7 +722,8 @@ Status Validator::unconstrained_in_facets() {
           }
           return false;
         };
-        if (!separates(g, h) && !separates(h, g) && !flat_in_facet(i, f) && !along_one_segment(k))
+        if (!separates(g, h) && !separates(h, g) && !flat_in_facet(i, f) &&
+            !along_one_segment(k) && !beyond_subsegment(k, f, drop))
           return fail("face " + tri_name(k) + " lies in facet " + std::to_string(f) +
                           " but is not constrained.",
                       f, k[0]);
@@ -752,6 +815,21 @@ Status Validator::volume() {
   return Status::success();
 }
 
+// A face between tets (w) and (face, e) may fail the insphere test where the
+// Delaunay choice for these five points would be a numerically flat tet,
+// which the pipeline flips away (flat_flips.hpp): some four of the five
+// points are numerically flat (geometry.hpp).
+bool Validator::flipped_for_flat_tet(const uint32_t* w, uint32_t e) const {
+  const uint32_t p[5] = {w[0], w[1], w[2], w[3], e};
+  for (int skip = 0; skip < 5; ++skip) {
+    const double* q[4];
+    for (int i = 0, k = 0; i < 5; ++i)
+      if (i != skip) q[k++] = pt(p[i]);
+    if (std::fabs(volume_ratio(q[0], q[1], q[2], q[3])) <= kFlatTetRatio) return true;
+  }
+  return false;
+}
+
 Status Validator::delaunay() {
   std::vector<Tri3> keys = constrained_;
   std::sort(keys.begin(), keys.end());
@@ -762,7 +840,8 @@ Status Validator::delaunay() {
     const FaceRec& b = faces_[i + 1];
     const uint32_t* w = &m_.tets[4 * static_cast<size_t>(a.tet)];
     const uint32_t e = m_.tets[4 * static_cast<size_t>(b.tet) + b.face];
-    if (pred::insphere(pt(w[0]), pt(w[1]), pt(w[2]), pt(w[3]), pt(e)) > 0)
+    if (pred::insphere(pt(w[0]), pt(w[1]), pt(w[2]), pt(w[3]), pt(e)) > 0 &&
+        !flipped_for_flat_tet(w, e))
       return fail("face " + tri_name(a.key) + " is not constrained and not locally Delaunay: "
                       "vertex " + std::to_string(e) + " is inside the circumsphere of tet " +
                       std::to_string(a.tet) + ".",

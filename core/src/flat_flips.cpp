@@ -1,0 +1,209 @@
+// Flat-tet removal by flips (flat_flips.hpp).
+#include "flat_flips.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "geometry.hpp"
+#include "predicates.hpp"
+
+namespace cdt3d {
+
+namespace {
+
+using Tet = std::array<VertexId, 4>;
+using FaceKey = std::array<VertexId, 3>;
+using EdgeKey = std::array<VertexId, 2>;
+
+// Largest ring of tets around an edge that edge removal tries (2 (k - 2) new
+// tets; the fans of a ring of 5 already cover most flat tets met).
+constexpr size_t kMaxRing = 5;
+// Passes over the flat tets: a flip can make a neighbour flat-free or leave
+// another flat tet to a later pass.
+constexpr int kMaxPasses = 8;
+
+FaceKey face_key(VertexId a, VertexId b, VertexId c) {
+  FaceKey k = {a, b, c};
+  std::sort(k.begin(), k.end());
+  return k;
+}
+EdgeKey edge_key(VertexId a, VertexId b) { return a < b ? EdgeKey{a, b} : EdgeKey{b, a}; }
+
+class FlatFlipper {
+ public:
+  FlatFlipper(TetMesh& mesh, const Subfaces& sf, const SegmentSet& segs) : m_(mesh) {
+    for (const auto& t : sf.tri) subfaces_.push_back(face_key(t[0], t[1], t[2]));
+    std::sort(subfaces_.begin(), subfaces_.end());
+    std::vector<std::array<uint32_t, 3>> sub;
+    segs.subsegments(sub);
+    for (const auto& e : sub) subsegments_.push_back(edge_key(e[0], e[1]));
+    std::sort(subsegments_.begin(), subsegments_.end());
+  }
+
+  void run(FlatFlipStats& st);
+
+ private:
+  bool flat(TetId t) const {
+    const VertexId* w = &m_.tv[4 * size_t(t)];
+    return w[3] != kInfinite && numerically_flat(m_.point(w[0]), m_.point(w[1]), m_.point(w[2]),
+                                                 m_.point(w[3]));
+  }
+  bool is_subface(VertexId a, VertexId b, VertexId c) const {
+    return std::binary_search(subfaces_.begin(), subfaces_.end(), face_key(a, b, c));
+  }
+  bool is_subsegment(VertexId a, VertexId b) const {
+    return std::binary_search(subsegments_.begin(), subsegments_.end(), edge_key(a, b));
+  }
+  // Orients (a, b, c, d) positively; false when the four are coplanar.
+  bool positive(VertexId a, VertexId b, VertexId c, VertexId d, Tet& out) const {
+    const int o = pred::orient3d(m_.point(a), m_.point(b), m_.point(c), m_.point(d));
+    if (o == 0) return false;
+    out = o > 0 ? Tet{a, b, c, d} : Tet{b, a, c, d};
+    return true;
+  }
+  double worst(const std::vector<Tet>& tets) const {
+    double r = HUGE_VAL;
+    for (const Tet& t : tets)
+      r = std::min(r, volume_ratio(m_.point(t[0]), m_.point(t[1]), m_.point(t[2]), m_.point(t[3])));
+    return r;
+  }
+  void consider(const std::vector<TetId>& old, std::vector<Tet>& fresh);
+  void try_face(TetId t, int i);
+  void try_edge(TetId t, int i, int j);
+  bool fix(TetId t);
+
+  TetMesh& m_;
+  std::vector<FaceKey> subfaces_;
+  std::vector<EdgeKey> subsegments_;
+  // Best candidate of the current flat tet.
+  double best_ratio_ = 0;
+  std::vector<TetId> best_old_;
+  std::vector<Tet> best_new_;
+};
+
+// Keeps the candidate (old tets -> fresh tets) if its thinnest tet beats the
+// best so far and is not flat itself.
+void FlatFlipper::consider(const std::vector<TetId>& old, std::vector<Tet>& fresh) {
+  const double r = worst(fresh);
+  if (!(r > kFlatTetRatio) || !(r > best_ratio_)) return;
+  best_ratio_ = r;
+  best_old_ = old;
+  best_new_.swap(fresh);
+}
+
+// 2-3 flip across face i of t: t = (face, d) and its neighbour (face, e)
+// become three tets around edge de, valid when de crosses the face.
+void FlatFlipper::try_face(TetId t, int i) {
+  const HalfFace hf = make_hf(t, i);
+  const TetId n = hf_tet(m_.adjacent(hf));
+  if (m_.is_ghost(n)) return;
+  const VertexId* w = &m_.tv[4 * size_t(t)];
+  const VertexId a = w[kFaceVertex[i][0]], b = w[kFaceVertex[i][1]], c = w[kFaceVertex[i][2]];
+  if (is_subface(a, b, c)) return;
+  const VertexId d = w[i];
+  const VertexId e = m_.vertex(n, hf_face(m_.adjacent(hf)));
+  const double *pa = m_.point(a), *pb = m_.point(b), *pc = m_.point(c), *pd = m_.point(d),
+               *pe = m_.point(e);
+  const int s1 = pred::orient3d(pa, pb, pd, pe), s2 = pred::orient3d(pb, pc, pd, pe),
+            s3 = pred::orient3d(pc, pa, pd, pe);
+  if (s1 == 0 || s1 != s2 || s2 != s3) return;
+  std::vector<Tet> fresh(3);
+  positive(a, b, d, e, fresh[0]);
+  positive(b, c, d, e, fresh[1]);
+  positive(c, a, d, e, fresh[2]);
+  consider({t, n}, fresh);
+}
+
+// Edge removal around the edge of t between its vertices at positions i, j:
+// the ring of k <= kMaxRing tets around it becomes 2 (k - 2) tets, the ring
+// polygon triangulated as a fan from one of its vertices and each triangle
+// coned to both ends of the edge; valid when every triangle separates them.
+void FlatFlipper::try_edge(TetId t, int i, int j) {
+  const VertexId u = m_.vertex(t, i), v = m_.vertex(t, j);
+  if (is_subsegment(u, v)) return;
+  int p = 0;
+  while (p == i || p == j) ++p;
+  int q = p + 1;
+  while (q == i || q == j) ++q;
+  std::vector<TetId> ring;
+  std::vector<VertexId> poly;
+  TetId cur = t;
+  VertexId a = m_.vertex(t, p), b = m_.vertex(t, q);
+  for (;;) {
+    if (m_.is_ghost(cur) || ring.size() >= kMaxRing) return;
+    ring.push_back(cur);
+    poly.push_back(a);
+    if (is_subface(u, v, b)) return;  // the face crossed next is removed
+    const TetId nxt = m_.neighbor(cur, m_.index_in_tet(cur, a));
+    if (nxt == t) break;
+    VertexId c = kNone;
+    for (int k = 0; k < 4; ++k) {
+      const VertexId x = m_.vertex(nxt, k);
+      if (x != u && x != v && x != b) c = x;
+    }
+    a = b, b = c, cur = nxt;
+  }
+  const size_t k = poly.size();
+  if (k < 3) return;
+  for (size_t apex = 0; apex < k; ++apex) {
+    std::vector<Tet> fresh;
+    bool ok = true;
+    for (size_t m = 1; m + 1 < k && ok; ++m) {
+      const VertexId x = poly[apex], y = poly[(apex + m) % k], z = poly[(apex + m + 1) % k];
+      const int ou = pred::orient3d(m_.point(x), m_.point(y), m_.point(z), m_.point(u));
+      const int ov = pred::orient3d(m_.point(x), m_.point(y), m_.point(z), m_.point(v));
+      ok = ou != 0 && ov == -ou;
+      Tet tu, tv;
+      if (ok) ok = positive(x, y, z, u, tu) && positive(x, y, z, v, tv);
+      if (ok) fresh.push_back(tu), fresh.push_back(tv);
+    }
+    if (ok) consider(ring, fresh);
+    if (k == 3) break;  // one triangulation only
+  }
+}
+
+// The best valid flip that removes flat tet t, done; false when none.
+bool FlatFlipper::fix(TetId t) {
+  best_ratio_ = 0;
+  best_old_.clear();
+  best_new_.clear();
+  for (int i = 0; i < 4; ++i) try_face(t, i);
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) try_edge(t, i, j);
+  if (best_old_.empty()) return false;
+  return m_.replace_tets(best_old_.data(), best_old_.size(), best_new_.data(), best_new_.size());
+}
+
+void FlatFlipper::run(FlatFlipStats& st) {
+  std::vector<TetId> todo;
+  for (TetId t = 0; t < m_.num_tet_slots(); ++t)
+    if (!m_.is_dead(t) && flat(t)) todo.push_back(t);
+  st.flat_before = todo.size();
+  for (int pass = 0; pass < kMaxPasses && !todo.empty(); ++pass) {
+    std::vector<TetId> left;
+    const size_t flips = st.flips;
+    for (TetId t : todo) {
+      if (m_.is_dead(t) || !flat(t)) continue;  // gone or replaced by an earlier flip
+      if (fix(t)) ++st.flips; else left.push_back(t);
+    }
+    todo.swap(left);
+    if (st.flips == flips) break;
+  }
+  st.remaining = 0;
+  for (TetId t = 0; t < m_.num_tet_slots(); ++t)
+    if (!m_.is_dead(t) && flat(t)) ++st.remaining;
+}
+
+}  // namespace
+
+void remove_flat_tets(TetMesh& mesh, const Subfaces& subfaces, const SegmentSet& segs,
+                      FlatFlipStats* stats) {
+  FlatFlipStats local;
+  FlatFlipStats& st = stats ? *stats : local;
+  st = FlatFlipStats();
+  FlatFlipper(mesh, subfaces, segs).run(st);
+}
+
+}  // namespace cdt3d
