@@ -103,6 +103,43 @@ PointInserter::in_conflict(TetId t, const double* p, VertexId v) const {
   return pred::incircle_coplanar_sos(a, b, c, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(v)) > 0;
 }
 
+bool PointInserter::probe(const double* xyz, TetId hint,
+                          std::vector<std::array<VertexId, 3>>& faces) {
+  faces.clear();
+  TetMesh& m = mesh_;
+  const Location loc = locate_point(m, xyz, hint, rng_);
+  if (loc.kind != LocateKind::InTet && loc.kind != LocateKind::OutsideHull) return false;
+  if (vlocal_.size() < m.num_vertices()) vlocal_.resize(m.num_vertices() + m.num_vertices() / 4, 0);
+  const VertexId v = static_cast<VertexId>(m.num_vertices());  // the id it would get
+  uint8_t* flag = m.tflag.data();
+  cavity_.clear();
+  cavity_.push_back(loc.tet);
+  flag[loc.tet] |= kTetInCavity;
+  std::vector<TetId> tested;
+  for (size_t k = 0; k < cavity_.size(); ++k) {
+    const TetId t = cavity_[k];
+    for (int i = 0; i < 4; ++i) {
+      const TetId n = m.neighbor(t, i);
+      if (flag[n] & kTetInCavity) continue;
+      if (!(flag[n] & kTetTested)) {
+        if (in_conflict(n, xyz, v)) {
+          flag[n] |= kTetInCavity;
+          cavity_.push_back(n);
+          continue;
+        }
+        flag[n] |= kTetTested;
+        tested.push_back(n);
+      }
+      const VertexId* w = &m.tv[4 * static_cast<size_t>(t)];
+      faces.push_back({w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]});
+    }
+  }
+  for (TetId t : tested) flag[t] &= uint8_t(~kTetTested);
+  for (TetId t : cavity_) flag[t] &= uint8_t(~kTetInCavity);
+  cavity_.clear();
+  return true;
+}
+
 // Whether coning the cavity boundary to p makes a numerically flat real tet.
 bool PointInserter::cone_has_flat_tet(const double* p) const {
   for (const BoundaryFace& f : boundary_) {

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cdt3d/cdt3d.hpp>
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -121,6 +122,13 @@ class PointInserter {
   /// an existing vertex adds nothing and reports that vertex as duplicate.
   Status insert_point(const double* xyz, TetId hint, uint8_t kind = kVertexSteiner,
                       InsertResult* result = nullptr);
+
+  /// What inserting `xyz` would do, without doing it: fills `faces` with the
+  /// boundary faces of its cavity (the new tets would be these faces coned
+  /// to the point; kInfinite may appear). False when the point equals a
+  /// vertex or the walk fails. The point is perturbed as a new vertex (the
+  /// largest id); not available with set_sos_ids.
+  bool probe(const double* xyz, TetId hint, std::vector<std::array<VertexId, 3>>& faces);
 
   /// Tets created by the last insertion (real and ghost). Their slots may
   /// include ids from removed_tets(), which were reused.
