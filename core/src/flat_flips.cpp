@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -22,7 +23,7 @@ using EdgeKey = std::array<VertexId, 2>;
 constexpr size_t kMaxRing = 5;
 // Passes over the flat tets: a flip can make a neighbour flat-free or leave
 // another flat tet to a later pass.
-constexpr int kMaxPasses = 8;
+constexpr int kMaxPasses = 32;
 
 FaceKey face_key(VertexId a, VertexId b, VertexId c) {
   FaceKey k = {a, b, c};
@@ -78,16 +79,27 @@ class FlatFlipper {
   std::vector<FaceKey> subfaces_;
   std::vector<EdgeKey> subsegments_;
   // Best candidate of the current flat tet.
+  int best_gain_ = 0;
   double best_ratio_ = 0;
   std::vector<TetId> best_old_;
   std::vector<Tet> best_new_;
 };
 
-// Keeps the candidate (old tets -> fresh tets) if its thinnest tet beats the
-// best so far and is not flat itself.
+// Keeps the candidate (old tets -> fresh tets) if it leaves fewer flat tets
+// than it removes and beats the best so far (fewer flat tets left, then the
+// thinner of the two thinnest tets). Counting flat tets, not only requiring
+// none, lets a stack of flat tets in one plane go one flip at a time; every
+// flip lowers the count, so the passes end.
 void FlatFlipper::consider(const std::vector<TetId>& old, std::vector<Tet>& fresh) {
+  int before = 0, after = 0;
+  for (TetId t : old) before += flat(t);
+  for (const Tet& t : fresh)
+    after += numerically_flat(m_.point(t[0]), m_.point(t[1]), m_.point(t[2]), m_.point(t[3]));
+  const int gain = before - after;
+  if (gain <= 0) return;
   const double r = worst(fresh);
-  if (!(r > kFlatTetRatio) || !(r > best_ratio_)) return;
+  if (gain < best_gain_ || (gain == best_gain_ && !(r > best_ratio_))) return;
+  best_gain_ = gain;
   best_ratio_ = r;
   best_old_ = old;
   best_new_.swap(fresh);
@@ -166,7 +178,8 @@ void FlatFlipper::try_edge(TetId t, int i, int j) {
 
 // The best valid flip that removes flat tet t, done; false when none.
 bool FlatFlipper::fix(TetId t) {
-  best_ratio_ = 0;
+  best_gain_ = 0;
+  best_ratio_ = -HUGE_VAL;
   best_old_.clear();
   best_new_.clear();
   for (int i = 0; i < 4; ++i) try_face(t, i);
