@@ -113,15 +113,6 @@ double SegmentRecovery::param(uint32_t s, VertexId v) const {
   return sv ? sv->t : 0.5;  // chains hold only endpoints and recorded vertices
 }
 
-// Distance from point p to segment ab (floating point; search order only).
-double distance_to_segment(Vec p, Vec a, Vec b) {
-  const Vec ab = sub(b, a), ap = sub(p, a);
-  const double len2 = dot(ab, ab);
-  double f = len2 > 0 ? dot(ap, ab) / len2 : 0;
-  f = std::min(1.0, std::max(0.0, f));
-  return dist(p, {a.x + f * ab.x, a.y + f * ab.y, a.z + f * ab.z});
-}
-
 // The reference point of missing segment ab (§5): among the vertices that
 // encroach upon ab (inside or on its diametral sphere, exact test), the one
 // whose smallest circumsphere with a and b is largest; ties go to the smaller
@@ -159,24 +150,31 @@ VertexId SegmentRecovery::reference_point(VertexId a, VertexId b) {
   // Conservative test "tet t may meet the spindle": its bounding box meets
   // the search box, and its bounding sphere (centroid, farthest vertex) comes
   // within reach of the segment.
+  const Vec ab = sub(pb, pa);
+  const double len2 = dot(ab, ab);
   auto may_meet = [&](TetId t) {
-    if (mesh_.is_ghost(t)) return false;
-    Vec c = {0, 0, 0};
+    const VertexId* w = &mesh_.tv[4 * static_cast<size_t>(t)];
+    if (w[3] == kInfinite) return false;
+    const double* q[4] = {mesh_.point(w[0]), mesh_.point(w[1]), mesh_.point(w[2]), mesh_.point(w[3])};
     for (int d = 0; d < 3; ++d) {
-      double tlo = HUGE_VAL, thi = -HUGE_VAL;
-      for (int i = 0; i < 4; ++i) {
-        const double x = mesh_.point(mesh_.vertex(t, i))[d];
-        tlo = std::min(tlo, x), thi = std::max(thi, x);
-      }
+      const double tlo = std::min(std::min(q[0][d], q[1][d]), std::min(q[2][d], q[3][d]));
+      const double thi = std::max(std::max(q[0][d], q[1][d]), std::max(q[2][d], q[3][d]));
       if (tlo > hi[d] || thi < lo[d]) return false;
     }
+    const Vec c = {0.25 * (q[0][0] + q[1][0] + q[2][0] + q[3][0]),
+                   0.25 * (q[0][1] + q[1][1] + q[2][1] + q[3][1]),
+                   0.25 * (q[0][2] + q[1][2] + q[2][2] + q[3][2])};
+    double rad2 = 0;
     for (int i = 0; i < 4; ++i) {
-      const Vec p = at(mesh_, mesh_.vertex(t, i));
-      c = {c.x + 0.25 * p.x, c.y + 0.25 * p.y, c.z + 0.25 * p.z};
+      const Vec e = {q[i][0] - c.x, q[i][1] - c.y, q[i][2] - c.z};
+      rad2 = std::max(rad2, dot(e, e));
     }
-    double rad = 0;
-    for (int i = 0; i < 4; ++i) rad = std::max(rad, dist(c, at(mesh_, mesh_.vertex(t, i))));
-    return distance_to_segment(c, pa, pb) - rad <= reach * (1 + 1e-9) + 1e-9 * len + 1e-300;
+    // Squared distance from the centroid to the segment.
+    const Vec ac = sub(c, pa);
+    const double f = len2 > 0 ? std::min(1.0, std::max(0.0, dot(ac, ab) / len2)) : 0;
+    const Vec e = {ac.x - f * ab.x, ac.y - f * ab.y, ac.z - f * ab.z};
+    const double limit = std::sqrt(rad2) + reach * (1 + 1e-9) + 1e-9 * len + 1e-300;
+    return dot(e, e) <= limit * limit;
   };
   mesh_.vertex_star(a, star_);
   const uint32_t epoch = mesh_.next_epoch();
