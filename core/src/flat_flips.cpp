@@ -71,6 +71,7 @@ class FlatFlipper {
     return r;
   }
   void consider(const std::vector<TetId>& old, std::vector<Tet>& fresh);
+  bool keeps_delaunay(const std::vector<TetId>& old, const std::vector<Tet>& fresh) const;
   void try_face(TetId t, int i);
   void try_edge(TetId t, int i, int j);
   bool fix(TetId t);
@@ -96,13 +97,54 @@ void FlatFlipper::consider(const std::vector<TetId>& old, std::vector<Tet>& fres
   for (const Tet& t : fresh)
     after += numerically_flat(m_.point(t[0]), m_.point(t[1]), m_.point(t[2]), m_.point(t[3]));
   const int gain = before - after;
-  if (gain <= 0) return;
+  if (gain <= 0 || !keeps_delaunay(old, fresh)) return;
   const double r = worst(fresh);
   if (gain < best_gain_ || (gain == best_gain_ && !(r > best_ratio_))) return;
   best_gain_ = gain;
   best_ratio_ = r;
   best_old_ = old;
   best_new_.swap(fresh);
+}
+
+// Whether every face of the fresh tets that is not a subface is locally
+// Delaunay (exact insphere) or has five vertices with a numerically flat
+// quadruple (geometry.hpp): the relaxed constrained Delaunay property that
+// validate() checks. A flip that would break it elsewhere is not done.
+bool FlatFlipper::keeps_delaunay(const std::vector<TetId>& old,
+                                 const std::vector<Tet>& fresh) const {
+  auto opposite = [&](const FaceKey& k, size_t self) -> VertexId {
+    for (size_t j = 0; j < fresh.size(); ++j) {
+      if (j == self) continue;
+      for (int i = 0; i < 4; ++i) {
+        const Tet& w = fresh[j];
+        if (face_key(w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]) == k)
+          return w[i];
+      }
+    }
+    for (TetId t : old)
+      for (int i = 0; i < 4; ++i) {
+        const VertexId* w = &m_.tv[4 * size_t(t)];
+        if (face_key(w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]) != k)
+          continue;
+        const HalfFace out = m_.adjacent(make_hf(t, i));
+        if (std::find(old.begin(), old.end(), hf_tet(out)) != old.end()) continue;
+        return m_.vertex(hf_tet(out), hf_face(out));
+      }
+    return kNone;
+  };
+  for (size_t j = 0; j < fresh.size(); ++j) {
+    const Tet& w = fresh[j];
+    for (int i = 0; i < 4; ++i) {
+      const FaceKey k = face_key(w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]);
+      if (std::binary_search(subfaces_.begin(), subfaces_.end(), k)) continue;
+      const VertexId e = opposite(k, j);
+      if (e == kNone || e == kInfinite) continue;
+      const double* p[5] = {m_.point(w[0]), m_.point(w[1]), m_.point(w[2]), m_.point(w[3]),
+                            m_.point(e)};
+      if (pred::insphere(p[0], p[1], p[2], p[3], p[4]) > 0 && !has_flat_quadruple(p)) return false;
+    }
+  }
+  return true;
 }
 
 // 2-3 flip across face i of t: t = (face, d) and its neighbour (face, e)

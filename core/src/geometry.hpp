@@ -36,4 +36,18 @@ inline bool numerically_flat(const double* a, const double* b, const double* c, 
   return !(volume_ratio(a, b, c, d) > kFlatTetRatio);
 }
 
+/// Whether some four of the five points are numerically flat. A face between
+/// two tets whose five vertices pass this test may fail the exact insphere
+/// test: the Delaunay choice there would be a flat tet, which the pipeline
+/// flips away (flat_flips.hpp); validate() accepts such faces (its check 8).
+inline bool has_flat_quadruple(const double* const p[5]) {
+  for (int skip = 0; skip < 5; ++skip) {
+    const double* q[4];
+    for (int i = 0, k = 0; i < 5; ++i)
+      if (i != skip) q[k++] = p[i];
+    if (std::fabs(volume_ratio(q[0], q[1], q[2], q[3])) <= kFlatTetRatio) return true;
+  }
+  return false;
+}
+
 }  // namespace cdt3d

@@ -824,14 +824,8 @@ Status Validator::volume() {
 // which the pipeline flips away (flat_flips.hpp): some four of the five
 // points are numerically flat (geometry.hpp).
 bool Validator::flipped_for_flat_tet(const uint32_t* w, uint32_t e) const {
-  const uint32_t p[5] = {w[0], w[1], w[2], w[3], e};
-  for (int skip = 0; skip < 5; ++skip) {
-    const double* q[4];
-    for (int i = 0, k = 0; i < 5; ++i)
-      if (i != skip) q[k++] = pt(p[i]);
-    if (std::fabs(volume_ratio(q[0], q[1], q[2], q[3])) <= kFlatTetRatio) return true;
-  }
-  return false;
+  const double* p[5] = {pt(w[0]), pt(w[1]), pt(w[2]), pt(w[3]), pt(e)};
+  return has_flat_quadruple(p);
 }
 
 Status Validator::delaunay() {
