@@ -173,7 +173,9 @@ void FlatFlipper::try_face(TetId t, int i) {
 // Edge removal around the edge of t between its vertices at positions i, j:
 // the ring of k <= kMaxRing tets around it becomes 2 (k - 2) tets, the ring
 // polygon triangulated as a fan from one of its vertices and each triangle
-// coned to both ends of the edge; valid when every triangle separates them.
+// coned to both ends of the edge; valid when every triangle separates them
+// with the same orientation (u on the same side of each triangle taken in
+// the polygon's order), i.e. every new tet is positively oriented.
 void FlatFlipper::try_edge(TetId t, int i, int j) {
   const VertexId u = m_.vertex(t, i), v = m_.vertex(t, j);
   if (is_subsegment(u, v)) return;
@@ -204,11 +206,13 @@ void FlatFlipper::try_edge(TetId t, int i, int j) {
   for (size_t apex = 0; apex < k; ++apex) {
     std::vector<Tet> fresh;
     bool ok = true;
+    int side = 0;  // orientation of (triangle, u), the same for every triangle of the fan
     for (size_t m = 1; m + 1 < k && ok; ++m) {
       const VertexId x = poly[apex], y = poly[(apex + m) % k], z = poly[(apex + m + 1) % k];
       const int ou = pred::orient3d(m_.point(x), m_.point(y), m_.point(z), m_.point(u));
       const int ov = pred::orient3d(m_.point(x), m_.point(y), m_.point(z), m_.point(v));
-      ok = ou != 0 && ov == -ou;
+      if (side == 0) side = ou;
+      ok = ou != 0 && ou == side && ov == -ou;
       Tet tu, tv;
       if (ok) ok = positive(x, y, z, u, tu) && positive(x, y, z, v, tv);
       if (ok) fresh.push_back(tu), fresh.push_back(tv);

@@ -12,6 +12,7 @@
 #include <cdt3d/cdt3d.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <new>
 #include <string>
@@ -24,6 +25,7 @@
 #include "flat_flips.hpp"
 #include "plc_intersect.hpp"
 #include "segment_recovery.hpp"
+#include "sos_order.hpp"
 #include "stats.hpp"
 #include "subfaces.hpp"
 #include "tet_mesh.hpp"
@@ -70,6 +72,12 @@ constexpr double kPhaseStart[] = {0.0, 0.02, 0.45, 0.6, 0.7, 0.95, 1.0};
 // of steps 1-4 costs a full meshing, and a valid PLC needs few.
 constexpr size_t kMaxFacetSplits = 64;
 
+// The perturbation order search (sos_order.hpp): Delaunay tetrahedralizations
+// at most, and only for PLCs up to this many points (each round costs a
+// full step 1).
+constexpr size_t kSosOrderRounds = 6;
+constexpr size_t kMaxSosOrderPoints = 200000;
+
 class Pipeline {
  public:
   Pipeline(const Plc& plc, const Options& options, Result& out)
@@ -112,6 +120,10 @@ class Pipeline {
   const Plc* plc_;              // the input, or merged_ when facets were merged
   Plc merged_;                  // merge_coplanar_facets of the input
   std::vector<uint32_t> rep_;   // per facet of merged_: its smallest input facet
+  Plc permuted_;                // *plc_ with its points in order_ (sos_order.hpp)
+  std::vector<VertexId> order_; // point k of permuted_ is input point order_[k]; empty: none
+  double ms_order_ = 0;         // time spent choosing order_
+  TetMesh d0_;                  // step 1's mesh, computed while choosing order_
   const Options& opt_;
   Result& out_;
   Clock::time_point t_phase_;
@@ -244,18 +256,35 @@ size_t Pipeline::move_flat_tets_outside(const CarveResult& carved) {
   return moved;
 }
 
-// After merge_coplanar_facets the phases numbered facets and segments of the
-// merged PLC; the Result names those of the input: a merged facet by its
-// smallest input facet, a segment by its index in the input's segments.
+// The phases number points, facets and segments of the PLC they mesh: after
+// merge_coplanar_facets, the merged PLC; after segment_friendly_order, its
+// points renumbered. The Result names those of the input: a point by its
+// input index, a merged facet by its smallest input facet, a segment by its
+// index in the input's segments.
 void Pipeline::report_input_ids(const Plc& input) {
-  if (rep_.empty()) return;
+  if (rep_.empty() && order_.empty()) return;
+  const size_t nin = input.points.size();
+  auto vertex = [&](int64_t v) -> int64_t {
+    return order_.empty() || v < 0 || v >= static_cast<int64_t>(nin) ? v : order_[v];
+  };
   auto facet = [&](int64_t f) { return f >= 0 && f < static_cast<int64_t>(rep_.size()) ? rep_[f] : f; };
   const auto mine = plc_segments(*plc_), theirs = plc_segments(input);
   auto segment = [&](int64_t s) -> int64_t {
     if (s < 0 || s >= static_cast<int64_t>(mine.size())) return s;
-    auto it = std::lower_bound(theirs.begin(), theirs.end(), mine[s]);
-    return it != theirs.end() && *it == mine[s] ? it - theirs.begin() : -1;
+    std::array<VertexId, 2> e = {static_cast<VertexId>(vertex(mine[s][0])),
+                                 static_cast<VertexId>(vertex(mine[s][1]))};
+    if (e[0] > e[1]) std::swap(e[0], e[1]);
+    auto it = std::lower_bound(theirs.begin(), theirs.end(), e);
+    return it != theirs.end() && *it == e ? it - theirs.begin() : -1;
   };
+  TetMeshData& m = out_.mesh;
+  if (!order_.empty() && m.points.size() >= 3 * nin) {
+    const std::vector<double> mine_xyz(m.points.begin(), m.points.begin() + 3 * nin);
+    for (size_t k = 0; k < nin; ++k)
+      std::copy(&mine_xyz[3 * k], &mine_xyz[3 * k] + 3, &m.points[3 * static_cast<size_t>(order_[k])]);
+    for (auto* ids : {&m.tets, &m.faces, &out_.edges})
+      for (uint32_t& v : *ids) v = static_cast<uint32_t>(vertex(v));
+  }
   for (uint32_t& f : out_.face_facet) f = static_cast<uint32_t>(facet(f));
   for (uint32_t& e : out_.edge_segment) e = static_cast<uint32_t>(segment(e));
   for (size_t i = 0; i < out_.steiner_kind.size(); ++i) {
@@ -267,6 +296,7 @@ void Pipeline::report_input_ids(const Plc& input) {
   e.facet = facet(e.facet);
   e.other_facet = facet(e.other_facet);
   e.segment = segment(e.segment);
+  e.vertex = vertex(e.vertex);
 }
 
 // Copies the kept tets into the public Result, dropping Steiner points that
@@ -351,12 +381,18 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
   // Step 1, then the facet Steiner points of earlier attempts.
   if (!begin(Phase::Delaunay)) return false;
   DelaunayStats dstats;
-  st = delaunay_tetrahedralize(mesh_, &plc_->points[0].x, plc_->points.size(), nullptr, &dstats);
+  if (d0_.live_tets > 0 && facet_splits_.empty()) {
+    mesh_ = std::move(d0_);  // computed while choosing the order
+    d0_ = TetMesh();
+  } else {
+    st = delaunay_tetrahedralize(mesh_, &plc_->points[0].x, plc_->points.size(), nullptr, &dstats);
+  }
   init_segments(*plc_, segs_);
   s.input_segments = segs_.input.size();
   facet_interior_.assign(plc_->facets.size(), {});
   if (st.ok()) st = insert_facet_splits();
   if (!end(Phase::Delaunay, st, &s.ms_delaunay)) return false;
+  s.ms_delaunay += ms_order_;
 
   // Step 2.
   if (opt_.stop_after >= Phase::Segments) {
@@ -445,6 +481,18 @@ void Pipeline::run() {
     plc_ = &merged_;
   }
   if (!end(Phase::Read, st, &s.ms_read)) return;
+
+  // The perturbation order that keeps the most segments in D0 (sos_order.hpp);
+  // its Delaunay tetrahedralizations count as Delaunay time.
+  if (plc_->points.size() <= kMaxSosOrderPoints) {
+    const auto t0 = Clock::now();
+    order_ = segment_friendly_order(*plc_, kSosOrderRounds, d0_);
+    if (!order_.empty()) {
+      permute_plc(*plc_, order_, permuted_);
+      plc_ = &permuted_;
+    }
+    ms_order_ = ms_since(t0);
+  }
 
   // Steps 1-4. Never fail on a valid PLC: when facet recovery gives up on a
   // missing region (cavity retetrahedralization and gift-wrapping both

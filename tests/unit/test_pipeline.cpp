@@ -244,3 +244,43 @@ TEST_CASE("a region facet recovery gives up on gets a Steiner point in its facet
   }
   CHECK(in_facets == 2);
 }
+
+TEST_CASE("flat tets that step 4 leaves are flipped away and the result stays valid", "[pipeline]") {
+  // A facet plane through two input points outside the facet (kept with the
+  // convex hull): rounded Steiner points on the facet's edges are a few ulps
+  // off that plane, and the CDT holds flat tets there.
+  Plc plc;
+  const Status st =
+      read_plc_file(std::string(CDT3D_TEST_DATA) + "/regress/pipeline-hull-flat-facet-plane.poly", plc);
+  REQUIRE(st.ok());
+  Options opt;
+  opt.keep_convex_hull = true;
+  const Result r = run(plc, opt);  // validates
+  CHECK(r.stats.flat_flips >= 1);
+}
+
+TEST_CASE("the perturbation order is chosen to keep segments, and ids are reported as input ids",
+          "[pipeline]") {
+  // The boundary of a 10x10x10 grid: every face square is co-circular, so
+  // which diagonals D0 keeps depends on the order of the perturbation.
+  Plc plc;
+  REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) + "/grid_10x10x10_boundary.off", plc).ok());
+  const Result r = run(plc);
+  CHECK(r.stats.missing_segments < 200);  // 289 in input order
+  // Input points keep their index and coordinates.
+  REQUIRE(r.mesh.points.size() >= 3 * plc.points.size());
+  for (size_t i = 0; i < plc.points.size(); ++i) {
+    CHECK(r.mesh.points[3 * i] == plc.points[i].x);
+    CHECK(r.mesh.points[3 * i + 1] == plc.points[i].y);
+    CHECK(r.mesh.points[3 * i + 2] == plc.points[i].z);
+  }
+  // Every subsegment lies on the input segment it names.
+  const auto segs = plc_segments(plc);
+  for (size_t e = 0; e < r.edge_segment.size(); ++e) {
+    const auto& s = segs[r.edge_segment[e]];
+    for (int k = 0; k < 2; ++k) {
+      const uint32_t v = r.edges[2 * e + k];
+      if (v < plc.points.size()) CHECK((v == s[0] || v == s[1]));
+    }
+  }
+}

@@ -1,0 +1,46 @@
+// The vertex order of the symbolic perturbation, chosen for the segments.
+//
+// Step 1 resolves every co-spherical configuration by the perturbation
+// (sos.cpp), ordered by vertex id: among co-spherical points the Delaunay
+// tetrahedralization is the placing triangulation in id order, so the edges
+// between the first points placed always survive. On CAD and grid models
+// many segments (the diagonals of square faces, say) are missing from D0
+// only because of that order, and each costs segment recovery (step 2) at
+// least one Steiner point. Any order is as valid as any other for the
+// theory (the perturbed point set is generic whatever the order), so we
+// pick one: a few rounds that put the ends of the segments missing in the
+// previous round first, keeping the order with the fewest missing segments
+// when it saves at least a tenth of them (a round without progress ends the
+// search).
+#pragma once
+
+#include <cdt3d/cdt3d.hpp>
+
+#include <cstddef>
+#include <vector>
+
+#include "tet_mesh.hpp"
+
+namespace cdt3d {
+
+struct SosOrderStats {
+  size_t rounds = 0;          ///< Delaunay tetrahedralizations computed
+  size_t missing_before = 0;  ///< segments missing from D0 in input order
+  size_t missing_after = 0;   ///< ... in the order chosen
+};
+
+/// A vertex order for `plc` (order[k] = the input point that becomes vertex
+/// k), or an empty vector when the input order is kept: when D0 needed no
+/// perturbation (no co-spherical ties), has no missing segment, or no round
+/// saved a tenth of the missing segments. At most `max_rounds` Delaunay
+/// tetrahedralizations. `d0` gets the Delaunay tetrahedralization of the
+/// points in the returned order (or input order), step 1's result, or an
+/// empty mesh when step 1 would fail (step 1 then reports why).
+std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds, TetMesh& d0,
+                                             SosOrderStats* stats = nullptr);
+
+/// `plc` with its points renumbered: point k of `out` is point order[k] of
+/// `plc`; facets, segments, holes and regions follow.
+void permute_plc(const Plc& plc, const std::vector<VertexId>& order, Plc& out);
+
+}  // namespace cdt3d
