@@ -75,7 +75,7 @@ constexpr size_t kMaxFacetSplits = 64;
 // The perturbation order search (sos_order.hpp): Delaunay tetrahedralizations
 // at most, and only for PLCs up to this many points (each round costs a
 // full step 1).
-constexpr size_t kSosOrderRounds = 6;
+constexpr size_t kSosOrderRounds = 8;
 constexpr size_t kMaxSosOrderPoints = 200000;
 
 class Pipeline {

@@ -12,9 +12,13 @@ namespace cdt3d {
 
 namespace {
 
+// Up to this many missing segments the search moves one segment at a time.
+constexpr size_t kFewMissing = 16;
+
 // Segments of `plc` (input ids) missing from the Delaunay tetrahedralization
-// of its points renumbered by `order`; their ends go to `ends`, each once, in
-// segment order. Sets *ties when the perturbation decided anything.
+// of its points renumbered by `order`; their ends go to `ends` (two per
+// missing segment, in segment order). Sets *ties when the perturbation
+// decided anything.
 size_t missing_segments(const Plc& plc, const std::vector<std::array<VertexId, 2>>& segs,
                         const std::vector<VertexId>& order, std::vector<VertexId>& ends,
                         bool* ties, TetMesh& mesh) {
@@ -30,13 +34,11 @@ size_t missing_segments(const Plc& plc, const std::vector<std::array<VertexId, 2
   if (!delaunay_tetrahedralize(mesh, xyz.data(), n).ok()) return SIZE_MAX;
   if (ties) *ties = pred::counters().sos_ties != ties_before;
   ends.clear();
-  std::vector<uint8_t> taken(n, 0);
   size_t missing = 0;
   for (const auto& e : segs) {
     if (mesh.find_edge(id_of[e[0]], id_of[e[1]]) != kNone) continue;
     ++missing;
-    for (VertexId x : e)
-      if (!taken[x]) taken[x] = 1, ends.push_back(x);
+    ends.push_back(e[0]), ends.push_back(e[1]);
   }
   return missing;
 }
@@ -50,7 +52,7 @@ std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
   st = SosOrderStats();
   const size_t n = plc.points.size();
   const auto segs = plc_segments(plc);
-  std::vector<VertexId> order(n), best, ends;
+  std::vector<VertexId> order(n), best, ends, best_ends;
   TetMesh best_mesh;
   for (size_t k = 0; k < n; ++k) order[k] = static_cast<VertexId>(k);
   bool ties = false;
@@ -68,17 +70,42 @@ std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
   std::vector<uint8_t> front(n);
   size_t best_round = 0;
   TetMesh trial;
-  for (size_t round = 1; round < max_rounds && round <= best_round + 1; ++round) {
+  std::vector<VertexId> first;
+  bool few = false;
+  for (size_t round = 1; round < max_rounds; ++round) {
+    // First all ends of the missing segments first, while that pays; then,
+    // when few are left, one segment's ends first, taking the missing
+    // segments in turn from the best order so far (the batch move tends to
+    // trade one co-circular diagonal for another there).
+    if (!few && round > best_round + 1) {
+      if (fewest > kFewMissing) break;
+      few = true, best_round = round - 1;  // the batch moves stopped paying
+    }
+    if (few && round > best_round + 3) break;
+    if (few && round == best_round + 1 && !best.empty()) order = best, ends = best_ends;
+    first.clear();
+    if (few) {
+      const size_t pairs = ends.size() / 2;
+      if (pairs == 0) break;
+      const size_t k = (round - best_round - 1) % pairs;
+      first = {ends[2 * k], ends[2 * k + 1]};
+    } else {
+      first = ends;
+    }
     std::fill(front.begin(), front.end(), 0);
     std::vector<VertexId> next;
     next.reserve(n);
-    for (VertexId x : ends) front[x] = 1, next.push_back(x);
+    for (VertexId x : first)
+      if (!front[x]) front[x] = 1, next.push_back(x);
     for (VertexId x : order)
       if (!front[x]) next.push_back(x);
     order.swap(next);
     const size_t missing = missing_segments(plc, segs, order, ends, nullptr, trial);
     ++st.rounds;
-    if (missing < fewest) fewest = missing, best = order, best_round = round, best_mesh = trial;
+    if (missing < fewest) {
+      fewest = missing, best = order, best_ends = ends, best_round = round;
+      best_mesh = trial;
+    }
     if (missing == 0) break;
   }
   // A few segments fewer is noise: segment recovery may then spend more
