@@ -84,7 +84,7 @@ class Pipeline {
       : plc_(&plc), opt_(options), out_(out) {}
 
   void run();
-  void report_input_ids(const Plc& input);
+  void finish(const Plc& input);
 
  private:
   bool cancelled() const { return opt_.cancel != nullptr && *opt_.cancel; }
@@ -103,6 +103,7 @@ class Pipeline {
     out_.status = st;
     return false;
   }
+  void report_input_ids(const Plc& input);
   void mesh_to_result(const std::vector<TetId>& tets, const std::vector<double>* attributes,
                       const CarveResult* carved);
   Status check_open_facets(const CarveResult& carved) const;
@@ -483,8 +484,9 @@ void Pipeline::run() {
   if (!end(Phase::Read, st, &s.ms_read)) return;
 
   // The perturbation order that keeps the most segments in D0 (sos_order.hpp);
-  // its Delaunay tetrahedralizations count as Delaunay time.
-  if (plc_->points.size() <= kMaxSosOrderPoints) {
+  // its Delaunay tetrahedralizations count as Delaunay time. Not with merged
+  // facets, whose Result is validated against the merged PLC.
+  if (plc_->points.size() <= kMaxSosOrderPoints && !opt_.merge_coplanar_facets) {
     const auto t0 = Clock::now();
     order_ = segment_friendly_order(*plc_, kSosOrderRounds, d0_);
     if (!order_.empty()) {
@@ -536,7 +538,9 @@ void Pipeline::run() {
   quality_statistics(out_.mesh, s);
   s.ms_total = ms_since(t_total);
 
-  if (opt_.validate && opt_.stop_after >= Phase::Carve) {
+  // Validation names vertices in its messages, so with a renumbered PLC it
+  // runs on the result in input numbering (finish()).
+  if (opt_.validate && opt_.stop_after >= Phase::Carve && order_.empty()) {
     Status v = validate(*plc_, out_);
     if (!v.ok()) {
       out_.status = v;
@@ -544,6 +548,16 @@ void Pipeline::run() {
     }
   }
   progress(Phase::Done, 1);
+}
+
+// After run(): the Result in input numbering, validated against the input
+// when the points were renumbered (merge_coplanar_facets renumbers nothing).
+void Pipeline::finish(const Plc& input) {
+  report_input_ids(input);
+  if (opt_.validate && opt_.stop_after >= Phase::Carve && !order_.empty() && out_.status.ok()) {
+    Status v = validate(input, out_);
+    if (!v.ok()) out_.status = v;
+  }
 }
 
 }  // namespace
@@ -602,7 +616,7 @@ Result tetrahedralize(const Plc& plc, const Options& options) {
   try {
     Pipeline p(plc, options, out);
     p.run();
-    p.report_input_ids(plc);
+    p.finish(plc);
   } catch (const std::bad_alloc&) {
     out = Result();
     out.status.error = {ErrorCode::OutOfMemory, "Out of memory while meshing.", plc.file};
@@ -610,7 +624,7 @@ Result tetrahedralize(const Plc& plc, const Options& options) {
 #else
   Pipeline p(plc, options, out);
   p.run();
-  p.report_input_ids(plc);
+  p.finish(plc);
 #endif
   if (!out.status.ok() && out.status.error.file.empty()) out.status.error.file = plc.file;
   return out;

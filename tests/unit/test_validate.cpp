@@ -151,7 +151,7 @@ TEST_CASE("corrupted results fail validation", "[validate]") {
     REQUIRE(t < nt);
     r.mesh.tets.erase(r.mesh.tets.begin() + 4 * t, r.mesh.tets.begin() + 4 * t + 4);
     r.mesh.tet_attributes.erase(r.mesh.tet_attributes.begin() + t);
-    require_error(plc, r, "is not constrained, and the boundary is not convex");
+    require_error(plc, r, "the boundary of the kept tets is not convex");
   }
   SECTION("a duplicated tet") {
     Result r = good;
