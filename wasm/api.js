@@ -79,12 +79,14 @@ function describe(value) {
 
 
 const WRITE_FORMATS = ['node', 'ele', 'face', 'vtk', 'mesh'];
+const DEGENERACY_MODES = ['symbolic', 'paper'];
 const PHASES = ['read', 'delaunay', 'segments', 'degeneracy', 'facets', 'carve', 'done'];
 const OPTION_TYPES = {
   keepConvexHull: 'boolean',
   validate: 'boolean',
   checkIntersections: 'boolean',
   mergeCoplanarFacets: 'boolean',
+  degeneracy: 'string',
   verbosity: 'number',
   stopAfter: 'string',
   onProgress: 'function',
@@ -130,6 +132,13 @@ function checkOptions(options) {
       '',
     );
   }
+  const degeneracy = options.degeneracy ?? 'symbolic';
+  if (!DEGENERACY_MODES.includes(degeneracy)) {
+    throw invalidArgument(
+      `tetrahedralize: option "degeneracy" must be one of ${DEGENERACY_MODES.join(', ')}, got "${degeneracy}".`,
+      '',
+    );
+  }
   const signal = options.signal ?? null;
   if (signal !== null && typeof signal.aborted !== 'boolean') {
     throw invalidArgument('tetrahedralize: option "signal" must be an AbortSignal.', '');
@@ -139,6 +148,7 @@ function checkOptions(options) {
     validate: options.validate ?? false,
     checkIntersections: options.checkIntersections ?? true,
     mergeCoplanarFacets: options.mergeCoplanarFacets ?? false,
+    degeneracy,
     verbosity,
     stopAfter,
     onProgress: options.onProgress ?? null,
@@ -324,6 +334,7 @@ function wrap(mod, abortReason) {
             validate: opts.validate,
             checkIntersections: opts.checkIntersections,
             mergeCoplanarFacets: opts.mergeCoplanarFacets,
+            degeneracy: opts.degeneracy,
             verbosity: opts.verbosity,
             stopAfter: opts.stopAfter,
           },

@@ -256,14 +256,17 @@ val stats_js(const cdt3d::Statistics& s) {
   n("inputSegments", s.input_segments), n("points", s.points), n("tets", s.tets);
   n("faces", s.faces), n("steinerSegment", s.steiner_segment), n("steinerFacet", s.steiner_facet);
   n("steinerVolume", s.steiner_volume), n("rule1", s.rule1), n("rule2", s.rule2);
-  n("rule3", s.rule3), n("acuteBoth", s.acute_both), n("maxSplits", s.max_splits);
-  n("perturbations", s.perturbations), n("breakPoints", s.break_points);
-  n("protectSegment", s.protect_segment), n("protectFacet", s.protect_facet);
-  n("mergedFacets", s.merged_facets), n("missingSubfaces", s.missing_subfaces), n("regions", s.regions), n("cavities", s.cavities);
-  n("largestCavity", s.largest_cavity), n("fallbacks", s.fallbacks), n("msRead", s.ms_read);
+  n("rule3", s.rule3), n("missingSegments", s.missing_segments), n("acuteBoth", s.acute_both);
+  n("maxSplits", s.max_splits), n("perturbations", s.perturbations);
+  n("breakPoints", s.break_points), n("protectSegment", s.protect_segment);
+  n("protectFacet", s.protect_facet), n("mergedFacets", s.merged_facets);
+  n("missingSubfaces", s.missing_subfaces), n("regions", s.regions), n("cavities", s.cavities);
+  n("largestCavity", s.largest_cavity), n("fallbacks", s.fallbacks);
+  n("facetSplits", s.facet_splits), n("msRead", s.ms_read);
   n("msDelaunay", s.ms_delaunay), n("msSegments", s.ms_segments);
   n("msDegeneracy", s.ms_degeneracy), n("msFacets", s.ms_facets), n("msCarve", s.ms_carve);
-  n("msTotal", s.ms_total), n("minDihedral", s.min_dihedral), n("maxDihedral", s.max_dihedral);
+  n("msTotal", s.ms_total), n("flatFlips", s.flat_flips), n("flatTets", s.flat_tets);
+  n("minDihedral", s.min_dihedral), n("maxDihedral", s.max_dihedral);
   val h = val::array();
   for (size_t c : s.radius_edge_histogram) h.call<void>("push", static_cast<double>(c));
   o.set("radiusEdgeHistogram", h);
@@ -314,6 +317,13 @@ val tetrahedralize_js(val input, val options, val on_progress) {
   opt.validate = options["validate"].as<bool>();
   opt.check_intersections = options["checkIntersections"].as<bool>();
   opt.merge_coplanar_facets = options["mergeCoplanarFacets"].as<bool>();
+  const std::string degeneracy = options["degeneracy"].as<std::string>();
+  if (degeneracy == "paper")
+    opt.degeneracy = cdt3d::DegeneracyMode::Paper;
+  else if (degeneracy == "symbolic")
+    opt.degeneracy = cdt3d::DegeneracyMode::Symbolic;
+  else
+    return failure(invalid("Unknown degeneracy mode (symbolic, paper).").error);
   opt.verbosity = options["verbosity"].as<int>();
   if (!cdt3d::phase_from_name(options["stopAfter"].as<std::string>(), opt.stop_after))
     return failure(invalid("Unknown phase for stopAfter.").error);

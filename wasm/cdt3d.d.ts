@@ -201,6 +201,13 @@ export interface TetrahedralizeOptions {
   checkIntersections?: boolean;
   /** Join coplanar edge-adjacent facets (TetGen's default; fewer Steiner points). Default false (like tetgen -M). */
   mergeCoplanarFacets?: boolean;
+  /**
+   * How step 3 (local degeneracies: five co-spherical vertices) is handled.
+   * "symbolic" (default): symbolic perturbation, no vertex moves and no point
+   * is added. "paper": Si & Gärtner §6 as published (perturbations, break
+   * points, boundary protection; the native CLI's --paper-degeneracy).
+   */
+  degeneracy?: 'symbolic' | 'paper';
   /** 0 quiet (default), 1 or 2. */
   verbosity?: number;
   /** Stop after a phase and return all tets reached so far (debugging). Default "done". */
@@ -210,31 +217,64 @@ export interface TetrahedralizeOptions {
   signal?: { readonly aborted: boolean };
 }
 
+/** Counters, times and quality of a run; the fields of the native CLI's `mesh --json`. */
 export interface MeshStatistics {
+  /** Points of the input PLC. */
   inputPoints: number;
+  /** Facets of the input PLC. */
   inputFacets: number;
+  /** Input segments: explicit segments plus distinct facet boundary edges. */
   inputSegments: number;
+  /** Points of the mesh (input points plus Steiner points). */
   points: number;
+  /** Tetrahedra of the mesh. */
   tets: number;
+  /** Constrained faces (the input facets, subdivided). */
   faces: number;
+  /** Steiner points on input segments. */
   steinerSegment: number;
+  /** Steiner points inside input facets (includes `facetSplits`). */
   steinerFacet: number;
+  /** Steiner points in the volume. */
   steinerVolume: number;
+  /** Segment recovery (§5): splits by rule 1. */
   rule1: number;
+  /** Segment recovery (§5): splits by rule 2. */
   rule2: number;
+  /** Segment recovery (§5): splits by rule 3. */
   rule3: number;
+  /** Input segments missing from the initial Delaunay tetrahedralization (step 1). */
+  missingSegments: number;
+  /** Segment recovery (§5): splits of segments acute at both ends. */
   acuteBoth: number;
+  /** Most Steiner points on one input segment. */
   maxSplits: number;
+  /** Step 3 in "paper" mode: perturbed vertices (0 with the default symbolic perturbation). */
   perturbations: number;
+  /** Step 3 in "paper" mode: break points (0 with the default symbolic perturbation). */
   breakPoints: number;
+  /** Step 3 in "paper" mode: points protecting segments (0 with the default symbolic perturbation). */
   protectSegment: number;
+  /** Step 3 in "paper" mode: points protecting facets (0 with the default symbolic perturbation). */
   protectFacet: number;
+  /** Input facets joined into others (option mergeCoplanarFacets). */
   mergedFacets: number;
+  /** Facet recovery (§7): subfaces missing from the mesh when facet recovery starts. */
   missingSubfaces: number;
+  /** Facet recovery (§7): missing regions recovered. */
   regions: number;
+  /** Facet recovery (§7): cavities retetrahedralized (usually two per region). */
   cavities: number;
+  /** Facet recovery (§7): most faces of one cavity. */
   largestCavity: number;
+  /** Facet recovery (§7): regions recovered by a fallback (gift-wrapping in a cavity, or a retry). */
   fallbacks: number;
+  /**
+   * Facet recovery (§7): Steiner points inserted inside a facet because a
+   * missing region could not be recovered otherwise (counted in `steinerFacet` too).
+   */
+  facetSplits: number;
+  /** Milliseconds per phase (msRead: reading and input checks). */
   msRead: number;
   msDelaunay: number;
   msSegments: number;
@@ -242,8 +282,16 @@ export interface MeshStatistics {
   msFacets: number;
   msCarve: number;
   msTotal: number;
-  /** Degrees. */
+  /** Numerically flat tets removed by flips before output. */
+  flatFlips: number;
+  /**
+   * Output tets that are numerically flat: 6V computed in doubles below
+   * 1e-12 × (longest edge)³. 0 on success.
+   */
+  flatTets: number;
+  /** Smallest dihedral angle of the output tets, degrees. */
   minDihedral: number;
+  /** Largest dihedral angle of the output tets, degrees. */
   maxDihedral: number;
   /** Tets per radius-edge ratio bin: <1, 1-1.5, 1.5-2, 2-3, 3-5, 5-10, 10-20, 20-50, 50-100, >100. */
   radiusEdgeHistogram: number[];

@@ -16,7 +16,8 @@ const USAGE = `usage: cdt3d <command> [arguments]
 commands:
   info MODEL [--json]      read a PLC and print its summary
   mesh MODEL [-o PREFIX] [--format node|vtk|mesh] [--keep-hull] [--validate]
-             [--stats] [--json] [-q] [--merge] [--no-intersection-check] [--stop-after PHASE]
+             [--stats] [--json] [-q] [--merge] [--paper-degeneracy] [--no-intersection-check]
+             [--stop-after PHASE]
                            constrained Delaunay tetrahedralization of MODEL
 
 MODEL: .stl (ASCII/binary) .off .obj .ply .poly .smesh
@@ -40,6 +41,7 @@ function parse(args) {
     else if (a === '--validate') opts.tet.validate = true;
     else if (a === '--no-intersection-check') opts.tet.checkIntersections = false;
     else if (a === '--merge') opts.tet.mergeCoplanarFacets = true;
+    else if (a === '--paper-degeneracy') opts.tet.degeneracy = 'paper';
     else if ((a === '-o' || a === '--format' || a === '--stop-after') && i + 1 < args.length) {
       const v = args[++i];
       if (a === '-o') opts.prefix = v;
@@ -77,7 +79,8 @@ function table(file, s, validated) {
     `  Mesh points:               ${s.points}`,
     `  Mesh tetrahedra:           ${s.tets}`,
     `  Mesh constrained faces:    ${s.faces}`,
-    `  Steiner points:            ${s.steinerSegment + s.steinerFacet + s.steinerVolume} (segments ${s.steinerSegment}, facets ${s.steinerFacet}, volume ${s.steinerVolume})`,
+    `  Steiner points:            ${s.steinerSegment + s.steinerFacet + s.steinerVolume} (segments ${s.steinerSegment}, facets ${s.steinerFacet} of which ${s.facetSplits} in failed facet regions, volume ${s.steinerVolume})`,
+    `  Flat tetrahedra:           ${s.flatTets} in the output, ${s.flatFlips} removed by flips`,
     `  Time (ms):                 read ${s.msRead.toFixed(1)}, delaunay ${s.msDelaunay.toFixed(1)}, segments ${s.msSegments.toFixed(1)}, degeneracy ${s.msDegeneracy.toFixed(1)}, facets ${s.msFacets.toFixed(1)}, carve ${s.msCarve.toFixed(1)}, total ${s.msTotal.toFixed(1)}`,
   ];
   if (validated) lines.push('  Validation:                passed');

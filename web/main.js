@@ -450,10 +450,11 @@ function showStats(result) {
   const s = result.stats;
   for (const key of [
     'inputPoints', 'inputFacets', 'inputSegments', 'points', 'tets', 'faces',
-    'steinerSegment', 'steinerFacet', 'steinerVolume',
+    'steinerSegment', 'steinerFacet', 'facetSplits', 'steinerVolume', 'flatTets',
   ]) {
     setStat(key, s[key]);
   }
+  $('stat-flatTets').className = s.flatTets > 0 ? 'bad' : '';
   setStat('minDihedral', s.minDihedral, Number.isFinite(s.minDihedral) ? `${s.minDihedral.toFixed(2)}°` : '—');
   setStat('maxDihedral', s.maxDihedral, Number.isFinite(s.maxDihedral) ? `${s.maxDihedral.toFixed(2)}°` : '—');
   const v = result.validation;

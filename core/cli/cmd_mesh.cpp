@@ -24,7 +24,8 @@ void usage(std::FILE* out) {
   std::fprintf(
       out,
       "usage: cdt3d mesh MODEL [-o PREFIX] [--format node|vtk|mesh] [--keep-hull]\n"
-      "                        [--validate] [--stats] [--json] [-q] [--stop-after PHASE]\n"
+      "                        [--validate] [--stats] [--json] [-q] [--merge]\n"
+      "                        [--paper-degeneracy] [--no-intersection-check] [--stop-after PHASE]\n"
       "\n"
       "Constrained Delaunay tetrahedralization of MODEL (.stl .off .obj .ply .poly .smesh).\n"
       "  -o PREFIX         write the mesh: PREFIX.node/.ele/.face (default format),\n"
@@ -85,18 +86,20 @@ void print_json(const Result& r, Phase stop, bool validated, const Status& valid
       "{\"ok\":true,\"phase\":%s,\"inputPoints\":%zu,\"inputFacets\":%zu,\"inputSegments\":%zu,"
       "\"points\":%zu,\"tets\":%zu,\"faces\":%zu,\"edges\":%zu,\"steinerSegment\":%zu,"
       "\"steinerFacet\":%zu,\"steinerVolume\":%zu,\"rule1\":%zu,\"rule2\":%zu,\"rule3\":%zu,"
-      "\"acuteBoth\":%zu,\"maxSplits\":%zu,\"perturbations\":%zu,\"breakPoints\":%zu,"
-      "\"protectSegment\":%zu,\"protectFacet\":%zu,\"missingSubfaces\":%zu,\"regions\":%zu,"
-      "\"mergedFacets\":%zu,\"cavities\":%zu,\"largestCavity\":%zu,\"fallbacks\":%zu,\"msRead\":%.3f,"
+      "\"missingSegments\":%zu,\"acuteBoth\":%zu,\"maxSplits\":%zu,\"perturbations\":%zu,"
+      "\"breakPoints\":%zu,\"protectSegment\":%zu,\"protectFacet\":%zu,\"missingSubfaces\":%zu,"
+      "\"regions\":%zu,\"mergedFacets\":%zu,\"cavities\":%zu,\"largestCavity\":%zu,"
+      "\"fallbacks\":%zu,\"facetSplits\":%zu,\"msRead\":%.3f,"
       "\"msDelaunay\":%.3f,\"msSegments\":%.3f,\"msDegeneracy\":%.3f,\"msFacets\":%.3f,"
-      "\"msCarve\":%.3f,\"msTotal\":%.3f,\"flatTets\":%zu,\"minDihedral\":%s,\"maxDihedral\":%s,"
-      "\"radiusEdgeHistogram\":[",
+      "\"msCarve\":%.3f,\"msTotal\":%.3f,\"flatFlips\":%zu,\"flatTets\":%zu,\"minDihedral\":%s,"
+      "\"maxDihedral\":%s,\"radiusEdgeHistogram\":[",
       json_string(phase_name(stop)).c_str(), s.input_points, s.input_facets, s.input_segments,
       s.points, s.tets, s.faces, r.edges.size() / 2, s.steiner_segment, s.steiner_facet,
-      s.steiner_volume, s.rule1, s.rule2, s.rule3, s.acute_both, s.max_splits, s.perturbations,
-      s.break_points, s.protect_segment, s.protect_facet, s.missing_subfaces, s.regions,
-      s.merged_facets, s.cavities, s.largest_cavity, s.fallbacks, s.ms_read, s.ms_delaunay, s.ms_segments,
-      s.ms_degeneracy, s.ms_facets, s.ms_carve, s.ms_total, s.flat_tets, json_number(s.min_dihedral).c_str(),
+      s.steiner_volume, s.rule1, s.rule2, s.rule3, s.missing_segments, s.acute_both, s.max_splits,
+      s.perturbations, s.break_points, s.protect_segment, s.protect_facet, s.missing_subfaces,
+      s.regions, s.merged_facets, s.cavities, s.largest_cavity, s.fallbacks, s.facet_splits,
+      s.ms_read, s.ms_delaunay, s.ms_segments, s.ms_degeneracy, s.ms_facets, s.ms_carve, s.ms_total,
+      s.flat_flips, s.flat_tets, json_number(s.min_dihedral).c_str(),
       json_number(s.max_dihedral).c_str());
   for (size_t i = 0; i < s.radius_edge_histogram.size(); ++i)
     std::printf("%s%zu", i ? "," : "", s.radius_edge_histogram[i]);
@@ -105,8 +108,8 @@ void print_json(const Result& r, Phase stop, bool validated, const Status& valid
               json_string(validated && !valid.ok() ? valid.error.to_string() : "").c_str());
 }
 
-void print_table(const std::string& input, const Result& r, Phase stop, bool quality,
-                 bool validated) {
+void print_table(const std::string& input, const Result& r, Phase stop, DegeneracyMode mode,
+                 bool quality, bool validated) {
   const Statistics& s = r.stats;
   std::printf("%s\n", input.c_str());
   std::printf("  Input points:              %zu\n", s.input_points);
@@ -115,20 +118,31 @@ void print_table(const std::string& input, const Result& r, Phase stop, bool qua
   std::printf("  Mesh points:               %zu\n", s.points);
   std::printf("  Mesh tetrahedra:           %zu\n", s.tets);
   std::printf("  Mesh constrained faces:    %zu\n", s.faces);
-  std::printf("  Steiner points:            %zu (segments %zu, facets %zu, volume %zu)\n",
+  std::printf("  Steiner points:            %zu (segments %zu, facets %zu of which %zu in "
+              "failed facet regions, volume %zu)\n",
               s.steiner_segment + s.steiner_facet + s.steiner_volume, s.steiner_segment,
-              s.steiner_facet, s.steiner_volume);
-  std::printf("  Segment recovery (§5):     rule 1: %zu, rule 2: %zu, rule 3: %zu, both ends "
-              "acute: %zu; at most %zu on one segment\n",
-              s.rule1, s.rule2, s.rule3, s.acute_both, s.max_splits);
-  if (stop >= Phase::Degeneracy)
-    std::printf("  Degeneracy removal (§6):   %zu perturbations, %zu break points, %zu + %zu "
-                "protecting points (segments + facets)\n",
-                s.perturbations, s.break_points, s.protect_segment, s.protect_facet);
+              s.steiner_facet, s.facet_splits, s.steiner_volume);
+  std::printf("  Segment recovery (§5):     %zu of %zu segments missing from the Delaunay "
+              "tetrahedralization; rule 1: %zu, rule 2: %zu, rule 3: %zu, both ends acute: %zu; "
+              "at most %zu on one segment\n",
+              s.missing_segments, s.input_segments, s.rule1, s.rule2, s.rule3, s.acute_both, s.max_splits);
+  if (stop >= Phase::Degeneracy) {
+    const bool no_points = s.perturbations == 0 && s.break_points == 0 &&
+                           s.protect_segment == 0 && s.protect_facet == 0;
+    if (mode == DegeneracyMode::Symbolic && no_points)
+      std::printf("  Degeneracy removal (§6):   symbolic perturbation (no points)\n");
+    else
+      std::printf("  Degeneracy removal (§6):   %zu perturbations, %zu break points, %zu + %zu "
+                  "protecting points (segments + facets)\n",
+                  s.perturbations, s.break_points, s.protect_segment, s.protect_facet);
+  }
   if (stop >= Phase::Facets)
     std::printf("  Facet recovery (§7):       %zu missing subfaces, %zu regions, %zu cavities "
-                "(largest %zu faces), %zu fallbacks\n",
-                s.missing_subfaces, s.regions, s.cavities, s.largest_cavity, s.fallbacks);
+                "(largest %zu faces), %zu fallbacks, %zu facet splits\n",
+                s.missing_subfaces, s.regions, s.cavities, s.largest_cavity, s.fallbacks,
+                s.facet_splits);
+  std::printf("  Flat tetrahedra:           %zu in the output, %zu removed by flips\n",
+              s.flat_tets, s.flat_flips);
   std::printf("  Time (ms):                 read %.1f, delaunay %.1f, segments %.1f, "
               "degeneracy %.1f, facets %.1f, carve %.1f, total %.1f\n",
               s.ms_read, s.ms_delaunay, s.ms_segments, s.ms_degeneracy, s.ms_facets, s.ms_carve,
@@ -225,7 +239,7 @@ int run_mesh(int argc, char** argv) {
   if (json)
     print_json(r, stop, validated, st);
   else if (!quiet)
-    print_table(input, r, stop, quality, validated);
+    print_table(input, r, stop, opt.degeneracy, quality, validated);
   return kExitOk;
 }
 

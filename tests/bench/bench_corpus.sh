@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Corpus benchmark (issues 4, 5, 6): the whole CDT pipeline of cdt3d against
 # Debian's TetGen 1.5 (`tetgen -pMQ`, run as a separate process only) on every
-# model the manifest expects to be valid, with cdt3d's own validation and both
-# programs' Steiner point counts.
+# model the manifest expects to be valid, with cdt3d's own validation, both
+# programs' Steiner point counts by kind and both programs' numerically flat
+# tets.
 #
 # One command, from a clean clone (builds what it needs):
 #   bash tests/bench/bench_corpus.sh                # tests/data (MANIFEST.tsv)
@@ -13,12 +14,16 @@
 #   cdt3d mesh MODEL --json                  timed run (wall, user CPU, peak RSS)
 #   cdt3d mesh MODEL --json --validate       the validator's verdict (untimed)
 #   cdt3d mesh MODEL --json --stop-after segments    Steiner points of segment recovery
-#   cdt3d mesh MODEL --json --stop-after degeneracy  perturbations, break points, protection
+#   cdt3d mesh MODEL --json --stop-after degeneracy  step 3 (perturbations, break points,
+#                                            protection: all 0 with the default symbolic
+#                                            perturbation; see CDT3D_FLAGS)
 #   plc_to_poly MODEL M.poly                 the same PLC as a TetGen .poly (tetgen cannot
 #                                            read OBJ, binary STL or OFF with comments)
 #   tetgen -pMQNEF M.poly                    timed run (no output files, like cdt3d without -o)
 #   tetgen -pMVNEF M.poly                    its "Steiner points on segments / inside facets /
 #                                            inside domain" lines (untimed)
+#   tetgen -pMQ M.poly                       once more with output files (untimed): flat_tets
+#                                            counts the numerically flat tets of M.1.node/.ele
 # Every process runs under `timeout` (BENCH_TIMEOUT, default 300 s); a hang or a
 # crash becomes a row that says so. tetgen runs in a scratch folder
 # (.build/bench/bench/corpus/) so nothing is written next to the models.
@@ -26,8 +31,10 @@
 # Tables:
 #   1  time, memory, Steiner points seg/facet/vol, validation, tetgen's, ratios
 #      cdt3d/tetgen of wall time, user CPU time and peak RSS (< 1: cdt3d better)
-#   2  segment recovery (issue 4) and degeneracy removal (issue 5)
-#   3  facet recovery (issue 6) and the time of each phase (cdt3d's own ms)
+#   2  Steiner points by kind (cdt3d's facet splits too) and numerically flat
+#      tets (|6V| / l_max^3 < 1e-12 in doubles), cdt3d beside tetgen
+#   3  segment recovery (issue 4) and degeneracy removal (issue 5)
+#   4  facet recovery (issue 6) and the time of each phase (cdt3d's own ms)
 # Failures are printed after the tables with cdt3d's message verbatim.
 #
 # Environment:
@@ -35,7 +42,9 @@
 #   BENCH_TIMEOUT=300        seconds per process
 #   BENCH_RUNS=1             timed runs per program and model (fastest kept)
 #   BENCH_FILTER=REGEX       only models whose manifest path matches (grep -E)
-#   TETGEN_FLAGS=-pMQNEF     flags of the timed tetgen run (the stats run swaps Q for V)
+#   TETGEN_FLAGS=-pMQNEF     flags of the timed tetgen run (the stats run swaps Q for V,
+#                            the run with output files drops N, E and F)
+#   CDT3D_FLAGS=             extra flags of every cdt3d mesh run, e.g. --paper-degeneracy
 #   CDT3D_BIN=.build/bench/core/cdt3d   the CLI to use (not rebuilt if set)
 set -uo pipefail
 cd "$(dirname "$0")/../.."
@@ -47,6 +56,12 @@ RUNS=${BENCH_RUNS:-1}
 FILTER=${BENCH_FILTER:-}
 TG_FLAGS=${TETGEN_FLAGS:--pMQNEF}
 TG_VFLAGS=${TG_FLAGS//Q/}V
+TG_OFLAGS=${TG_FLAGS//[NEF]/}
+read -r -a C_FLAGS <<<"${CDT3D_FLAGS:-}"
+STEP3="symbolic perturbation (cdt3d's default: no points; pert/brk/protS/protF are 0)"
+for f in "${C_FLAGS[@]}"; do
+  [ "$f" = --paper-degeneracy ] && STEP3="Si & Gaertner section 6 (--paper-degeneracy)"
+done
 WORK=$ROOT/.build/bench/bench/corpus
 SHARED=/work/shared/corpus
 
@@ -79,6 +94,11 @@ CONV=$ROOT/.build/bench/bench/plc_to_poly
 if [ ! -x "$CONV" ] || [ tests/bench/plc_to_poly.cpp -nt "$CONV" ] || [ "$LIB" -nt "$CONV" ]; then
   c++ -O2 -std=c++17 -I core/include tests/bench/plc_to_poly.cpp "$LIB" -o "$CONV" ||
     die "cannot build tests/bench/plc_to_poly.cpp"
+fi
+FLAT=$ROOT/.build/bench/bench/flat_tets
+if [ ! -x "$FLAT" ] || [ tests/bench/flat_tets.cpp -nt "$FLAT" ] || [ core/include/cdt3d/cdt3d.hpp -nt "$FLAT" ]; then
+  c++ -O2 -std=c++17 -I core/include tests/bench/flat_tets.cpp -o "$FLAT" ||
+    die "cannot build tests/bench/flat_tets.cpp"
 fi
 
 # 3. The models: "path<TAB>name" lines.
@@ -159,7 +179,7 @@ tg_steiner() {  # tg_steiner KIND TEXT: sum of "Steiner points <on|in|inside> ..
     END { print (f ? s : 0) }' <<<"$2"
 }
 
-T1=() T2=() T3=() NOTES=()
+T1=() TK=() T2=() T3=() NOTES=()
 total=${#MODELS[@]} i=0
 for line in "${MODELS[@]}"; do
   path=${line%%$'\t'*} name=${line#*$'\t'}
@@ -171,12 +191,14 @@ for line in "${MODELS[@]}"; do
   rm -rf "$dir" && mkdir -p "$dir"
 
   # cdt3d: timed, then validate, then the two intermediate phases.
-  run_best "$dir" "$BIN" mesh "$path" --json
+  run_best "$dir" "$BIN" mesh "$path" --json "${C_FLAGS[@]}"
   c_rc=$B_RC c_wall=$B_WALL c_user=$B_USER c_rss=$B_RSS c_json=$B_OUT c_err=$B_ERR
   if [ "$c_rc" -eq 0 ]; then
     c_ms=$c_wall
     c_st="$(jnum steinerSegment "$c_json")/$(jnum steinerFacet "$c_json")/$(jnum steinerVolume "$c_json")"
-    run_once "$dir" "$BIN" mesh "$path" --json --validate
+    c_kinds=$(printf '%7s %7s %7s %7s %6s' "$(jnum steinerSegment "$c_json")" "$(jnum steinerFacet "$c_json")" \
+      "$(jnum facetSplits "$c_json")" "$(jnum steinerVolume "$c_json")" "$(jnum flatTets "$c_json")")
+    run_once "$dir" "$BIN" mesh "$path" --json --validate "${C_FLAGS[@]}"
     if [ "$R_RC" -eq 0 ]; then
       v=$(jnum valid "$R_OUT")
       case $v in true) valid=yes ;; false) valid=NO ;; *) valid=$v ;; esac
@@ -193,6 +215,7 @@ for line in "${MODELS[@]}"; do
     fi
   else
     c_ms=$(why "$c_rc") c_st="-" valid="-" c_user="" c_rss=""
+    c_kinds=$(printf '%7s %7s %7s %7s %6s' - - - - -)
     [ "$c_rc" -eq 1 ] && c_ms=error
     if [ "$c_rc" -eq 1 ]; then
       NOTES+=("$name: cdt3d mesh: $(jmsg "$c_json")")
@@ -200,25 +223,43 @@ for line in "${MODELS[@]}"; do
       NOTES+=("$name: cdt3d mesh: $(why "$c_rc") ${c_err}")
     fi
   fi
-  run_once "$dir" "$BIN" mesh "$path" --json --stop-after segments
+  run_once "$dir" "$BIN" mesh "$path" --json --stop-after segments "${C_FLAGS[@]}"
   s_json=$R_OUT s_rc=$R_RC
-  run_once "$dir" "$BIN" mesh "$path" --json --stop-after degeneracy
+  run_once "$dir" "$BIN" mesh "$path" --json --stop-after degeneracy "${C_FLAGS[@]}"
   d_json=$R_OUT d_rc=$R_RC
   [ "$s_rc" -ne 0 ] && NOTES+=("$name: cdt3d --stop-after segments: $([ "$s_rc" -eq 1 ] && jmsg "$s_json" || echo "$(why "$s_rc") $R_ERR")")
   [ "$d_rc" -ne 0 ] && NOTES+=("$name: cdt3d --stop-after degeneracy: $([ "$d_rc" -eq 1 ] && jmsg "$d_json" || echo "$(why "$d_rc") $R_ERR")")
 
   # tetgen on the converted PLC.
   t_ms="-" t_user="" t_rss="" t_st="-" t_ok="-" t_seg="-"
+  t_kinds=$(printf '%7s %7s %7s %6s' - - - -)
   if "$CONV" "$path" "$dir/$stem.poly" 2>"$dir/conv.err"; then
     run_best "$dir" tetgen "$TG_FLAGS" "$stem.poly"
     t_rc=$B_RC
     if [ "$t_rc" -eq 0 ] && ! grep -qiE 'error|assert|terminate' <<<"$B_OUT$B_ERR"; then
       t_ms=$B_WALL t_user=$B_USER t_rss=$B_RSS t_ok=yes
       run_once "$dir" tetgen "$TG_VFLAGS" "$stem.poly"
+      t_fac="-" t_vol="-" t_flat="-"
       if [ "$R_RC" -eq 0 ]; then
         t_seg=$(tg_steiner segment "$R_OUT")
-        t_st="$t_seg/$(tg_steiner facet "$R_OUT")/$(tg_steiner 'domain|volume' "$R_OUT")"
+        t_fac=$(tg_steiner facet "$R_OUT") t_vol=$(tg_steiner 'domain|volume' "$R_OUT")
+        t_st="$t_seg/$t_fac/$t_vol"
       fi
+      # Once more with output files, for its flat tets.
+      run_once "$dir" tetgen "$TG_OFLAGS" "$stem.poly"
+      if [ "$R_RC" -eq 0 ] && [ -f "$dir/$stem.1.node" ] && [ -f "$dir/$stem.1.ele" ]; then
+        if flat_out=$("$FLAT" "$dir/$stem.1.node" "$dir/$stem.1.ele" 2>&1); then
+          t_flat=${flat_out%% *}
+        else
+          t_flat=error
+          NOTES+=("$name: flat_tets on tetgen's output: $flat_out")
+        fi
+      else
+        t_flat=$(why "$R_RC")
+        NOTES+=("$name: tetgen $TG_OFLAGS (output files): $(why "$R_RC") $(tail -c 300 <<<"$R_ERR")")
+      fi
+      rm -f "$dir/$stem".1.*
+      t_kinds=$(printf '%7s %7s %7s %6s' "$t_seg" "$t_fac" "$t_vol" "$t_flat")
     else
       t_ok=$(why "$t_rc")
       [ "$t_rc" -eq 0 ] && t_ok=error
@@ -234,23 +275,33 @@ for line in "${MODELS[@]}"; do
     "$name" "$c_ms" "${c_user:--}" "$(mib "${c_rss:-}")" "$c_st" "$valid" \
     "$t_ms" "${t_user:--}" "$(mib "$t_rss")" "$t_st" "$t_ok" \
     "$(ratio "$c_ms" "$t_ms")" "$(ratio "${c_user:-}" "$t_user")" "$(ratio "${c_rss:-}" "$t_rss")")")
+  c_total=$(awk -v s="$c_st" 'BEGIN{ n = split(s, a, "/"); if (n != 3) print "-"; else print a[1] + a[2] + a[3] }')
+  t_total=$(awk -v s="$t_st" 'BEGIN{ n = split(s, a, "/"); if (n != 3) print "-"; else print a[1] + a[2] + a[3] }')
+  TK+=("$(printf '%-40s %s | %s | %7s %7s %6s' "$name" "$c_kinds" "$t_kinds" "$c_total" "$t_total" \
+    "$(ratio "$c_total" "$t_total")")")
   if [ "$s_rc" -eq 0 ]; then
-    s_seg=$(jnum steinerSegment "$s_json")
+    s_seg=$(jnum steinerSegment "$s_json") s_miss=$(jnum missingSegments "$s_json")
     s_rules="$(jnum rule1 "$s_json")/$(jnum rule2 "$s_json")/$(jnum rule3 "$s_json")"
     s_acute=$(jnum acuteBoth "$s_json") s_max=$(jnum maxSplits "$s_json") s_ms=$(jnum msSegments "$s_json")
   else
-    s_seg=$(why "$s_rc") s_rules="-" s_acute="-" s_max="-" s_ms="-"
+    s_seg=$(why "$s_rc") s_miss="-" s_rules="-" s_acute="-" s_max="-" s_ms="-"
     [ "$s_rc" -eq 1 ] && s_seg=error
   fi
   if [ "$d_rc" -eq 0 ]; then
-    d_cols="$(printf '%6s %6s %7s %7s %9s %9s' "$(jnum perturbations "$d_json")" "$(jnum breakPoints "$d_json")" \
-      "$(jnum protectSegment "$d_json")" "$(jnum protectFacet "$d_json")" \
-      "$(jnum steinerSegment "$d_json")/$(jnum steinerFacet "$d_json")" "$(jnum msDegeneracy "$d_json")")"
+    # Points added by step 3: Steiner points after it minus after step 2.
+    d_added=-
+    if [ "$s_rc" -eq 0 ]; then
+      d_added=$(awk -v a="$(jnum points "$d_json")" -v b="$(jnum points "$s_json")" 'BEGIN{ print a - b }')
+    fi
+    d_pert=$(jnum perturbations "$d_json") d_brk=$(jnum breakPoints "$d_json")
+    d_ps=$(jnum protectSegment "$d_json") d_pf=$(jnum protectFacet "$d_json")
+    d_cols="$(printf '%6s %6s %7s %7s %7s %9s' "$d_pert" "$d_brk" "$d_ps" "$d_pf" "$d_added" \
+      "$(jnum msDegeneracy "$d_json")")"
   else
     d_cols="$(printf '%6s' "$([ "$d_rc" -eq 1 ] && echo error || why "$d_rc")")"
   fi
-  T2+=("$(printf '%-40s %7s %11s %6s %5s %8s %7s %6s | %s' "$name" "$s_seg" "$s_rules" "$s_acute" "$s_max" "$s_ms" \
-    "$t_seg" "$(ratio "$s_seg" "$t_seg")" "$d_cols")")
+  T2+=("$(printf '%-40s %7s %7s %11s %6s %5s %8s %7s %6s | %s' "$name" "$s_miss" "$s_seg" "$s_rules" "$s_acute" \
+    "$s_max" "$s_ms" "$t_seg" "$(ratio "$s_seg" "$t_seg")" "$d_cols")")
   if [ "$c_rc" -eq 0 ]; then
     T3+=("$(printf '%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s' "$name" \
       "$(jnum points "$c_json")" "$(jnum tets "$c_json")" "$(jnum missingSubfaces "$c_json")" \
@@ -267,7 +318,7 @@ printf '\r%80s\r' '' >&2
 
 # 5. Tables.
 echo "bench_corpus: CORPUS=$CORPUS, ${#MODELS[@]} models, $(nproc 2>/dev/null || echo ?) cores, load $(cut -d' ' -f1-3 /proc/loadavg) at end, $(date -u '+%Y-%m-%d %H:%M UTC')"
-echo "  cdt3d: $BIN mesh MODEL --json (timed) / --validate; tetgen $(dpkg-query -W -f='${Version}' tetgen 2>/dev/null) $TG_FLAGS on the converted .poly (Steiner counts from $TG_VFLAGS); timeout ${TIMEOUT}s; fastest of $RUNS"
+echo "  cdt3d: $BIN mesh MODEL --json ${CDT3D_FLAGS:+$CDT3D_FLAGS }(timed) / --validate; tetgen $(dpkg-query -W -f='${Version}' tetgen 2>/dev/null) $TG_FLAGS on the converted .poly (Steiner counts from $TG_VFLAGS, flat tets from $TG_OFLAGS); timeout ${TIMEOUT}s; fastest of $RUNS"
 echo
 echo "Table 1: full pipeline. ms = process wall time; user = user CPU s; MiB = peak RSS; Steiner = on segments/in facets/in volume"
 h1='%-40s %9s %6s %7s %13s %6s | %9s %6s %7s %13s %6s | %6s %6s %6s\n'
@@ -275,16 +326,26 @@ printf "$h1" model cdt3d_ms user MiB Steiner valid tetgen_ms user MiB Steiner ok
 printf '%s\n' "$(printf '%.0s-' {1..170})"
 printf '%s\n' "${T1[@]}"
 echo
-echo "Table 2: segment recovery (issue 4: --stop-after segments) and degeneracy removal (issue 5: --stop-after degeneracy)"
-echo "  seg_St = cdt3d Steiner points after segment recovery; rules = rule1/rule2/rule3 splits; acute = acuteBoth; max = maxSplits"
-echo "  tg_seg = tetgen \"Steiner points on segments\" (whole run); pert/brk/protS/protF = perturbations/breakPoints/protectSegment/protectFacet;"
-echo "  St_s/f = Steiner points on segments/in facets after degeneracy removal"
-h2='%-40s %7s %11s %6s %5s %8s %7s %6s | %6s %6s %7s %7s %9s %9s\n'
-printf "$h2" model seg_St rules acute max ms_seg tg_seg seg/t pert brk protS protF St_s/f ms_degen
-printf '%s\n' "$(printf '%.0s-' {1..150})"
+echo "Table 2: Steiner points by kind and numerically flat tets (|6V| / l_max^3 < 1e-12 in doubles; zero or inverted counts too)"
+echo "  seg/facet/vol = Steiner points on segments/in facets/in the volume; fsplit = cdt3d facetSplits (in facets where a"
+echo "  missing region could not be recovered otherwise; counted in facet too); flat = cdt3d --json flatTets, tg_flat = flat_tets"
+echo "  on tetgen's M.1.node/.ele; total = all Steiner points, St/t = cdt3d total / tetgen total"
+hk='%-40s %7s %7s %7s %7s %6s | %7s %7s %7s %6s | %7s %7s %6s\n'
+printf "$hk" model seg facet fsplit vol flat tg_seg tg_fac tg_vol tg_flat total tg_tot St/t
+printf '%s\n' "$(printf '%.0s-' {1..140})"
+printf '%s\n' "${TK[@]}"
+echo
+echo "Table 3: segment recovery (issue 4: --stop-after segments) and degeneracy removal (issue 5: --stop-after degeneracy)"
+echo "  miss = input segments missing from the Delaunay tetrahedralization (missingSegments); seg_St = cdt3d Steiner points"
+echo "  after segment recovery; rules = rule1/rule2/rule3 splits; acute = acuteBoth; max = maxSplits"
+echo "  tg_seg = tetgen \"Steiner points on segments\" (whole run); step 3: $STEP3;"
+echo "  pert/brk/protS/protF = perturbations/breakPoints/protectSegment/protectFacet; +St3 = points added by step 3"
+h2='%-40s %7s %7s %11s %6s %5s %8s %7s %6s | %6s %6s %7s %7s %7s %9s\n'
+printf "$h2" model miss seg_St rules acute max ms_seg tg_seg seg/t pert brk protS protF +St3 ms_degen
+printf '%s\n' "$(printf '%.0s-' {1..160})"
 printf '%s\n' "${T2[@]}"
 echo
-echo "Table 3: facet recovery (issue 6) and cdt3d's own time per phase (ms) in the timed run"
+echo "Table 4: facet recovery (issue 6) and cdt3d's own time per phase (ms) in the timed run"
 h3='%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s\n'
 printf "$h3" model points tets missing regions cavities largest fallbk minDih read delaunay segments degen facets carve total
 printf '%s\n' "$(printf '%.0s-' {1..170})"

@@ -38,7 +38,8 @@ function nativeMesh(file, args = []) {
 
 const COUNTS = ['inputPoints', 'inputFacets', 'inputSegments', 'points', 'tets', 'faces',
   'steinerSegment', 'steinerFacet', 'steinerVolume', 'rule1', 'rule2', 'rule3', 'acuteBoth',
-  'perturbations', 'breakPoints', 'protectSegment', 'protectFacet', 'missingSubfaces', 'regions'];
+  'perturbations', 'breakPoints', 'protectSegment', 'protectFacet', 'missingSubfaces', 'regions',
+  'missingSegments', 'facetSplits', 'flatFlips', 'flatTets'];
 
 describe('every valid model: WASM equals native, and validates', { skip: skipNative && 'CDT3D_SKIP_NATIVE=1' }, () => {
   for (const file of valid) {
@@ -47,6 +48,9 @@ describe('every valid model: WASM equals native, and validates', { skip: skipNat
       const n = nativeMesh(file);
       assert.equal(n.status, 0);
       for (const k of COUNTS) assert.equal(r.stats[k], n.json[k], `${file}: ${k}`);
+      // The same statistics fields as the native --json (which adds ok, phase, edges, valid, validation).
+      const cliOnly = ['ok', 'phase', 'edges', 'valid', 'validation'];
+      assert.deepEqual(Object.keys(r.stats).sort(), Object.keys(n.json).filter((k) => !cliOnly.includes(k)).sort());
       assert.equal(r.points.length, 3 * r.stats.points);
       assert.equal(r.tets.length, 4 * r.stats.tets);
       assert.equal(r.faces.length, 3 * r.stats.faces);
@@ -163,12 +167,27 @@ describe('options', () => {
       { validate: 'yes' },
       { verbosity: 7 },
       { stopAfter: 'later' },
+      { degeneracy: 'exact' },
+      { degeneracy: 1 },
       { onProgress: 3 },
       { signal: {} },
       [],
     ]) {
       assert.throws(() => cdt.tetrahedralize(input(), options), (e) => e instanceof Cdt3dError && e.code === 'invalid-argument');
     }
+  });
+
+  test('degeneracy: "symbolic" is the default and adds no step-3 points; "paper" equals the native --paper-degeneracy', { skip: skipNative && 'CDT3D_SKIP_NATIVE=1' }, () => {
+    const file = 'chazelle_n3.off';
+    const bytes = () => ({ bytes: bytesOf(file), fileName: file });
+    const byDefault = cdt.tetrahedralize(bytes());
+    const symbolic = cdt.tetrahedralize(bytes(), { degeneracy: 'symbolic' });
+    assert.deepEqual(symbolic.tets, byDefault.tets);
+    for (const k of ['perturbations', 'breakPoints', 'protectSegment', 'protectFacet']) assert.equal(symbolic.stats[k], 0, k);
+    const paper = cdt.tetrahedralize(bytes(), { degeneracy: 'paper', validate: true });
+    const n = nativeMesh(file, ['--paper-degeneracy']);
+    assert.equal(n.status, 0);
+    for (const k of COUNTS) assert.equal(paper.stats[k], n.json[k], `${file} --paper-degeneracy: ${k}`);
   });
 
   test('stopAfter returns the intermediate mesh with its subsegments', () => {
@@ -180,12 +199,19 @@ describe('options', () => {
   });
 
   test('progress is monotone, names the phases in order and reaches 1', () => {
-    const seen = [];
-    cdt.tetrahedralize({ bytes: bytesOf('bunny.off'), fileName: 'bunny.off' }, { onProgress: (p) => seen.push(p) });
-    const phases = [...new Set(seen.map((p) => p.phase))];
-    assert.deepEqual(phases, ['read', 'delaunay', 'segments', 'degeneracy', 'facets', 'carve', 'done']);
-    for (let i = 1; i < seen.length; ++i) assert.ok(seen[i].fraction >= seen[i - 1].fraction);
-    assert.equal(seen.at(-1).fraction, 1);
+    // Step 3 is a phase of its own only in "paper" mode: the default symbolic
+    // perturbation has nothing to do there and reports no "degeneracy".
+    for (const [degeneracy, expected] of [
+      ['symbolic', ['read', 'delaunay', 'segments', 'facets', 'carve', 'done']],
+      ['paper', ['read', 'delaunay', 'segments', 'degeneracy', 'facets', 'carve', 'done']],
+    ]) {
+      const seen = [];
+      cdt.tetrahedralize({ bytes: bytesOf('bunny.off'), fileName: 'bunny.off' }, { degeneracy, onProgress: (p) => seen.push(p) });
+      const phases = [...new Set(seen.map((p) => p.phase))];
+      assert.deepEqual(phases, expected, degeneracy);
+      for (let i = 1; i < seen.length; ++i) assert.ok(seen[i].fraction >= seen[i - 1].fraction, degeneracy);
+      assert.equal(seen.at(-1).fraction, 1, degeneracy);
+    }
   });
 
   test('an AbortSignal cancels mid-run; the instance works afterwards', () => {

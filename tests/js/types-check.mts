@@ -74,6 +74,7 @@ new Cdt3dError('internal', 'outer', { line: 3, cause: new Error('inner') });
     validate: true,
     checkIntersections: false,
     mergeCoplanarFacets: true,
+    degeneracy: 'paper',
     verbosity: 1,
     stopAfter: 'facets',
     signal: controller,
@@ -87,7 +88,8 @@ new Cdt3dError('internal', 'outer', { line: 3, cause: new Error('inner') });
   const kinds: Uint8Array = r.steinerKinds;
   const parents: Int32Array = r.steinerParents;
   const s: MeshStatistics = r.stats;
-  const n: number = s.tets + s.steinerSegment + s.msTotal + s.radiusEdgeHistogram[0] + r.inputPoints;
+  const n: number = s.tets + s.steinerSegment + s.msTotal + s.radiusEdgeHistogram[0] + r.inputPoints +
+    s.missingSegments + s.facetSplits + s.flatFlips + s.flatTets;
   const fromInfo = cdt.tetrahedralize(cdt.readPlc(bytes, 'a.off'));
   const fromTriangles = cdt.tetrahedralize({ points: [0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1], triangles: [0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3] });
   const fromFacets = cdt.tetrahedralize({

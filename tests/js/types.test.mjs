@@ -67,6 +67,11 @@ test('interface MemoryUsage matches memoryUsage()', () => {
   assert.deepEqual(interfaceMembers('MemoryUsage').sort(), Object.keys(cdt.memoryUsage()).sort());
 });
 
+test('interface MeshStatistics declares exactly the stats tetrahedralize returns', () => {
+  const r = cdt.tetrahedralize({ points: [0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1], triangles: [0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3] });
+  assert.deepEqual(interfaceMembers('MeshStatistics').sort(), Object.keys(r.stats).sort());
+});
+
 test('CreateCdt3dOptions declares the options createCdt3d checks', () => {
   assert.deepEqual(interfaceMembers('CreateCdt3dOptions').sort(), ['locateFile', 'wasmBinary']);
 });

@@ -307,7 +307,7 @@ test('a model from the file input: the stats shown equal the Node API', { skip, 
     assert.equal(await text('points'), en.format(result.stats.points));
     assert.equal(await text('faces'), en.format(result.stats.faces));
     assert.equal(await text('inputFacets'), en.format(result.stats.inputFacets));
-    const steiner = ['steinerSegment', 'steinerFacet', 'steinerVolume'];
+    const steiner = ['steinerSegment', 'steinerFacet', 'facetSplits', 'steinerVolume', 'flatTets'];
     for (const k of steiner) assert.equal(await text(k), en.format(result.stats[k]), k);
     assert.equal(await page.textContent('#stat-validation'), result.validation?.ok ? 'passed' : result.validation ? 'FAILED' : 'not run');
     // The tets drawn are the result's.
