@@ -32,7 +32,10 @@ size_t missing_segments(const Plc& plc, const std::vector<std::array<VertexId, 2
   }
   const uint64_t ties_before = pred::counters().sos_ties;
   if (!delaunay_tetrahedralize(mesh, xyz.data(), n).ok()) return SIZE_MAX;
-  if (ties) *ties = pred::counters().sos_ties != ties_before;
+  if (ties) {
+    *ties = pred::counters().sos_ties != ties_before;
+    if (!*ties) return 0;  // no order does better: skip the count
+  }
   ends.clear();
   size_t missing = 0;
   for (const auto& e : segs) {
