@@ -183,3 +183,33 @@ TEST_CASE("Rng is splitmix64", "[tet_mesh][spatial_sort]") {
   CHECK(r.next() == 0x6e789e6aa1b965f4ull);
   for (int i = 0; i < 1000; ++i) CHECK(r.below(7) < 7u);
 }
+
+TEST_CASE("replace_tets rewires a region and refuses tets that do not fill it", "[tet_mesh]") {
+  // The 4 tets around the centre of the unit tet become the unit tet (a 4-1
+  // flip: the faces on the region's boundary match exactly).
+  TetMesh m = tet_with_center();
+  std::vector<TetId> around;
+  m.vertex_star(4, around);
+  REQUIRE(around.size() == 4);
+  std::vector<TetId> kept_copy = around;
+  const size_t live = m.live_tets;
+  // A wrong replacement (a tet not filling the region) changes nothing.
+  const std::array<VertexId, 4> wrong[1] = {{0, 1, 2, 4}};
+  CHECK_FALSE(m.replace_tets(around.data(), around.size(), wrong, 1));
+  CHECK(m.live_tets == live);
+  REQUIRE(check_mesh(m).ok());
+  // The unit tet itself, positively oriented, fills it (vertex 4 leaves the
+  // triangulation, which replace_tets does not track: mark it like a vertex
+  // that was never inserted so that the invariants hold).
+  std::array<VertexId, 4> whole = {0, 1, 2, 3};
+  if (pred::orient3d(m.point(0), m.point(1), m.point(2), m.point(3)) < 0) std::swap(whole[0], whole[1]);
+  std::vector<TetId> created;
+  REQUIRE(m.replace_tets(kept_copy.data(), kept_copy.size(), &whole, 1, &created));
+  m.vtet[4] = kNone;
+  m.vkind[4] = kVertexNotInserted;
+  CHECK(created.size() == 1);
+  CHECK(m.live_tets == live - 3);
+  const Status st = check_mesh(m);
+  INFO(st.error.message);
+  CHECK(st.ok());
+}
