@@ -218,6 +218,11 @@ size_t Pipeline::move_flat_tets_outside(const CarveResult& carved) {
     return it != keys.end() && it->v == k ? it->sub : kNone;
   };
   auto kept = [&](TetId t) { return (mesh_.tflag[t] & kTetInside) != 0; };
+  std::vector<std::array<uint32_t, 3>> sub;
+  segs_.subsegments(sub);
+  std::vector<std::array<VertexId, 2>> subsegs;
+  for (const auto& e : sub) subsegs.push_back({std::min(e[0], e[1]), std::max(e[0], e[1])});
+  std::sort(subsegs.begin(), subsegs.end());
   std::vector<uint8_t> changed(subfaces_.tri.size(), 0);
   size_t moved = 0;
   for (TetId t : carved.tets) {
@@ -242,6 +247,10 @@ size_t Pipeline::move_flat_tets_outside(const CarveResult& carved) {
     while (r < 3 && std::find(s2.begin(), s2.end(), s1[(r + 2) % 3]) != s2.end()) ++r;
     if (r == 3) continue;
     const VertexId u = s1[r], v = s1[(r + 1) % 3], p = s1[(r + 2) % 3];
+    // Never across a subsegment: the other diagonal would drop it.
+    if (std::binary_search(subsegs.begin(), subsegs.end(),
+                           std::array<VertexId, 2>{std::min(u, v), std::max(u, v)}))
+      continue;
     VertexId q = kNone;
     bool consistent = false;
     for (int k = 0; k < 3; ++k) {

@@ -114,6 +114,7 @@ class Validator {
   Status volume();
   Status delaunay();
   bool flipped_for_flat_tet(const uint32_t* w, uint32_t e) const;
+  bool in_some_tet(uint32_t a, uint32_t b) const;
 
   const Plc& plc_;
   const Result& r_;
@@ -323,6 +324,25 @@ Status Validator::constrained_faces() {
   return Status::success();
 }
 
+// Whether the midpoint of (a, b), rounded to doubles, lies in a tet or on its
+// boundary (exact orientations; a scan, only on the failure path).
+bool Validator::in_some_tet(uint32_t a, uint32_t b) const {
+  const double* p = pt(a);
+  const double* q = pt(b);
+  const double m[3] = {0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]), 0.5 * (p[2] + q[2])};
+  for (size_t t = 0; t < nt_; ++t) {
+    const uint32_t* w = &m_.tets[4 * t];
+    bool in = true;
+    for (int i = 0; i < 4 && in; ++i) {
+      const double* f[3];
+      for (int j = 0; j < 3; ++j) f[j] = pt(w[kFaceVertex[i][j]]);
+      in = pred::orient3d(f[0], f[1], f[2], m) >= 0;
+    }
+    if (in) return true;
+  }
+  return false;
+}
+
 Status Validator::segments() {
   segments_ = plc_segments(plc_);
   chains_.assign(segments_.size(), {});
@@ -355,8 +375,10 @@ Status Validator::segments() {
     bool inside = true;
     for (uint32_t v : c) inside = inside && in_tet_[v];
     if (!inside) continue;  // the segment lies outside the kept tets
+    // A missing piece whose midpoint is in no tet lies outside the kept tets
+    // too, between removed regions (a hole that touches the convex hull).
     for (size_t k = 0; k + 1 < c.size(); ++k)
-      if (!is_edge(c[k], c[k + 1]))
+      if (!is_edge(c[k], c[k + 1]) && in_some_tet(c[k], c[k + 1]))
         return fail("segment (" + std::to_string(c.front()) + ", " + std::to_string(c.back()) +
                         ") is not a chain of mesh edges: (" + std::to_string(c[k]) + ", " +
                         std::to_string(c[k + 1]) + ") is missing.",
