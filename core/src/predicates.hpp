@@ -229,6 +229,25 @@ inline constexpr double kOrient2dEps = 9.0e-16;
 inline constexpr double kOrient2dLo = 0x1p-900, kOrient2dHi = 0x1p+500;
 
 inline int sign_of(double x) { return (x > 0.0) - (x < 0.0); }
+// Exact evaluation for integer coordinates. When every coordinate is an
+// integer of magnitude below 2^52, every coordinate difference D is an
+// integer computed exactly, and each product and sum of the expression trees
+// above is an integer; it is computed exactly while its magnitude stays
+// below 2^53. With M = max |D| <= sx + sy + sz:
+//   orient3d: 2x2 minors <= 2 M^2, terms <= 2 M^3, det <= 6 M^3; M <= 2^16
+//     gives 6 * 2^48 < 2^53.
+//   insphere: 2x2 minors <= 2 M^2, 3x3 minors <= 6 M^3, lifts <= 3 M^2,
+//     products <= 18 M^5, det <= 72 M^5; M <= 2^9 gives 72 * 2^45 < 2^53.
+// The sums sx, sy, sz are exact too (integers far below 2^53), so the test
+// sx + sy + sz <= bound is exact.
+inline constexpr double kOrient3dSmallInteger = 0x1p+16;
+inline constexpr double kInsphereSmallInteger = 0x1p+9;
+inline bool integers(const double* a, const double* b, const double* c, const double* d) {
+  bool ok = true;
+  for (const double* p : {a, b, c, d})
+    for (int k = 0; k < 3; ++k) ok = ok && p[k] == std::trunc(p[k]) && std::fabs(p[k]) < 0x1p+52;
+  return ok;
+}
 
 }  // namespace detail
 
@@ -246,6 +265,11 @@ inline int orient3d(const double* a, const double* b, const double* c, const dou
   const bool decided = (std::fabs(det) > detail::kOrient3dEps * p) & (p >= detail::kOrient3dLo) &
                        (sx + sy + sz <= detail::kOrient3dHi);
   if (decided) return detail::sign_of(det);
+  // Small integer coordinates (grid and many CAD models, where the filter
+  // fails on every exactly coplanar quadruple): the evaluation above is
+  // exact (detail::kSmallInteger), so its sign is the answer.
+  if (sx + sy + sz <= detail::kOrient3dSmallInteger && detail::integers(a, b, c, d))
+    return detail::sign_of(det);
   return detail::orient3d_exact(a, b, c, d);
 }
 
@@ -279,6 +303,11 @@ inline int insphere(const double* a, const double* b, const double* c, const dou
                        (sy >= detail::kInsphereLo) & (sz >= detail::kInsphereLo) &
                        (sx + sy + sz <= detail::kInsphereHi);
   if (decided) return detail::sign_of(det);
+  // As in orient3d: exact for small integer coordinates (co-spherical grid
+  // points reach this line on every tie).
+  if (sx + sy + sz <= detail::kInsphereSmallInteger && detail::integers(a, b, c, d) &&
+      detail::integers(e, e, e, e))
+    return detail::sign_of(det);
   return detail::insphere_exact(a, b, c, d, e);
 }
 

@@ -364,6 +364,28 @@ TEST_CASE("insphere matches the exact oracle", "[predicates]") {
   CHECK(zeros > 3000);
 }
 
+TEST_CASE("small integer coordinates take the exact double evaluation and match the oracle",
+          "[predicates]") {
+  // Integer points up to the limits of the fast path (|differences| summing
+  // to 2^9 for insphere, 2^16 for orient3d) and just beyond, many of them
+  // exactly coplanar or co-spherical (a small grid).
+  Rng r(13);
+  int zeros = 0;
+  for (int it = 0; it < 20000; ++it) {
+    const double span = it % 3 == 0 ? 4 : it % 3 == 1 ? 64 : 20000;
+    std::array<P3, 5> p;
+    for (auto& q : p)
+      for (double& x : q) x = std::floor(span * r.unit()) - std::floor(span / 2);
+    const int w3 = orient3d_q(p[0], p[1], p[2], p[3]);
+    SIGN_CHECK(pred::orient3d(p[0].data(), p[1].data(), p[2].data(), p[3].data()), w3, describe(p));
+    const int w4 = insphere_q(p[0], p[1], p[2], p[3], p[4]);
+    zeros += w4 == 0;
+    SIGN_CHECK(pred::insphere(p[0].data(), p[1].data(), p[2].data(), p[3].data(), p[4].data()), w4,
+               describe(p));
+  }
+  CHECK(zeros > 1000);
+}
+
 TEST_CASE("insphere is exact on nearly cospherical points at the range limits", "[predicates]") {
   // Lattice points of a sphere placed at tiny (2^-217 offsets of a point near
   // 2e-50: degree-5 products near 2^-1085, below the smallest subnormal
