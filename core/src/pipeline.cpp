@@ -23,6 +23,7 @@
 #include "delaunay.hpp"
 #include "facet_recovery.hpp"
 #include "flat_flips.hpp"
+#include "geometry.hpp"
 #include "plc_intersect.hpp"
 #include "segment_recovery.hpp"
 #include "sos_order.hpp"
@@ -196,6 +197,15 @@ Status Pipeline::check_open_facets(const CarveResult& carved) const {
 // the same quadrilateral, and the flat tet joins the exterior. Returns the
 // number of facets changed; the caller carves again.
 size_t Pipeline::move_flat_tets_outside(const CarveResult& carved) {
+  // Such a tet is numerically flat (its vertices are a few ulps from one
+  // plane); the others need no face lookups.
+  std::vector<TetId> flat;
+  for (TetId t : carved.tets) {
+    const VertexId* w = &mesh_.tv[4 * static_cast<size_t>(t)];
+    if (numerically_flat(mesh_.point(w[0]), mesh_.point(w[1]), mesh_.point(w[2]), mesh_.point(w[3])))
+      flat.push_back(t);
+  }
+  if (flat.empty()) return 0;
   struct Key {
     std::array<VertexId, 3> v;
     uint32_t sub;
@@ -225,7 +235,7 @@ size_t Pipeline::move_flat_tets_outside(const CarveResult& carved) {
   std::sort(subsegs.begin(), subsegs.end());
   std::vector<uint8_t> changed(subfaces_.tri.size(), 0);
   size_t moved = 0;
-  for (TetId t : carved.tets) {
+  for (TetId t : flat) {
     int face[2], n = 0;
     uint32_t sub[2];
     for (int i = 0; i < 4 && n <= 2; ++i) {
