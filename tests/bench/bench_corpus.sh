@@ -23,7 +23,9 @@
 #   tetgen -pMVNEF M.poly                    its "Steiner points on segments / inside facets /
 #                                            inside domain" lines (untimed)
 #   tetgen -pMQ M.poly                       once more with output files (untimed): flat_tets
-#                                            counts the numerically flat tets of M.1.node/.ele
+#                                            counts the numerically flat tets of M.1.node/.ele,
+#                                            local_delaunay its unconstrained faces that are not
+#                                            locally Delaunay (a CDT has none)
 # Every process runs under `timeout` (BENCH_TIMEOUT, default 300 s); a hang or a
 # crash becomes a row that says so. tetgen runs in a scratch folder
 # (.build/bench/bench/corpus/) so nothing is written next to the models.
@@ -32,7 +34,8 @@
 #   1  time, memory, Steiner points seg/facet/vol, validation, tetgen's, ratios
 #      cdt3d/tetgen of wall time, user CPU time and peak RSS (< 1: cdt3d better)
 #   2  Steiner points by kind (cdt3d's facet splits too) and numerically flat
-#      tets (|6V| / l_max^3 < 1e-12 in doubles), cdt3d beside tetgen
+#      tets (|6V| / l_max^3 < 1e-12 in doubles), cdt3d beside tetgen, and whether
+#      tetgen's mesh is a CDT (its faces that are not locally Delaunay)
 #   3  segment recovery (issue 4) and degeneracy removal (issue 5)
 #   4  facet recovery (issue 6) and the time of each phase (cdt3d's own ms)
 # Failures are printed after the tables with cdt3d's message verbatim.
@@ -99,6 +102,11 @@ FLAT=$ROOT/.build/bench/bench/flat_tets
 if [ ! -x "$FLAT" ] || [ tests/bench/flat_tets.cpp -nt "$FLAT" ] || [ core/include/cdt3d/cdt3d.hpp -nt "$FLAT" ]; then
   c++ -O2 -std=c++17 -I core/include tests/bench/flat_tets.cpp -o "$FLAT" ||
     die "cannot build tests/bench/flat_tets.cpp"
+fi
+LD=$ROOT/.build/bench/bench/local_delaunay
+if [ ! -x "$LD" ] || [ tests/bench/local_delaunay.cpp -nt "$LD" ] || [ "$LIB" -nt "$LD" ]; then
+  c++ -O2 -std=c++17 -I core/include -I core/src tests/bench/local_delaunay.cpp "$LIB" -o "$LD" ||
+    die "cannot build tests/bench/local_delaunay.cpp"
 fi
 
 # 3. The models: "path<TAB>name" lines.
@@ -232,14 +240,14 @@ for line in "${MODELS[@]}"; do
 
   # tetgen on the converted PLC.
   t_ms="-" t_user="" t_rss="" t_st="-" t_ok="-" t_seg="-"
-  t_kinds=$(printf '%7s %7s %7s %6s' - - - -)
+  t_kinds=$(printf '%7s %7s %7s %6s %6s' - - - - -)
   if "$CONV" "$path" "$dir/$stem.poly" 2>"$dir/conv.err"; then
     run_best "$dir" tetgen "$TG_FLAGS" "$stem.poly"
     t_rc=$B_RC
     if [ "$t_rc" -eq 0 ] && ! grep -qiE 'error|assert|terminate' <<<"$B_OUT$B_ERR"; then
       t_ms=$B_WALL t_user=$B_USER t_rss=$B_RSS t_ok=yes
       run_once "$dir" tetgen "$TG_VFLAGS" "$stem.poly"
-      t_fac="-" t_vol="-" t_flat="-"
+      t_fac="-" t_vol="-" t_flat="-" t_nld="-"
       if [ "$R_RC" -eq 0 ]; then
         t_seg=$(tg_steiner segment "$R_OUT")
         t_fac=$(tg_steiner facet "$R_OUT") t_vol=$(tg_steiner 'domain|volume' "$R_OUT")
@@ -254,12 +262,21 @@ for line in "${MODELS[@]}"; do
           t_flat=error
           NOTES+=("$name: flat_tets on tetgen's output: $flat_out")
         fi
+        # Is tetgen's mesh a CDT? Unconstrained faces that are not locally
+        # Delaunay (tests/bench/local_delaunay.cpp); its .face lists the faces
+        # on the input facets.
+        if [ -f "$dir/$stem.1.face" ] && ld_out=$("$LD" "$dir/$stem.1.node" "$dir/$stem.1.ele" "$dir/$stem.1.face" 2>&1); then
+          t_nld=${ld_out%% *}
+        else
+          t_nld=error
+          NOTES+=("$name: local_delaunay on tetgen's output: ${ld_out:-no .face file}")
+        fi
       else
         t_flat=$(why "$R_RC")
         NOTES+=("$name: tetgen $TG_OFLAGS (output files): $(why "$R_RC") $(tail -c 300 <<<"$R_ERR")")
       fi
       rm -f "$dir/$stem".1.*
-      t_kinds=$(printf '%7s %7s %7s %6s' "$t_seg" "$t_fac" "$t_vol" "$t_flat")
+      t_kinds=$(printf '%7s %7s %7s %6s %6s' "$t_seg" "$t_fac" "$t_vol" "$t_flat" "$t_nld")
     else
       t_ok=$(why "$t_rc")
       [ "$t_rc" -eq 0 ] && t_ok=error
@@ -329,9 +346,11 @@ echo
 echo "Table 2: Steiner points by kind and numerically flat tets (|6V| / l_max^3 < 1e-12 in doubles; zero or inverted counts too)"
 echo "  seg/facet/vol = Steiner points on segments/in facets/in the volume; fsplit = cdt3d facetSplits (in facets where a"
 echo "  missing region could not be recovered otherwise; counted in facet too); flat = cdt3d --json flatTets, tg_flat = flat_tets"
-echo "  on tetgen's M.1.node/.ele; total = all Steiner points, St/t = cdt3d total / tetgen total"
-hk='%-40s %7s %7s %7s %7s %6s | %7s %7s %7s %6s | %7s %7s %6s\n'
-printf "$hk" model seg facet fsplit vol flat tg_seg tg_fac tg_vol tg_flat total tg_tot St/t
+echo "  on tetgen's M.1.node/.ele; tg_nLD = unconstrained interior faces of tetgen's mesh that are not locally Delaunay"
+echo "  (exact; > 0: tetgen's output is not a CDT; cdt3d's is checked by --validate); total = all Steiner points,"
+echo "  St/t = cdt3d total / tetgen total"
+hk='%-40s %7s %7s %7s %7s %6s | %7s %7s %7s %6s %6s | %7s %7s %6s\n'
+printf "$hk" model seg facet fsplit vol flat tg_seg tg_fac tg_vol tg_flat tg_nLD total tg_tot St/t
 printf '%s\n' "$(printf '%.0s-' {1..140})"
 printf '%s\n' "${TK[@]}"
 echo

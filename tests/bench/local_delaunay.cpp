@@ -1,0 +1,146 @@
+// Counts the interior faces of a TetGen .node/.ele/.face mesh that are not
+// constrained and not locally Delaunay, with cdt3d's exact predicates. By the
+// constrained Delaunay lemma a tetrahedralization of a PLC is its CDT exactly
+// when every such face is locally Delaunay (the apex of one tet not strictly
+// inside the circumsphere of the other); a positive count means the mesh is
+// not a CDT, so its Steiner point count is not comparable with a CDT's.
+// Used by tests/bench/bench_corpus.sh on TetGen's output (`tetgen -pMQ`),
+// whose .face lists the faces lying on the input facets; and on cdt3d's own
+// output for the same check.
+//
+// usage: local_delaunay MESH.node MESH.ele MESH.face
+// Build (bench_corpus.sh does this; needs the library for the predicates):
+//   c++ -O2 -std=c++17 -Icore/include -Icore/src tests/bench/local_delaunay.cpp \
+//       .build/bench/core/libcdt3d.a -o .build/bench/bench/local_delaunay
+//
+// Output, one line: "<violations> <unconstrained interior faces> <constrained faces>".
+// Co-spherical ties (insphere = 0) count as locally Delaunay.
+// Exit codes: 0 counted, 1 read error (message on stderr), 2 usage.
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "predicates.hpp"
+
+namespace {
+
+bool read_lines(const char* path, std::vector<std::string>& lines) {
+  std::ifstream in(path);
+  if (!in) return false;
+  std::string line;
+  while (std::getline(in, line)) {
+    const size_t hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    lines.push_back(line);
+  }
+  return true;
+}
+
+int fail(const char* path, const std::string& what) {
+  std::fprintf(stderr, "local_delaunay: %s: %s\n", path, what.c_str());
+  return 1;
+}
+
+// A face as its sorted vertex triple packed in 64 bits per pair of ids.
+struct FaceKey {
+  std::array<long long, 3> v;
+  bool operator==(const FaceKey& o) const { return v == o.v; }
+};
+struct FaceHash {
+  size_t operator()(const FaceKey& k) const {
+    return std::hash<long long>()(k.v[0] * 1000003LL ^ k.v[1] * 998244353LL ^ k.v[2]);
+  }
+};
+FaceKey key_of(long long a, long long b, long long c) {
+  std::array<long long, 3> v = {a, b, c};
+  std::sort(v.begin(), v.end());
+  return {v};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 4) {
+    std::fprintf(stderr, "usage: local_delaunay MESH.node MESH.ele MESH.face\n");
+    return 2;
+  }
+  std::vector<std::string> lines;
+  if (!read_lines(argv[1], lines) || lines.empty()) return fail(argv[1], "cannot read");
+  long long n = -1, dim = -1;
+  std::istringstream(lines[0]) >> n >> dim;
+  if (n < 0 || dim != 3 || static_cast<long long>(lines.size()) - 1 < n)
+    return fail(argv[1], "bad header or too few points");
+  std::vector<double> xyz(3 * static_cast<size_t>(n));
+  long long first = 0;
+  for (long long i = 0; i < n; ++i) {
+    std::istringstream s(lines[1 + i]);
+    long long id;
+    if (!(s >> id >> xyz[3 * i] >> xyz[3 * i + 1] >> xyz[3 * i + 2]))
+      return fail(argv[1], "bad point line " + std::to_string(i + 1));
+    if (i == 0) first = id;
+  }
+
+  lines.clear();
+  if (!read_lines(argv[2], lines) || lines.empty()) return fail(argv[2], "cannot read");
+  long long m = -1;
+  std::istringstream(lines[0]) >> m;
+  if (m < 0 || static_cast<long long>(lines.size()) - 1 < m) return fail(argv[2], "bad header");
+  std::vector<std::array<long long, 4>> tets(static_cast<size_t>(m));
+  for (long long t = 0; t < m; ++t) {
+    std::istringstream s(lines[1 + t]);
+    long long id;
+    auto& v = tets[t];
+    if (!(s >> id >> v[0] >> v[1] >> v[2] >> v[3])) return fail(argv[2], "bad tet line");
+    for (auto& x : v) {
+      x -= first;
+      if (x < 0 || x >= n) return fail(argv[2], "node index out of range");
+    }
+  }
+
+  lines.clear();
+  if (!read_lines(argv[3], lines) || lines.empty()) return fail(argv[3], "cannot read");
+  long long nf = -1;
+  std::istringstream(lines[0]) >> nf;
+  std::unordered_map<FaceKey, int, FaceHash> constrained;
+  for (long long f = 0; f < nf && 1 + f < static_cast<long long>(lines.size()); ++f) {
+    std::istringstream s(lines[1 + f]);
+    long long id, a, b, c;
+    if (!(s >> id >> a >> b >> c)) return fail(argv[3], "bad face line");
+    constrained[key_of(a - first, b - first, c - first)] = 1;
+  }
+
+  // Face -> (tet, apex) of its first tet; the second tet's apex is tested
+  // against the first tet's circumsphere.
+  auto pt = [&](long long i) { return &xyz[3 * static_cast<size_t>(i)]; };
+  std::unordered_map<FaceKey, std::pair<long long, long long>, FaceHash> open;
+  open.reserve(static_cast<size_t>(2 * m));
+  size_t violations = 0, interior = 0;
+  for (long long t = 0; t < m; ++t) {
+    const auto& v = tets[t];
+    for (int i = 0; i < 4; ++i) {
+      const FaceKey k = key_of(v[(i + 1) % 4], v[(i + 2) % 4], v[(i + 3) % 4]);
+      auto it = open.find(k);
+      if (it == open.end()) {
+        open.emplace(k, std::make_pair(t, v[i]));
+        continue;
+      }
+      const auto [u, apex] = it->second;
+      open.erase(it);
+      if (constrained.count(k)) continue;
+      ++interior;
+      const auto& w = tets[u];
+      const int o = cdt3d::pred::orient3d(pt(w[0]), pt(w[1]), pt(w[2]), pt(w[3]));
+      const int s = cdt3d::pred::insphere(pt(w[0]), pt(w[1]), pt(w[2]), pt(w[3]), pt(v[i]));
+      if (o * s > 0) ++violations;
+      (void)apex;
+    }
+  }
+  std::printf("%zu %zu %zu\n", violations, interior, constrained.size());
+  return 0;
+}
