@@ -99,7 +99,7 @@ if [ ! -x "$CONV" ] || [ tests/bench/plc_to_poly.cpp -nt "$CONV" ] || [ "$LIB" -
     die "cannot build tests/bench/plc_to_poly.cpp"
 fi
 FLAT=$ROOT/.build/bench/bench/flat_tets
-if [ ! -x "$FLAT" ] || [ tests/bench/flat_tets.cpp -nt "$FLAT" ] || [ core/include/cdt3d/cdt3d.hpp -nt "$FLAT" ]; then
+if [ ! -x "$FLAT" ] || [ tests/bench/flat_tets.cpp -nt "$FLAT" ] || [ tests/bench/tetgen_lines.hpp -nt "$FLAT" ] || [ core/include/cdt3d/cdt3d.hpp -nt "$FLAT" ]; then
   c++ -O2 -std=c++17 -I core/include tests/bench/flat_tets.cpp -o "$FLAT" ||
     die "cannot build tests/bench/flat_tets.cpp"
 fi

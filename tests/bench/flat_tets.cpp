@@ -32,26 +32,12 @@
 #include <string>
 #include <vector>
 
+#include "tetgen_lines.hpp"
+
 namespace {
 
-// The non-empty lines of a TetGen file with comments removed.
-bool read_lines(const char* path, std::vector<std::string>& lines) {
-  std::ifstream in(path);
-  if (!in) return false;
-  std::string line;
-  while (std::getline(in, line)) {
-    const size_t hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    lines.push_back(line);
-  }
-  return true;
-}
-
-int fail(const char* path, const std::string& what) {
-  std::fprintf(stderr, "flat_tets: %s: %s\n", path, what.c_str());
-  return 1;
-}
+using bench::read_lines;
+int fail(const char* path, const std::string& what) { return bench::fail("flat_tets", path, what); }
 
 double six_volume(const double* a, const double* b, const double* c, const double* d) {
   const double u[3] = {a[0] - d[0], a[1] - d[1], a[2] - d[2]};

@@ -25,27 +25,14 @@
 #include <unordered_map>
 #include <vector>
 
+#include "tetgen_lines.hpp"
+
 #include "predicates.hpp"
 
 namespace {
 
-bool read_lines(const char* path, std::vector<std::string>& lines) {
-  std::ifstream in(path);
-  if (!in) return false;
-  std::string line;
-  while (std::getline(in, line)) {
-    const size_t hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    lines.push_back(line);
-  }
-  return true;
-}
-
-int fail(const char* path, const std::string& what) {
-  std::fprintf(stderr, "local_delaunay: %s: %s\n", path, what.c_str());
-  return 1;
-}
+using bench::read_lines;
+int fail(const char* path, const std::string& what) { return bench::fail("local_delaunay", path, what); }
 
 // A face as its sorted vertex triple packed in 64 bits per pair of ids.
 struct FaceKey {
