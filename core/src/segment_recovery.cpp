@@ -24,6 +24,14 @@ constexpr size_t kMaxSplitsPerSegment = 4096;
 // fractions of its subsegment (insert_on_segment); the last one is final.
 constexpr double kFlatShifts[] = {0, 1e-8, -1e-8, 1e-6, -1e-6, 1e-4, -1e-4, 1e-2, -1e-2, 0.1, -0.1, 0};
 constexpr size_t kNumFlatShifts = sizeof(kFlatShifts) / sizeof(kFlatShifts[0]);
+// Bits of the dyadic fractions tried for a split point exactly on its
+// segment's line (exact_point_on_line): at most 24 (a float32 significand, so
+// products with float32-grid differences stay exact), at least 20 (the point
+// moves by at most 2^-21 of its subsegment, which was measured to leave the
+// Steiner counts of tests/data unchanged or lower; coarser fractions moved
+// points enough to cost 4% more on plate_holes).
+constexpr int kExactLineBits = 24;
+constexpr int kExactLineMinBits = 20;
 
 struct Vec {
   double x, y, z;
@@ -89,6 +97,7 @@ class SegmentRecovery {
                            VertexId origin, SplitRule rule);
   double param(uint32_t s, VertexId v) const;
   long chain_position(uint32_t s, VertexId v) const;
+  bool exact_point_on_line(VertexId u, VertexId w, double f, Vec& q, double& tf) const;
   void queue_destroyed(VertexId v, std::vector<std::array<uint32_t, 3>>& queue);
 
   TetMesh& mesh_;
@@ -352,13 +361,39 @@ Status SegmentRecovery::split(uint32_t s, VertexId u, VertexId w) {
                            SplitRule::Rule3);
 }
 
+// A point of the open subsegment (u, w) exactly on its line (collinear by
+// the exact test) at a dyadic fraction g = k / 2^n near f, for n from
+// kExactLineBits down to kExactLineMinBits (|g - f| <= 2^-(n+1)); the point
+// is evaluated in doubles and kept only if that evaluation was exact.
+bool SegmentRecovery::exact_point_on_line(VertexId u, VertexId w, double f, Vec& q, double& tf) const {
+  const double* pu = mesh_.point(u);
+  const double* pw = mesh_.point(w);
+  for (int n = kExactLineBits; n >= kExactLineMinBits; --n) {
+    const double scale = std::ldexp(1.0, n);
+    const double g = std::round(f * scale) / scale;
+    if (!(g > 0 && g < 1)) continue;
+    const double x[3] = {pu[0] + g * (pw[0] - pu[0]), pu[1] + g * (pw[1] - pu[1]), pu[2] + g * (pw[2] - pu[2])};
+    const bool inside = (x[0] - pu[0]) * (pw[0] - pu[0]) + (x[1] - pu[1]) * (pw[1] - pu[1]) +
+                                (x[2] - pu[2]) * (pw[2] - pu[2]) > 0 &&
+                        (x[0] - pw[0]) * (pu[0] - pw[0]) + (x[1] - pw[1]) * (pu[1] - pw[1]) +
+                                (x[2] - pw[2]) * (pu[2] - pw[2]) > 0;
+    if (inside && pred::collinear3d(pu, pw, x)) {
+      q = {x[0], x[1], x[2]};
+      tf = g;
+      return true;
+    }
+  }
+  return false;
+}
+
 // Inserts the split point of subsegment (u, w) of segment s.
 //
 // Rounding: the point is computed in floating point and rounded to doubles,
-// so it lies near, not on, the segment's line. (Moving it to a nearby double
-// exactly on the line, which often exists, was measured to cost far more
-// splits and flat tets on the CAD models of tests/data, so we do not.) That
-// is safe because (1) we keep the intended parameter and the segment in a
+// so it lies near, not on, the segment's line, unless a double exactly on the
+// line lies within 2^-21 of the subsegment from it (exact_point_on_line; a
+// coarser snap, to the nearest such double at any distance, was measured to
+// cost more splits on the CAD models of tests/data). Off the line is
+// safe because (1) we keep the intended parameter and the segment in a
 // SegmentVertex, and the chain order, not coordinates, says which vertices
 // are on which segment; (2) the Delaunay
 // insertion uses exact predicates on the rounded point, so D1 is exactly the
@@ -392,7 +427,19 @@ Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Ve
   // for the bound on splits, not for correctness (any vertex strictly inside
   // the subsegment splits it). After all tries it is inserted as planned.
   const double tu = param(s, u), tw = param(s, w);
-  const double f0 = tw != tu ? (t - tu) / (tw - tu) : 0.5;
+  double f0 = tw != tu ? (t - tu) / (tw - tu) : 0.5;
+  // Prefer a point exactly on the segment's line, moved by at most
+  // 2^-kExactLineMinBits of the subsegment: it lies exactly in every plane
+  // that holds the segment, so it cannot make a flat tet with points of a
+  // facet plane (a rounded point a few ulps off that plane does, once other
+  // points of the plane are inserted next to it; fuzz findings with the hull
+  // kept). Such a point exists when the coordinates are short (integer, CAD
+  // and float32 grids); otherwise the rounded point stays.
+  {
+    Vec q;
+    double tf;
+    if (exact_point_on_line(u, w, f0, q, tf)) point = q, t = tu + tf * (tw - tu), f0 = tf;
+  }
   InsertResult res;
   Status st;
   for (size_t k = 0; k < kNumFlatShifts; ++k) {

@@ -246,9 +246,21 @@ TEST_CASE("a region facet recovery gives up on gets a Steiner point in its facet
 }
 
 TEST_CASE("flat tets that step 4 leaves are flipped away and the result stays valid", "[pipeline]") {
+  // fandisk: facet planes through many input points; the CDT holds nearly
+  // flat tets that the flips before output remove.
+  Plc plc;
+  REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) + "/fandisk.off", plc).ok());
+  const Result r = run(plc);  // validates
+  CHECK(r.stats.flat_flips >= 1);
+  CHECK(r.stats.flat_tets == 0);
+}
+
+TEST_CASE("split points exactly on their segment's line make no flat tets in a facet plane",
+          "[pipeline]") {
   // A facet plane through two input points outside the facet (kept with the
-  // convex hull): rounded Steiner points on the facet's edges are a few ulps
-  // off that plane, and the CDT holds flat tets there.
+  // convex hull): a split point rounded a few ulps off that plane made flat
+  // tets with the plane's other points; on these short coordinates a double
+  // exactly on the segment's line exists next to each split point.
   Plc plc;
   const Status st =
       read_plc_file(std::string(CDT3D_TEST_DATA) + "/regress/pipeline-hull-flat-facet-plane.poly", plc);
@@ -256,7 +268,37 @@ TEST_CASE("flat tets that step 4 leaves are flipped away and the result stays va
   Options opt;
   opt.keep_convex_hull = true;
   const Result r = run(plc, opt);  // validates
-  CHECK(r.stats.flat_flips >= 1);
+  REQUIRE(r.stats.steiner_segment >= 1);
+  CHECK(r.stats.flat_tets == 0);
+  const auto segs = plc_segments(plc);
+  for (size_t i = 0; i < r.steiner_kind.size(); ++i) {
+    if (r.steiner_kind[i] != SteinerKind::Segment) continue;
+    const auto& e = segs[static_cast<size_t>(r.steiner_parent[i])];
+    const double* v = &r.mesh.points[3 * (r.input_points + i)];
+    const double* a = &plc.points[e[0]].x;
+    const double* b = &plc.points[e[1]].x;
+    // Exactly collinear: the cross product of (b - a) and (v - a) vanishes in
+    // doubles here (short coordinates, exact differences and products).
+    const double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    const double av[3] = {v[0] - a[0], v[1] - a[1], v[2] - a[2]};
+    CHECK(ab[1] * av[2] - ab[2] * av[1] == 0);
+    CHECK(ab[2] * av[0] - ab[0] * av[2] == 0);
+    CHECK(ab[0] * av[1] - ab[1] * av[0] == 0);
+  }
+}
+
+TEST_CASE("the fuzz findings with the hull kept end with no flat tet", "[pipeline]") {
+  for (const char* name : {"edge-removal-fan", "facet", "flat-facet-plane", "flip-breaks-delaunay",
+                           "hole-touches-hull", "rounded-segment-face", "segment-between-holes",
+                           "two-facet-planes"}) {
+    INFO(name);
+    Plc plc;
+    REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) + "/regress/pipeline-hull-" + name + ".poly", plc).ok());
+    Options opt;
+    opt.keep_convex_hull = true;
+    const Result r = run(plc, opt);  // validates
+    CHECK(r.stats.flat_tets == 0);
+  }
 }
 
 TEST_CASE("the perturbation order is chosen to keep segments, and ids are reported as input ids",
