@@ -49,6 +49,10 @@
 #                            the run with output files drops N, E and F)
 #   CDT3D_FLAGS=             extra flags of every cdt3d mesh run, e.g. --paper-degeneracy
 #   CDT3D_BIN=.build/bench/core/cdt3d   the CLI to use (not rebuilt if set)
+#   BENCH_WASM=1             0: skip the WASM runs (node tests/bench/wasm_mesh.mjs MODEL,
+#                            the package in wasm/ as built in wasm/dist; Table 4's wasm
+#                            columns: the module's own msTotal of one call in a fresh
+#                            Node process, and its ratio to native msTotal)
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 ROOT=$PWD
@@ -57,6 +61,8 @@ CORPUS=${CORPUS:-data}
 TIMEOUT=${BENCH_TIMEOUT:-300}
 RUNS=${BENCH_RUNS:-1}
 FILTER=${BENCH_FILTER:-}
+DO_WASM=${BENCH_WASM:-1}
+[ -f wasm/dist/cdt3d.js ] || DO_WASM=0
 TG_FLAGS=${TETGEN_FLAGS:--pMQNEF}
 TG_VFLAGS=${TG_FLAGS//Q/}V
 TG_OFLAGS=${TG_FLAGS//[NEF]/}
@@ -320,13 +326,24 @@ for line in "${MODELS[@]}"; do
   T2+=("$(printf '%-40s %7s %7s %11s %6s %5s %8s %7s %6s | %s' "$name" "$s_miss" "$s_seg" "$s_rules" "$s_acute" \
     "$s_max" "$s_ms" "$t_seg" "$(ratio "$s_seg" "$t_seg")" "$d_cols")")
   if [ "$c_rc" -eq 0 ]; then
-    T3+=("$(printf '%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s' "$name" \
+    w_ms="-" w_ratio="-"
+    if [ "$DO_WASM" = 1 ]; then
+      run_once "$dir" node "$ROOT/tests/bench/wasm_mesh.mjs" "$path"
+      if [ "$R_RC" -eq 0 ]; then
+        w_ms=$(jnum msTotal "$R_OUT")
+        w_ratio=$(ratio "$w_ms" "$(jnum msTotal "$c_json")")
+      else
+        w_ms=$(why "$R_RC")
+        NOTES+=("$name: wasm_mesh.mjs: $(why "$R_RC") $R_OUT")
+      fi
+    fi
+    T3+=("$(printf '%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s | %9s %6s' "$name" \
       "$(jnum points "$c_json")" "$(jnum tets "$c_json")" "$(jnum missingSubfaces "$c_json")" \
       "$(jnum regions "$c_json")" "$(jnum cavities "$c_json")" "$(jnum largestCavity "$c_json")" \
       "$(jnum fallbacks "$c_json")" "$(printf '%.1f' "$(jnum minDihedral "$c_json")" 2>/dev/null || echo -)" \
       "$(jnum msRead "$c_json")" "$(jnum msDelaunay "$c_json")" "$(jnum msSegments "$c_json")" \
       "$(jnum msDegeneracy "$c_json")" "$(jnum msFacets "$c_json")" "$(jnum msCarve "$c_json")" \
-      "$(jnum msTotal "$c_json")")")
+      "$(jnum msTotal "$c_json")" "$w_ms" "$w_ratio")")
   else
     T3+=("$(printf '%-40s %7s' "$name" "$c_ms")")
   fi
@@ -365,9 +382,11 @@ printf '%s\n' "$(printf '%.0s-' {1..160})"
 printf '%s\n' "${T2[@]}"
 echo
 echo "Table 4: facet recovery (issue 6) and cdt3d's own time per phase (ms) in the timed run"
-h3='%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s\n'
-printf "$h3" model points tets missing regions cavities largest fallbk minDih read delaunay segments degen facets carve total
-printf '%s\n' "$(printf '%.0s-' {1..170})"
+[ "$DO_WASM" = 1 ] && echo "  wasm_ms = msTotal of the WASM package in Node (one call in a fresh process: V8 runs most of it in its baseline"
+[ "$DO_WASM" = 1 ] && echo "  compiler, Liftoff), wasm/n = wasm_ms / native total"
+h3='%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s | %9s %6s\n'
+printf "$h3" model points tets missing regions cavities largest fallbk minDih read delaunay segments degen facets carve total wasm_ms wasm/n
+printf '%s\n' "$(printf '%.0s-' {1..188})"
 printf '%s\n' "${T3[@]}"
 if [ ${#NOTES[@]} -gt 0 ]; then
   echo

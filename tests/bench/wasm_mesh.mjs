@@ -1,0 +1,57 @@
+// The whole CDT pipeline on one model file with the WASM build of cdt3d under
+// Node, for tests/bench/bench_corpus.sh (the WASM / native ratio per model).
+//
+// usage: node tests/bench/wasm_mesh.mjs MODEL
+// Prints one JSON line:
+//   {"ok":true,"points":N,"tets":T,"steiner":S,"msTotal":t,"msDelaunay":d,"msCall":c}
+// msTotal and msDelaunay are the module's own phase clocks (the same clocks
+// as the native CLI's --json msTotal / msDelaunay, so the two compare the
+// mesher and not Node's start-up); msCall is the wall time of the call seen
+// from JS (copying in and out of the WASM heap included).
+// Errors print {"ok":false,"error":"..."}: exit 3 when the package is not
+// built, 1 when meshing fails.
+import { readFileSync } from 'node:fs';
+import path from 'node:path';
+import { performance } from 'node:perf_hooks';
+
+function fail(message, code) {
+  process.stdout.write(`${JSON.stringify({ ok: false, error: message })}\n`);
+  process.exit(code);
+}
+
+const file = process.argv[2];
+if (!file) {
+  process.stderr.write('usage: node tests/bench/wasm_mesh.mjs MODEL\n');
+  process.exit(2);
+}
+
+let createCdt3d;
+try {
+  ({ createCdt3d } = await import(new URL('../../wasm/node.js', import.meta.url)));
+} catch (e) {
+  fail(`cannot load wasm/node.js (is wasm/dist built?): ${e.message}`, 3);
+}
+const cdt = await createCdt3d();
+const bytes = readFileSync(file);
+
+const t0 = performance.now();
+let r;
+try {
+  r = cdt.tetrahedralize({ bytes, fileName: path.basename(file) });
+} catch (e) {
+  fail(`${e.code ?? 'error'}: ${e.message}`, 1);
+}
+const msCall = performance.now() - t0;
+const r3 = (x) => Number(x.toFixed(3));
+const s = r.stats;
+process.stdout.write(
+  `${JSON.stringify({
+    ok: true,
+    points: s.points,
+    tets: s.tets,
+    steiner: s.steinerSegment + s.steinerFacet + s.steinerVolume,
+    msTotal: r3(s.msTotal),
+    msDelaunay: r3(s.msDelaunay),
+    msCall: r3(msCall),
+  })}\n`,
+);
