@@ -357,6 +357,8 @@ int incircle(const double* a, const double* b, const double* c, const double* d)
   const bool decided = (std::fabs(det) > bound) & (sx >= kIncircleLo) & (sy >= kIncircleLo) &
                        (sx + sy <= kIncircleHi);
   if (decided) return detail::sign_of(det);
+  // Four points on one axis-parallel line: a zero column (see orient3d).
+  if (detail::zero_column(adx, bdx, cdx, 0) | detail::zero_column(ady, bdy, cdy, 0)) return 0;
   return incircle_exact(a, b, c, d);
 }
 

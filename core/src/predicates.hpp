@@ -242,6 +242,10 @@ inline int sign_of(double x) { return (x > 0.0) - (x < 0.0); }
 // sx + sy + sz <= bound is exact.
 inline constexpr double kOrient3dSmallInteger = 0x1p+16;
 inline constexpr double kInsphereSmallInteger = 0x1p+9;
+// All given coordinate differences are zero (pass 0 for unused slots).
+inline bool zero_column(double p, double q, double r, double s) {
+  return (p == 0) & (q == 0) & (r == 0) & (s == 0);
+}
 inline bool integers(const double* a, const double* b, const double* c, const double* d) {
   bool ok = true;
   for (const double* p : {a, b, c, d})
@@ -270,6 +274,13 @@ inline int orient3d(const double* a, const double* b, const double* c, const dou
   // exact (detail::kSmallInteger), so its sign is the answer.
   if (sx + sy + sz <= detail::kOrient3dSmallInteger && detail::integers(a, b, c, d))
     return detail::sign_of(det);
+  // Four points in one axis-parallel plane (CAD models; nearly all the exact
+  // zeros there): a column of the matrix is zero, so the determinant is. A
+  // computed difference is 0 exactly when the two coordinates are equal (x - y
+  // rounds to 0 only for x == y, subnormals included), so the test is exact.
+  if (detail::zero_column(adx, bdx, cdx, 0) | detail::zero_column(ady, bdy, cdy, 0) |
+      detail::zero_column(adz, bdz, cdz, 0))
+    return 0;
   return detail::orient3d_exact(a, b, c, d);
 }
 
@@ -308,6 +319,10 @@ inline int insphere(const double* a, const double* b, const double* c, const dou
   if (sx + sy + sz <= detail::kInsphereSmallInteger && detail::integers(a, b, c, d) &&
       detail::integers(e, e, e, e))
     return detail::sign_of(det);
+  // Five points in one axis-parallel plane: a zero column again (see orient3d).
+  if (detail::zero_column(aex, bex, cex, dex) | detail::zero_column(aey, bey, cey, dey) |
+      detail::zero_column(aez, bez, cez, dez))
+    return 0;
   return detail::insphere_exact(a, b, c, d, e);
 }
 
@@ -322,6 +337,8 @@ inline int detail::orient2d_xy(double ax, double ay, double bx, double by, doubl
   const bool decided =
       (std::fabs(det) > kOrient2dEps * p) & (p >= kOrient2dLo) & (sx + sy <= kOrient2dHi);
   if (decided) return sign_of(det);
+  // Three points on one axis-parallel line: a zero column (see orient3d).
+  if (zero_column(acx, bcx, 0, 0) | zero_column(acy, bcy, 0, 0)) return 0;
   return orient2d_exact(ax, ay, bx, by, cx, cy);
 }
 
