@@ -364,6 +364,17 @@ TEST_CASE("insphere matches the exact oracle", "[predicates]") {
   CHECK(zeros > 3000);
 }
 
+// orient3d of the first four points and insphere of all five against the
+// oracle; returns the oracle's insphere sign.
+int check_orient3d_insphere(const std::array<P3, 5>& p) {
+  SIGN_CHECK(pred::orient3d(p[0].data(), p[1].data(), p[2].data(), p[3].data()),
+             orient3d_q(p[0], p[1], p[2], p[3]), describe(p));
+  const int w4 = insphere_q(p[0], p[1], p[2], p[3], p[4]);
+  SIGN_CHECK(pred::insphere(p[0].data(), p[1].data(), p[2].data(), p[3].data(), p[4].data()), w4,
+             describe(p));
+  return w4;
+}
+
 TEST_CASE("small integer coordinates take the exact double evaluation and match the oracle",
           "[predicates]") {
   // Integer points up to the limits of the fast path (|differences| summing
@@ -376,12 +387,7 @@ TEST_CASE("small integer coordinates take the exact double evaluation and match 
     std::array<P3, 5> p;
     for (auto& q : p)
       for (double& x : q) x = std::floor(span * r.unit()) - std::floor(span / 2);
-    const int w3 = orient3d_q(p[0], p[1], p[2], p[3]);
-    SIGN_CHECK(pred::orient3d(p[0].data(), p[1].data(), p[2].data(), p[3].data()), w3, describe(p));
-    const int w4 = insphere_q(p[0], p[1], p[2], p[3], p[4]);
-    zeros += w4 == 0;
-    SIGN_CHECK(pred::insphere(p[0].data(), p[1].data(), p[2].data(), p[3].data(), p[4].data()), w4,
-               describe(p));
+    zeros += check_orient3d_insphere(p) == 0;
   }
   CHECK(zeros > 1000);
 }
@@ -403,12 +409,7 @@ TEST_CASE("points in an axis-parallel plane or on an axis-parallel line give exa
       q[axis] = level;
       if (it % 7 == 0 && &q == &p[4]) q[axis] = std::nextafter(level, 1e300);
     }
-    const int w3 = orient3d_q(p[0], p[1], p[2], p[3]);
-    SIGN_CHECK(pred::orient3d(p[0].data(), p[1].data(), p[2].data(), p[3].data()), w3, describe(p));
-    const int w4 = insphere_q(p[0], p[1], p[2], p[3], p[4]);
-    zeros += w4 == 0;
-    SIGN_CHECK(pred::insphere(p[0].data(), p[1].data(), p[2].data(), p[3].data(), p[4].data()), w4,
-               describe(p));
+    zeros += check_orient3d_insphere(p) == 0;
     // 2D: the xy projection; three or four points on the line x = level or
     // y = level (axis 0 or 1), the fourth nearly on it now and then.
     if (axis < 2) {
