@@ -108,7 +108,32 @@ class SegmentRecovery {
   std::vector<TetId> star_;
   std::vector<uint32_t> vertex_mark_;  // per vertex: epoch when last seen
   std::vector<VertexId> ring_;         // vertices of the last insertion's new tets, but v
-  std::vector<std::array<VertexId, 2>> ring_edges_;  // their edges not at v
+  std::vector<uint32_t> ring_mark_;    // per vertex: ring_epoch_ when in ring_
+  uint32_t ring_epoch_ = 0;
+  std::vector<std::array<VertexId, 3>> ring_faces_;  // the faces of those tets opposite v
+  // Starts a new ring (ring_ empty, every vertex out of it).
+  void clear_ring() {
+    ring_.clear();
+    ring_faces_.clear();
+    if (++ring_epoch_ == 0) std::fill(ring_mark_.begin(), ring_mark_.end(), 0), ring_epoch_ = 1;
+    if (ring_mark_.size() < mesh_.num_vertices()) ring_mark_.resize(mesh_.num_vertices(), 0);
+  }
+  // Adds face f (opposite the inserted vertex) and its finite vertices.
+  void add_ring_face(const std::array<VertexId, 3>& f) {
+    ring_faces_.push_back(f);
+    for (VertexId x : f)
+      if (x != kInfinite && ring_mark_[x] != ring_epoch_) ring_mark_[x] = ring_epoch_, ring_.push_back(x);
+  }
+  bool in_ring(VertexId x) const { return x < ring_mark_.size() && ring_mark_[x] == ring_epoch_; }
+  // Edge xy is an edge of a ring face (so it survives the insertion).
+  bool ring_edge(VertexId x, VertexId y) const {
+    for (const auto& f : ring_faces_) {
+      const bool hx = f[0] == x || f[1] == x || f[2] == x;
+      const bool hy = f[0] == y || f[1] == y || f[2] == y;
+      if (hx && hy) return true;
+    }
+    return false;
+  }
   std::vector<uint32_t> incident_start_, incident_;  // input vertex -> segments (CSR)
   std::vector<std::array<VertexId, 3>> probe_faces_;
 };
@@ -232,18 +257,8 @@ VertexId SegmentRecovery::reference_point(VertexId a, VertexId b) {
 // the cavity boundary; the halves exist when a and b are on the boundary.
 int SegmentRecovery::split_cost(uint32_t s, VertexId a, VertexId b, const double* q) {
   if (!inserter_.probe(q, mesh_.vtet[a], probe_faces_)) return INT32_MAX;
-  ring_.clear();
-  ring_edges_.clear();
-  for (const auto& f : probe_faces_)
-    for (int i = 0; i < 3; ++i) {
-      if (f[i] != kInfinite) ring_.push_back(f[i]);
-      const VertexId x = f[i], y = f[(i + 1) % 3];
-      ring_edges_.push_back(x < y ? std::array<VertexId, 2>{x, y} : std::array<VertexId, 2>{y, x});
-    }
-  std::sort(ring_.begin(), ring_.end());
-  ring_.erase(std::unique(ring_.begin(), ring_.end()), ring_.end());
-  std::sort(ring_edges_.begin(), ring_edges_.end());
-  auto in_ring = [&](VertexId x) { return std::binary_search(ring_.begin(), ring_.end(), x); };
+  clear_ring();
+  for (const auto& f : probe_faces_) add_ring_face(f);
   int cost = 4 * (!in_ring(a) + !in_ring(b));
   auto count = [&](uint32_t t, VertexId x) {
     const long i = chain_position(t, x);
@@ -253,8 +268,7 @@ int SegmentRecovery::split_cost(uint32_t s, VertexId a, VertexId b, const double
       if (j < 0 || j >= static_cast<long>(chain.size())) continue;
       const VertexId y = chain[j];
       if (x > y || !in_ring(y) || (t == s && ((x == a && y == b) || (x == b && y == a)))) continue;
-      if (!std::binary_search(ring_edges_.begin(), ring_edges_.end(), std::array<VertexId, 2>{x, y}))
-        ++cost;
+      if (!ring_edge(x, y)) ++cost;
     }
   };
   for (VertexId x : ring_) {
@@ -506,26 +520,19 @@ long SegmentRecovery::chain_position(uint32_t s, VertexId v) const {
 // edge of a new tet not at v) or outside the cavity (find_edge decides).
 void SegmentRecovery::queue_destroyed(VertexId v, std::vector<std::array<uint32_t, 3>>& queue) {
   const std::vector<TetId>& created = inserter_.new_tets();
-  ring_.clear();
-  ring_edges_.clear();
+  clear_ring();
   for (TetId t : created) {
-    VertexId w[3];
+    std::array<VertexId, 3> f;
     int n = 0;
     for (int i = 0; i < 4; ++i) {
       const VertexId x = mesh_.vertex(t, i);
-      if (x != v) w[n++] = x;
+      if (x != v) f[n++] = x;
     }
-    for (int i = 0; i < 3; ++i) {
-      if (w[i] != kInfinite) ring_.push_back(w[i]);
-      const VertexId x = w[i], y = w[(i + 1) % 3];
-      ring_edges_.push_back(x < y ? std::array<VertexId, 2>{x, y} : std::array<VertexId, 2>{y, x});
-    }
+    add_ring_face(f);
   }
+  // In id order: the queue order (and so the result) does not depend on the
+  // order of the new tets.
   std::sort(ring_.begin(), ring_.end());
-  ring_.erase(std::unique(ring_.begin(), ring_.end()), ring_.end());
-  std::sort(ring_edges_.begin(), ring_edges_.end());
-  auto in_ring = [&](VertexId x) { return std::binary_search(ring_.begin(), ring_.end(), x); };
-
   for (VertexId u : ring_) {
     auto check = [&](uint32_t s) {
       const long i = chain_position(s, u);
@@ -535,8 +542,7 @@ void SegmentRecovery::queue_destroyed(VertexId v, std::vector<std::array<uint32_
         if (j < 0 || j >= static_cast<long>(chain.size())) continue;
         const VertexId w = chain[j];
         if (w == v || u > w || !in_ring(w)) continue;  // each pair once (u < w)
-        if (std::binary_search(ring_edges_.begin(), ring_edges_.end(), std::array<VertexId, 2>{u, w}))
-          continue;
+        if (ring_edge(u, w)) continue;
         if (mesh_.find_edge(u, w) == kNone) queue.push_back({u, w, s});
       }
     };
@@ -585,7 +591,7 @@ Status SegmentRecovery::run(const volatile bool* cancel) {
       queue_destroyed(v, queue);
       // The two halves: v's neighbours are exactly the vertices of the new tets.
       for (VertexId x : {u, w})
-        if (!std::binary_search(ring_.begin(), ring_.end(), x))
+        if (!in_ring(x))
           queue.push_back({std::min(x, v), std::max(x, v), s});
     }
   }
