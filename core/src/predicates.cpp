@@ -215,6 +215,41 @@ int raw_orient2d(const double* p, const double* q, const double* r, double* out)
   return exact::sum(nu, u, npq, pq, out);
 }
 
+// Memo of raw-form insphere results (insphere_exact): a direct-mapped table
+// keyed by the five scaled rows in sorted order; a hit compares all rows, so
+// a collision only costs a recomputation. Not thread-safe, like the counters.
+struct InsphereMemo {
+  double rows[5][3];
+  int8_t sign;
+  bool used;
+};
+constexpr size_t kInsphereMemoSlots = 4096;
+InsphereMemo g_insphere_memo[kInsphereMemoSlots];
+
+// Sorts the five rows of q lexicographically; returns the parity of the
+// permutation (+1 even, -1 odd).
+int sort_rows(double (*q)[3]) {
+  int parity = 1;
+  for (int i = 1; i < 5; ++i)
+    for (int j = i; j > 0 && std::lexicographical_compare(q[j], q[j] + 3, q[j - 1], q[j - 1] + 3); --j) {
+      std::swap_ranges(q[j], q[j] + 3, q[j - 1]);
+      parity = -parity;
+    }
+  return parity;
+}
+
+size_t memo_slot(const double (*q)[3]) {
+  uint64_t h = 1469598103934665603ull;
+  for (int i = 0; i < 5; ++i)
+    for (int k = 0; k < 3; ++k) {
+      uint64_t bits;
+      std::memcpy(&bits, &q[i][k], sizeof bits);
+      h = (h ^ bits) * 1099511628211ull;
+      h ^= h >> 29;
+    }
+  return static_cast<size_t>(h % kInsphereMemoSlots);
+}
+
 }  // namespace
 
 namespace detail {
@@ -261,6 +296,14 @@ int insphere_exact(const double* a, const double* b, const double* c, const doub
   // the column operations |p|^2 - |e|^2 -> |p - e|^2).
   static constexpr int kOthers[5][4] = {
       {1, 2, 3, 4}, {0, 2, 3, 4}, {0, 1, 3, 4}, {0, 1, 2, 4}, {0, 1, 2, 3}};
+  // The raw form costs microseconds, and the same five points come back: the
+  // search for the perturbation order (sos_order.cpp) builds the Delaunay
+  // tetrahedralization of one point set several times, and co-spherical
+  // points with decimal coordinates (CAD) all end here. Memoized on the rows
+  // in sorted order (the determinant changes sign with the permutation).
+  const int parity = sort_rows(q);
+  InsphereMemo& memo = g_insphere_memo[memo_slot(q)];
+  if (memo.used && std::memcmp(memo.rows, q, sizeof memo.rows) == 0) return parity * memo.sign;
   RawMinors m;
   raw_minors(q, 5, m);
   double o[96], oc[96], term[1152], acc[2][5760];
@@ -272,7 +315,11 @@ int insphere_exact(const double* a, const double* b, const double* c, const doub
     nacc = exact::sum(nacc, acc[0], nterm, term, acc[1]);
     nacc = exact::compress(nacc, acc[1], acc[0]);
   }
-  return exact::sign(nacc, acc[0]);
+  const int sign = exact::sign(nacc, acc[0]);
+  std::memcpy(memo.rows, q, sizeof memo.rows);
+  memo.sign = static_cast<int8_t>(sign);
+  memo.used = true;
+  return parity * sign;
 }
 
 int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy) {
