@@ -250,6 +250,45 @@ size_t memo_slot(const double (*q)[3]) {
   return static_cast<size_t>(h % kInsphereMemoSlots);
 }
 
+// insphere of the five (scaled) rows of q, exact: the difference form when
+// the differences are exact, else the raw form.
+int insphere_rows(const double (*q)[3]) {
+  double diff[4][3];
+  if (differences(q, 4, 3, diff)) {
+    // Rows A..D = a..d - e: det | A |A|^2 ; ... | expanded along the lift
+    // column: -|A|^2 [BCD] + |B|^2 [ACD] - |C|^2 [ABD] + |D|^2 [ABC].
+    static constexpr int kOthers[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+    double m3[24], m[24], terms[4][288], u[576], v[576], det[1152];
+    int nt[4];
+    for (int i = 0; i < 4; ++i) {
+      const int nm = exact::compress(
+          det3(diff[kOthers[i][0]], diff[kOthers[i][1]], diff[kOthers[i][2]], m3), m3, m);
+      nt[i] = times_lift<24>(nm, m, diff[i], 3, i % 2 == 0, terms[i]);
+    }
+    const int nu = exact::sum(nt[0], terms[0], nt[1], terms[1], u);
+    const int nv = exact::sum(nt[2], terms[2], nt[3], terms[3], v);
+    return exact::sign(exact::sum(nu, u, nv, v, det), det);
+  }
+  // Raw form: det | p |p|^2 1 | over the five points, expanded along the lift
+  // column: sum_i (-1)^(i+1) |p_i|^2 orient3d(the other four, in order)
+  // (0-based i). It equals the difference form (subtract the last row, then
+  // the column operations |p|^2 - |e|^2 -> |p - e|^2).
+  static constexpr int kOthers[5][4] = {
+      {1, 2, 3, 4}, {0, 2, 3, 4}, {0, 1, 3, 4}, {0, 1, 2, 4}, {0, 1, 2, 3}};
+  RawMinors m;
+  raw_minors(q, 5, m);
+  double o[96], oc[96], term[1152], acc[2][5760];
+  int nacc = 0;
+  for (int i = 0; i < 5; ++i) {
+    const int* k = kOthers[i];
+    const int no = exact::compress(raw_orient3d(m, k[0], k[1], k[2], k[3], o), o, oc);
+    const int nterm = times_lift<96>(no, oc, q[i], 3, i % 2 == 0, term);
+    nacc = exact::sum(nacc, acc[0], nterm, term, acc[1]);
+    nacc = exact::compress(nacc, acc[1], acc[0]);
+  }
+  return exact::sign(nacc, acc[0]);
+}
+
 }  // namespace
 
 namespace detail {
@@ -273,49 +312,18 @@ int insphere_exact(const double* a, const double* b, const double* c, const doub
                    const double* e) {
   ++g_counters.insphere_exact;
   const double* p[5] = {a, b, c, d, e};
-  double q[5][3], diff[4][3];
+  double q[5][3];
   load_scaled(p, 5, 3, kInsphereScale, q);
-  if (differences(q, 4, 3, diff)) {
-    // Rows A..D = a..d - e: det | A |A|^2 ; ... | expanded along the lift
-    // column: -|A|^2 [BCD] + |B|^2 [ACD] - |C|^2 [ABD] + |D|^2 [ABC].
-    static constexpr int kOthers[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
-    double m3[24], m[24], terms[4][288], u[576], v[576], det[1152];
-    int nt[4];
-    for (int i = 0; i < 4; ++i) {
-      const int nm = exact::compress(
-          det3(diff[kOthers[i][0]], diff[kOthers[i][1]], diff[kOthers[i][2]], m3), m3, m);
-      nt[i] = times_lift<24>(nm, m, diff[i], 3, i % 2 == 0, terms[i]);
-    }
-    const int nu = exact::sum(nt[0], terms[0], nt[1], terms[1], u);
-    const int nv = exact::sum(nt[2], terms[2], nt[3], terms[3], v);
-    return exact::sign(exact::sum(nu, u, nv, v, det), det);
-  }
-  // Raw form: det | p |p|^2 1 | over the five points, expanded along the lift
-  // column: sum_i (-1)^(i+1) |p_i|^2 orient3d(the other four, in order)
-  // (0-based i). It equals the difference form (subtract the last row, then
-  // the column operations |p|^2 - |e|^2 -> |p - e|^2).
-  static constexpr int kOthers[5][4] = {
-      {1, 2, 3, 4}, {0, 2, 3, 4}, {0, 1, 3, 4}, {0, 1, 2, 4}, {0, 1, 2, 3}};
-  // The raw form costs microseconds, and the same five points come back: the
-  // search for the perturbation order (sos_order.cpp) builds the Delaunay
-  // tetrahedralization of one point set several times, and co-spherical
-  // points with decimal coordinates (CAD) all end here. Memoized on the rows
-  // in sorted order (the determinant changes sign with the permutation).
+  // The exact forms cost microseconds on 53-bit coordinates, and the same
+  // five points come back: the search for the perturbation order
+  // (sos_order.cpp) builds the Delaunay tetrahedralization of one point set
+  // several times, and co-spherical points with decimal coordinates (CAD)
+  // all end here. Memoized on the rows in sorted order (the determinant
+  // changes sign with the permutation).
   const int parity = sort_rows(q);
   InsphereMemo& memo = g_insphere_memo[memo_slot(q)];
   if (memo.used && std::memcmp(memo.rows, q, sizeof memo.rows) == 0) return parity * memo.sign;
-  RawMinors m;
-  raw_minors(q, 5, m);
-  double o[96], oc[96], term[1152], acc[2][5760];
-  int nacc = 0;
-  for (int i = 0; i < 5; ++i) {
-    const int* k = kOthers[i];
-    const int no = exact::compress(raw_orient3d(m, k[0], k[1], k[2], k[3], o), o, oc);
-    const int nterm = times_lift<96>(no, oc, q[i], 3, i % 2 == 0, term);
-    nacc = exact::sum(nacc, acc[0], nterm, term, acc[1]);
-    nacc = exact::compress(nacc, acc[1], acc[0]);
-  }
-  const int sign = exact::sign(nacc, acc[0]);
+  const int sign = insphere_rows(q);
   std::memcpy(memo.rows, q, sizeof memo.rows);
   memo.sign = static_cast<int8_t>(sign);
   memo.used = true;
