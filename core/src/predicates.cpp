@@ -223,7 +223,9 @@ struct InsphereMemo {
   int8_t sign;
   bool used;
 };
-constexpr size_t kInsphereMemoSlots = 4096;
+// 16384 slots (2 MiB): on tray_bottom's Delaunay phase 59% of the calls hit
+// (4096 slots: 49%, 65536 slots, 8 MiB: 67%).
+constexpr size_t kInsphereMemoSlots = 16384;
 InsphereMemo g_insphere_memo[kInsphereMemoSlots];
 
 // Sorts the five rows of q lexicographically; returns the parity of the
