@@ -242,9 +242,12 @@ inline int sign_of(double x) { return (x > 0.0) - (x < 0.0); }
 // sx + sy + sz <= bound is exact.
 inline constexpr double kOrient3dSmallInteger = 0x1p+16;
 inline constexpr double kInsphereSmallInteger = 0x1p+9;
-// All given coordinate differences are zero (pass 0 for unused slots).
-inline bool zero_column(double p, double q, double r, double s) {
-  return (p == 0) & (q == 0) & (r == 0) & (s == 0);
+// 1 when all given coordinate differences are zero (pass 0 for unused
+// slots), else 0; an int, so that callers combine columns with | and no
+// branch (as the filters do).
+inline int zero_column(double p, double q, double r, double s) {
+  return static_cast<int>(p == 0) & static_cast<int>(q == 0) & static_cast<int>(r == 0) &
+         static_cast<int>(s == 0);
 }
 inline bool integers(const double* a, const double* b, const double* c, const double* d) {
   bool ok = true;
