@@ -1,13 +1,425 @@
-// Repair step 4: crossing and overlapping facets.
+// Repair step 4: crossing facets. Two triangles whose interiors cross meet
+// in a segment whose ends are where an edge of one pierces the other. Both
+// ends become vertices of both triangles and the segment an edge of both:
+// each affected triangle is replaced by the constrained triangulation of its
+// corners, the new points on its edges and inside it, and the intersection
+// segments (one facet per triangle, provenance kept).
+//
+// Exactness: which edges pierce which triangle is decided by orient3d signs.
+// The piercing point itself is a constructed point, rounded to doubles (see
+// pierce_point), so it lies near, not exactly on, both triangles. The
+// triangulation of a triangle is done in the coordinate plane that drops one
+// axis (exact), as a flat PLC handed to triangulate_surface. Because of the
+// rounding the result is checked exactly again (find_self_intersections) and
+// the step repeats on what rounding broke, at most kRounds times; whatever
+// still intersects is reported by facet.
+//
+// Handled: triangles in general position (each crossing pair has exactly two
+// piercing points, no vertex on the other's plane). Coplanar overlaps,
+// touching contacts and degenerate crossings are left and reported.
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "predicates.hpp"
 #include "repair.hpp"
 
 namespace cdt3d {
 namespace repair_steps {
+namespace {
+
+constexpr size_t kRounds = 4;
+
+const double* xyz(const Plc& plc, VertexId v) { return &plc.points[v].x; }
+
+using Tri = std::array<VertexId, 3>;
+
+bool is_triangle(const Facet& f) { return f.loops.size() == 1 && f.loops[0].size() == 3; }
+
+// Replaces every facet flagged in `split` by the triangles of its own
+// constrained triangulation (triangulate_surface), one facet each.
+Status triangulate_facets_in_place(Work& w, const std::vector<uint8_t>& split) {
+  Plc& plc = w.plc;
+  Plc part;
+  part.points = plc.points;
+  part.file = plc.file;
+  for (size_t f = 0; f < plc.facets.size(); ++f)
+    if (split[f]) part.facets.push_back(plc.facets[f]);
+  if (part.facets.empty()) return Status::success();
+  std::vector<uint32_t> tris, tri_facet;
+  Status st = triangulate_surface(part, tris, tri_facet);
+  if (!st.ok()) return st;
+  std::vector<std::vector<uint32_t>> tris_of(part.facets.size());
+  for (size_t t = 0; t < tri_facet.size(); ++t) tris_of[tri_facet[t]].push_back(static_cast<uint32_t>(t));
+  std::vector<Facet> facets;
+  std::vector<uint32_t> source;
+  size_t next = 0;
+  for (size_t f = 0; f < plc.facets.size(); ++f) {
+    if (!split[f]) {
+      facets.push_back(std::move(plc.facets[f]));
+      source.push_back(w.source[f]);
+      continue;
+    }
+    for (uint32_t t : tris_of[next]) {
+      facets.push_back(part_of(plc.facets[f], {tris[3 * t], tris[3 * t + 1], tris[3 * t + 2]}));
+      source.push_back(w.source[f]);
+    }
+    ++next;
+  }
+  plc.facets = std::move(facets);
+  w.source = std::move(source);
+  return Status::success();
+}
+
+// What one triangle must take in.
+struct Insert {
+  std::vector<std::pair<int, VertexId>> on_edge;  ///< (edge i = (v[i], v[i+1]), point)
+  std::vector<VertexId> inside;
+  std::vector<std::array<VertexId, 2>> segments;
+};
+
+// The point where segment pq crosses the plane of triangle t. Constructed
+// in doubles and therefore ROUNDED: it lies within a few ulps of both pq and
+// the plane, not exactly on them. The caller re-checks the result exactly.
+// Always computed from the same inputs in the same order (the key sorts
+// them), so every triangle that needs this point gets the same coordinates.
+Vec3 pierce_point(const double* p, const double* q, const Tri& t, const Plc& plc) {
+  const double* a = xyz(plc, t[0]);
+  const double* b = xyz(plc, t[1]);
+  const double* c = xyz(plc, t[2]);
+  double u[3], v[3], n[3];
+  for (int k = 0; k < 3; ++k) {
+    u[k] = b[k] - a[k];
+    v[k] = c[k] - a[k];
+  }
+  n[0] = u[1] * v[2] - u[2] * v[1];
+  n[1] = u[2] * v[0] - u[0] * v[2];
+  n[2] = u[0] * v[1] - u[1] * v[0];
+  double dp = 0, dq = 0;
+  for (int k = 0; k < 3; ++k) {
+    dp += n[k] * (p[k] - a[k]);
+    dq += n[k] * (q[k] - a[k]);
+  }
+  const double s = dp / (dp - dq);
+  return Vec3{p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1]), p[2] + s * (q[2] - p[2])};
+}
+
+// The crossing point of the coplanar segments pq and ab (known to cross),
+// constructed in doubles and therefore ROUNDED like pierce_point.
+Vec3 line_crossing(const double* p, const double* q, const double* a, const double* b) {
+  double d[3], e[3], w[3], n[3], m[3];
+  for (int k = 0; k < 3; ++k) {
+    d[k] = q[k] - p[k];
+    e[k] = b[k] - a[k];
+    w[k] = a[k] - p[k];
+  }
+  auto cross = [](const double* x, const double* y, double* out) {
+    out[0] = x[1] * y[2] - x[2] * y[1];
+    out[1] = x[2] * y[0] - x[0] * y[2];
+    out[2] = x[0] * y[1] - x[1] * y[0];
+  };
+  cross(d, e, n);
+  cross(w, e, m);
+  const double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+  const double s = (m[0] * n[0] + m[1] * n[1] + m[2] * n[2]) / nn;
+  return Vec3{p[0] + s * d[0], p[1] + s * d[1], p[2] + s * d[2]};
+}
+
+class Crossings {
+ public:
+  explicit Crossings(Work& w, RepairReport& report) : w_(w), report_(report) {}
+
+  /// Records what the crossing of facets f and g (both triangles) adds to
+  /// each. False when the pair is not in general position.
+  bool add_pair(uint32_t f, uint32_t g) {
+    const Tri t = tri(f), u = tri(g);
+    std::vector<std::pair<int, VertexId>> ends_f, ends_g;  // (own edge or -1, point)
+    if (!pierce(t, u, ends_f, ends_g) || !pierce(u, t, ends_g, ends_f)) return false;
+    for (auto* ends : {&ends_f, &ends_g}) {
+      std::sort(ends->begin(), ends->end(), [](const auto& x, const auto& y) {
+        return x.second != y.second ? x.second < y.second : x.first > y.first;
+      });
+      ends->erase(std::unique(ends->begin(), ends->end(),
+                              [](const auto& x, const auto& y) { return x.second == y.second; }),
+                  ends->end());
+    }
+    if (ends_f.empty() || ends_f.size() > 2) return false;
+    for (int side = 0; side < 2; ++side) {
+      Insert& in = inserts_[side == 0 ? f : g];
+      const auto& ends = side == 0 ? ends_f : ends_g;
+      for (const auto& e : ends)
+        if (e.first < 0) in.inside.push_back(e.second);
+      if (ends.size() == 2) in.segments.push_back({ends[0].second, ends[1].second});
+    }
+    return true;
+  }
+
+  /// Re-triangulates every triangle that got something, on its edges (from
+  /// any pair: a point on an edge belongs to every facet with that edge) or
+  /// inside; a polygon facet with a point on one of its edges gets it in its
+  /// loop. Returns the number of facets changed.
+  size_t apply() {
+    std::vector<Facet> facets;
+    std::vector<uint32_t> source;
+    size_t split = 0;
+    for (size_t f = 0; f < w_.plc.facets.size(); ++f) {
+      Facet& facet = w_.plc.facets[f];
+      const uint32_t src = w_.source[f];
+      const auto it = inserts_.find(static_cast<uint32_t>(f));
+      Insert in = it == inserts_.end() ? Insert() : it->second;
+      const bool tri_facet = is_triangle(facet);
+      bool on_edges = false;
+      for (auto& loop : facet.loops) on_edges |= take_edge_points(loop, tri_facet ? &in : nullptr);
+      std::vector<Tri> tris;
+      if (!tri_facet || (in.inside.empty() && in.on_edge.empty()) ||
+          !retriangulate(tri(static_cast<uint32_t>(f)), in, tris)) {
+        split += on_edges;
+        if (on_edges) w_.mark(src);
+        facets.push_back(std::move(facet));
+        source.push_back(src);
+        continue;
+      }
+      ++split;
+      w_.mark(src);
+      for (const Tri& t : tris) {
+        facets.push_back(part_of(facet, {t[0], t[1], t[2]}));
+        source.push_back(src);
+      }
+    }
+    w_.plc.facets = std::move(facets);
+    w_.source = std::move(source);
+    return split;
+  }
+
+ private:
+  Tri tri(uint32_t f) const {
+    const auto& l = w_.plc.facets[f].loops[0];
+    return {l[0], l[1], l[2]};
+  }
+
+  // Edges of t that cross the closed triangle u away from u's corners: the
+  // piercing points, as (edge of t, point) for t and (edge of u or -1 when
+  // inside u, point) for u. An edge of t crossing an edge of u (exactly:
+  // orient3d of the two edges is 0) meets it in one point for both. False
+  // on a degeneracy this step does not handle (a vertex on the other's
+  // plane, an edge through a corner of the other).
+  bool pierce(const Tri& t, const Tri& u, std::vector<std::pair<int, VertexId>>& ends_t,
+              std::vector<std::pair<int, VertexId>>& ends_u) {
+    const Plc& plc = w_.plc;
+    const double *u0 = xyz(plc, u[0]), *u1 = xyz(plc, u[1]), *u2 = xyz(plc, u[2]);
+    for (int i = 0; i < 3; ++i) {
+      const VertexId p = t[i], q = t[(i + 1) % 3];
+      const int sp = pred::orient3d(u0, u1, u2, xyz(plc, p));
+      const int sq = pred::orient3d(u0, u1, u2, xyz(plc, q));
+      if (sp == 0 || sq == 0) return false;
+      if (sp == sq) continue;
+      int s[3];
+      for (int j = 0; j < 3; ++j)
+        s[j] = pred::orient3d(xyz(plc, p), xyz(plc, q), xyz(plc, u[j]), xyz(plc, u[(j + 1) % 3]));
+      const bool nonneg = s[0] >= 0 && s[1] >= 0 && s[2] >= 0;
+      const bool nonpos = s[0] <= 0 && s[1] <= 0 && s[2] <= 0;
+      if (!nonneg && !nonpos) continue;  // the line passes beside u
+      const int zeros = (s[0] == 0) + (s[1] == 0) + (s[2] == 0);
+      if (zeros > 1) return false;       // through a corner of u
+      if (zeros == 0) {
+        const VertexId x = point_in_triangle(p, q, u);
+        ends_t.push_back({i, x});
+        ends_u.push_back({-1, x});
+        continue;
+      }
+      const int j = s[0] == 0 ? 0 : (s[1] == 0 ? 1 : 2);
+      const VertexId x = point_on_edges(p, q, u[j], u[(j + 1) % 3]);
+      ends_t.push_back({i, x});
+      ends_u.push_back({j, x});
+    }
+    return true;
+  }
+
+  // The point where edge (p, q) pierces the inside of triangle u: one id per
+  // (edge, triangle).
+  VertexId point_in_triangle(VertexId p, VertexId q, Tri u) {
+    if (p > q) std::swap(p, q);
+    std::sort(u.begin(), u.end());
+    const std::array<VertexId, 5> key{p, q, u[0], u[1], u[2]};
+    const auto it = made_.find(key);
+    if (it != made_.end()) return it->second;
+    return made_[key] = new_point(pierce_point(xyz(w_.plc, p), xyz(w_.plc, q), u, w_.plc), p, q);
+  }
+
+  // The crossing point of edges (p, q) and (a, b), which lie in one plane:
+  // one id per pair of edges, computed with the edges in a fixed order.
+  VertexId point_on_edges(VertexId p, VertexId q, VertexId a, VertexId b) {
+    if (p > q) std::swap(p, q);
+    if (a > b) std::swap(a, b);
+    if (std::make_pair(a, b) < std::make_pair(p, q)) {
+      std::swap(p, a);
+      std::swap(q, b);
+    }
+    const std::array<VertexId, 5> key{p, q, a, b, kNone};
+    const auto it = made_.find(key);
+    if (it != made_.end()) return it->second;
+    const VertexId id = new_point(line_crossing(xyz(w_.plc, p), xyz(w_.plc, q), xyz(w_.plc, a),
+                                                xyz(w_.plc, b)),
+                                  p, q);
+    edge_points_[{a, b}].push_back(id);
+    return made_[key] = id;
+  }
+
+  VertexId new_point(const Vec3& x, VertexId p, VertexId q) {
+    const VertexId id = static_cast<VertexId>(w_.plc.points.size());
+    w_.plc.points.push_back(x);
+    edge_points_[{p, q}].push_back(id);
+    ++report_.intersection_points;
+    return id;
+  }
+
+  // The constrained triangulation of triangle t with the inserted points and
+  // segments, computed on the projection that drops the axis of t's largest
+  // normal component: a flat PLC (coordinates (u, v, 0), exact copies) whose
+  // one facet is t's boundary with the edge points, plus the inside points
+  // and segments, which triangulate_surface takes as lying in the facet.
+  bool retriangulate(const Tri& t, Insert& in, std::vector<Tri>& out) {
+    const Plc& plc = w_.plc;
+    int drop = 2;
+    {
+      const double *a = xyz(plc, t[0]), *b = xyz(plc, t[1]), *c = xyz(plc, t[2]);
+      double n[3];
+      n[0] = (b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]);
+      n[1] = (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]);
+      n[2] = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+      for (int k = 0; k < 2; ++k)
+        if (std::fabs(n[k]) > std::fabs(n[drop])) drop = k;
+    }
+    const int ua = (drop + 1) % 3, va = (drop + 2) % 3;
+    std::vector<VertexId> ids;  // flat id -> PLC id
+    auto flat_id = [&](VertexId v) {
+      const auto it = std::find(ids.begin(), ids.end(), v);
+      if (it != ids.end()) return static_cast<VertexId>(it - ids.begin());
+      ids.push_back(v);
+      return static_cast<VertexId>(ids.size() - 1);
+    };
+    // Edge points in order along each edge (by the distance from its start
+    // along an axis where the edge's ends differ; coordinates compare exactly).
+    std::sort(in.on_edge.begin(), in.on_edge.end());
+    in.on_edge.erase(std::unique(in.on_edge.begin(), in.on_edge.end()), in.on_edge.end());
+    std::vector<VertexId> loop;
+    for (int i = 0; i < 3; ++i) {
+      loop.push_back(flat_id(t[i]));
+      const double* a = xyz(plc, t[i]);
+      const double* b = xyz(plc, t[(i + 1) % 3]);
+      int k = 0;
+      while (k < 2 && a[k] == b[k]) ++k;
+      std::vector<VertexId> pts;
+      for (const auto& e : in.on_edge)
+        if (e.first == i) pts.push_back(e.second);
+      std::sort(pts.begin(), pts.end(), [&](VertexId x, VertexId y) {
+        return a[k] < b[k] ? xyz(plc, x)[k] < xyz(plc, y)[k] : xyz(plc, x)[k] > xyz(plc, y)[k];
+      });
+      for (VertexId x : pts) loop.push_back(flat_id(x));
+    }
+    for (VertexId x : in.inside) flat_id(x);
+    Plc flat;
+    for (VertexId v : ids) flat.points.push_back(Vec3{xyz(plc, v)[ua], xyz(plc, v)[va], 0});
+    // Two points with one projection would be one flat point: give up.
+    {
+      std::vector<std::pair<double, double>> seen;
+      for (const Vec3& p : flat.points) seen.push_back({p.x, p.y});
+      std::sort(seen.begin(), seen.end());
+      if (std::adjacent_find(seen.begin(), seen.end()) != seen.end()) return false;
+    }
+    Facet f;
+    f.loops.push_back(loop);
+    flat.facets.push_back(f);
+    for (const auto& s : in.segments) {
+      const VertexId a = flat_id(s[0]), b = flat_id(s[1]);
+      if (a != b) flat.segments.push_back({a, b});
+    }
+    if (ids.size() != flat.points.size()) return false;
+    std::vector<uint32_t> tris, tri_facet;
+    if (!triangulate_surface(flat, tris, tri_facet).ok() || tris.empty()) return false;
+    for (size_t k = 0; k + 2 < tris.size(); k += 3) out.push_back({ids[tris[k]], ids[tris[k + 1]], ids[tris[k + 2]]});
+    return true;
+  }
+
+  // The new points on a loop's edges: for a triangle (in != nullptr) as
+  // Insert::on_edge, else inserted into the loop in order along each edge.
+  bool take_edge_points(std::vector<VertexId>& loop, Insert* in) const {
+    const Plc& plc = w_.plc;
+    std::vector<VertexId> grown;
+    bool any = false;
+    for (size_t i = 0; i < loop.size(); ++i) {
+      const VertexId a = loop[i], b = loop[(i + 1) % loop.size()];
+      grown.push_back(a);
+      const auto it = edge_points_.find({std::min(a, b), std::max(a, b)});
+      if (it == edge_points_.end()) continue;
+      any = true;
+      std::vector<VertexId> pts = it->second;
+      const double *pa = xyz(plc, a), *pb = xyz(plc, b);
+      int k = 0;
+      while (k < 2 && pa[k] == pb[k]) ++k;
+      std::sort(pts.begin(), pts.end(), [&](VertexId x, VertexId y) {
+        return pa[k] < pb[k] ? xyz(plc, x)[k] < xyz(plc, y)[k] : xyz(plc, x)[k] > xyz(plc, y)[k];
+      });
+      for (VertexId x : pts) {
+        if (in) in->on_edge.push_back({static_cast<int>(i), x});
+        else grown.push_back(x);
+      }
+    }
+    if (!in) loop = std::move(grown);
+    return any;
+  }
+
+  Work& w_;
+  RepairReport& report_;
+  std::map<std::pair<VertexId, VertexId>, std::vector<VertexId>> edge_points_;
+  std::map<uint32_t, Insert> inserts_;
+  std::map<std::array<VertexId, 5>, VertexId> made_;
+};
+
+}  // namespace
 
 Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection>& left) {
-  find_self_intersections(w.plc, left);
-  (void)report;
-  return Status::success();
+  for (size_t round = 0;; ++round) {
+    find_self_intersections(w.plc, left);
+    const uint32_t facets = static_cast<uint32_t>(w.plc.facets.size());
+    std::vector<uint8_t> involved(facets, 0);
+    size_t crossing = 0;
+    for (const Intersection& x : left) {
+      if (x.kind != IntersectionKind::Cross || x.b >= facets) continue;
+      involved[x.a] = involved[x.b] = 1;
+      ++crossing;
+    }
+    if (round == 0) report.crossing_pairs = crossing;
+    if (crossing == 0 || round == kRounds) return Status::success();
+    report.rounds = round + 1;
+    // Polygon facets in crossing pairs are triangulated first; the pairs are
+    // then found again between triangles.
+    std::vector<uint8_t> polygon(facets, 0);
+    bool any_polygon = false;
+    for (uint32_t f = 0; f < facets; ++f)
+      if (involved[f] && !is_triangle(w.plc.facets[f])) any_polygon = polygon[f] = 1;
+    if (any_polygon) {
+      Status st = triangulate_facets_in_place(w, polygon);
+      if (!st.ok()) return st;
+      find_self_intersections(w.plc, left);
+    }
+    Crossings c(w, report);
+    size_t added = 0;
+    for (const Intersection& x : left) {
+      if (x.kind != IntersectionKind::Cross || x.b >= w.plc.facets.size()) continue;
+      if (!is_triangle(w.plc.facets[x.a]) || !is_triangle(w.plc.facets[x.b])) continue;
+      added += c.add_pair(x.a, x.b);
+    }
+    if (added == 0) {
+      find_self_intersections(w.plc, left);
+      return Status::success();
+    }
+    report.crossing_facets += c.apply();
+    // A polygon that took a rounded point on an edge may no longer be
+    // planar: step 2 splits it (exactly), counted here, not as an input defect.
+    RepairReport scratch;
+    split_nonplanar_facets(w, scratch);
+  }
 }
 
 }  // namespace repair_steps

@@ -228,13 +228,11 @@ bool repairable(const std::string& expected) {
 
 }  // namespace
 
-// The acceptance tests of the repair issue over tests/data. Crossing models
-// (step 4) are in the hidden case below until that step lands.
+// The acceptance tests of the repair issue over tests/data.
 TEST_CASE("repair: tests/data models", "[repair][corpus]") {
   size_t valid = 0, repaired = 0;
   for (const corpus::Row& row : corpus::read_manifest()) {
     if (!row.valid() && !repairable(row.expected)) continue;
-    if (row.file == "intersecting_cubes.off" || row.file == "crossing_tets.off") continue;
     INFO(row.file << " (" << row.expected << ")");
     Plc in, out;
     REQUIRE(read_plc_file(corpus::kData + "/" + row.file, in, false).ok());
@@ -260,7 +258,7 @@ TEST_CASE("repair: tests/data models", "[repair][corpus]") {
   CHECK(repaired >= 5);
 }
 
-TEST_CASE("repair: crossing models of tests/data (step 4)", "[repair][corpus][.crossing]") {
+TEST_CASE("repair step 4: crossing models of tests/data", "[repair][corpus]") {
   for (const char* name : {"intersecting_cubes.off", "crossing_tets.off"}) {
     INFO(name);
     Plc in, out;
@@ -270,6 +268,13 @@ TEST_CASE("repair: crossing models of tests/data (step 4)", "[repair][corpus][.c
     INFO(st.error.to_string());
     REQUIRE(st.ok());
     CHECK(rep.crossing_pairs > 0);
+    CHECK(rep.intersection_points > 0);
+    CHECK(rep.unresolved_pairs == 0);
+    // Nothing of the input moved: its points are the first points of the
+    // output, and every output facet names an input facet.
+    REQUIRE(out.points.size() > in.points.size());
+    for (size_t v = 0; v < in.points.size(); ++v) CHECK(out.points[v] == in.points[v]);
+    for (uint32_t f : rep.facet_source) CHECK(f < in.facets.size());
     require_meshable(out);
   }
 }
