@@ -47,6 +47,10 @@ void split_nonplanar_facets(Work& w, RepairReport& report);
 // Step 3 (repair_tjunction.cpp): a vertex lying exactly on another facet's
 // edge or inside it becomes a vertex of that facet.
 Status split_at_tjunctions(Work& w, RepairReport& report);
+/// Replaces every facet flagged in `which` by the triangles of its own
+/// constrained triangulation (triangulate_surface: its vertices and every
+/// PLC point lying in it), one facet each, provenance kept.
+Status triangulate_in_place(Work& w, const std::vector<uint8_t>& which);
 
 // Step 4 (repair_crossing.cpp): crossing facets get their intersection
 // segments as edges. `left` receives the improper pairs (in the numbering of

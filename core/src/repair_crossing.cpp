@@ -36,41 +36,6 @@ using Tri = std::array<VertexId, 3>;
 
 bool is_triangle(const Facet& f) { return f.loops.size() == 1 && f.loops[0].size() == 3; }
 
-// Replaces every facet flagged in `split` by the triangles of its own
-// constrained triangulation (triangulate_surface), one facet each.
-Status triangulate_facets_in_place(Work& w, const std::vector<uint8_t>& split) {
-  Plc& plc = w.plc;
-  Plc part;
-  part.points = plc.points;
-  part.file = plc.file;
-  for (size_t f = 0; f < plc.facets.size(); ++f)
-    if (split[f]) part.facets.push_back(plc.facets[f]);
-  if (part.facets.empty()) return Status::success();
-  std::vector<uint32_t> tris, tri_facet;
-  Status st = triangulate_surface(part, tris, tri_facet);
-  if (!st.ok()) return st;
-  std::vector<std::vector<uint32_t>> tris_of(part.facets.size());
-  for (size_t t = 0; t < tri_facet.size(); ++t) tris_of[tri_facet[t]].push_back(static_cast<uint32_t>(t));
-  std::vector<Facet> facets;
-  std::vector<uint32_t> source;
-  size_t next = 0;
-  for (size_t f = 0; f < plc.facets.size(); ++f) {
-    if (!split[f]) {
-      facets.push_back(std::move(plc.facets[f]));
-      source.push_back(w.source[f]);
-      continue;
-    }
-    for (uint32_t t : tris_of[next]) {
-      facets.push_back(part_of(plc.facets[f], {tris[3 * t], tris[3 * t + 1], tris[3 * t + 2]}));
-      source.push_back(w.source[f]);
-    }
-    ++next;
-  }
-  plc.facets = std::move(facets);
-  w.source = std::move(source);
-  return Status::success();
-}
-
 // What one triangle must take in.
 struct Insert {
   std::vector<std::pair<int, VertexId>> on_edge;  ///< (edge i = (v[i], v[i+1]), point)
@@ -399,7 +364,7 @@ Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection
     for (uint32_t f = 0; f < facets; ++f)
       if (involved[f] && !is_triangle(w.plc.facets[f])) any_polygon = polygon[f] = 1;
     if (any_polygon) {
-      Status st = triangulate_facets_in_place(w, polygon);
+      Status st = triangulate_in_place(w, polygon);
       if (!st.ok()) return st;
       find_self_intersections(w.plc, left);
     }

@@ -263,29 +263,31 @@ Status split_at_tjunctions(Work& w, RepairReport& report) {
     }
   }
   if (to_triangulate == 0) return Status::success();
-  // The facets with a vertex inside, triangulated together (same point ids).
+  Status st = triangulate_in_place(w, triangulate);
+  if (st.ok()) return st;
+  if (st.error.facet >= 0) st.error.facet = -1;  // a facet of a temporary PLC: no input name
+  return st;
+}
+
+Status triangulate_in_place(Work& w, const std::vector<uint8_t>& which) {
+  Plc& plc = w.plc;
+  // The flagged facets, triangulated together (same point ids).
   Plc part;
   part.points = plc.points;
   part.file = plc.file;
-  std::vector<uint32_t> which;
   for (size_t f = 0; f < plc.facets.size(); ++f)
-    if (triangulate[f]) {
-      part.facets.push_back(plc.facets[f]);
-      which.push_back(static_cast<uint32_t>(f));
-    }
+    if (which[f]) part.facets.push_back(plc.facets[f]);
+  if (part.facets.empty()) return Status::success();
   std::vector<uint32_t> tris, tri_facet;
   Status st = triangulate_surface(part, tris, tri_facet);
-  if (!st.ok()) {
-    if (st.error.facet >= 0) st.error.facet = w.source[which[st.error.facet]];
-    return st;
-  }
-  std::vector<std::vector<uint32_t>> tris_of(which.size());
+  if (!st.ok()) return st;
+  std::vector<std::vector<uint32_t>> tris_of(part.facets.size());
   for (size_t t = 0; t < tri_facet.size(); ++t) tris_of[tri_facet[t]].push_back(static_cast<uint32_t>(t));
   std::vector<Facet> facets;
   std::vector<uint32_t> source;
   size_t next = 0;
   for (size_t f = 0; f < plc.facets.size(); ++f) {
-    if (!triangulate[f]) {
+    if (!which[f]) {
       facets.push_back(std::move(plc.facets[f]));
       source.push_back(w.source[f]);
       continue;
