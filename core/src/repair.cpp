@@ -132,7 +132,7 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report) {
   std::vector<Intersection> left;
   if (st.ok()) st = check_plc(w.plc);
   if (st.ok()) st = repair_steps::resolve_crossings(w, report, left);
-  else st = in_input_terms(st, plc, w.source);
+  if (!st.ok()) st = in_input_terms(st, plc, w.source);
 
   report.facet_source = w.source;
   for (uint32_t f = 0; f < w.changed.size(); ++f)

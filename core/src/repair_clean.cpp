@@ -48,10 +48,13 @@ void weld_points(Work& w, RepairReport& report) {
     kept.push_back(plc.points[v]);
   }
   report.welded_points = n - kept.size();
-  w.point_of_input = id;
+  // The input's points are mapped by the first weld; later welds (after
+  // step 4 rounds) only merge new points, which no input id names.
+  const bool first_weld = w.point_of_input.empty();
+  if (first_weld) w.point_of_input = id;
   if (report.welded_points == 0) return;
   for (size_t v = 0; v < n; ++v) id[v] = id[first[v]];
-  w.point_of_input = id;
+  if (first_weld) w.point_of_input = id;
   plc.points = std::move(kept);
   for (size_t f = 0; f < plc.facets.size(); ++f) {
     bool touched = false;

@@ -3,7 +3,10 @@
 // ends become vertices of both triangles and the segment an edge of both:
 // each affected triangle is replaced by the constrained triangulation of its
 // corners, the new points on its edges and inside it, and the intersection
-// segments (one facet per triangle, provenance kept).
+// segments (one facet per triangle, provenance kept). Where the segments of
+// two crossings cross inside a triangle, three triangles meet in one point
+// (the common point of their planes), which splits the segments in all
+// three. A new point on an edge goes into every facet that has the edge.
 //
 // Exactness: which edges pierce which triangle is decided by orient3d signs.
 // The piercing point itself is a constructed point, rounded to doubles (see
@@ -14,9 +17,11 @@
 // the step repeats on what rounding broke, at most kRounds times; whatever
 // still intersects is reported by facet.
 //
-// Handled: triangles in general position (each crossing pair has exactly two
-// piercing points, no vertex on the other's plane). Coplanar overlaps,
-// touching contacts and degenerate crossings are left and reported.
+// Handled: triangle pairs whose contact is cut out by piercing points (an
+// edge crossing the other triangle or one of its edges), with no vertex on
+// the other's plane: crossings, and touching contacts at one point.
+// Coplanar overlaps, contacts through a vertex and explicit segments are
+// left and reported.
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -40,8 +45,27 @@ bool is_triangle(const Facet& f) { return f.loops.size() == 1 && f.loops[0].size
 struct Insert {
   std::vector<std::pair<int, VertexId>> on_edge;  ///< (edge i = (v[i], v[i+1]), point)
   std::vector<VertexId> inside;
-  std::vector<std::array<VertexId, 2>> segments;
+  struct Segment {
+    VertexId a, b;
+    uint32_t other;  ///< the facet whose crossing made it
+  };
+  std::vector<Segment> segments;
 };
+
+// p + s (q - p), rounded to doubles. The exact s lies in (0, 1) (the
+// orient3d signs say the crossing is inside pq); a computed s outside it, or
+// not finite (planes or lines parallel in floating point), is brought back
+// into [0, 1] (the midpoint when not finite), and the exact re-check judges
+// the result like any other rounded point.
+Vec3 along(const double* p, const double* q, long double s) {
+  if (!std::isfinite(static_cast<double>(s))) s = 0.5L;
+  s = std::min(1.0L, std::max(0.0L, s));
+  Vec3 x;
+  double* out = &x.x;
+  for (int k = 0; k < 3; ++k)
+    out[k] = static_cast<double>(p[k] + s * (static_cast<long double>(q[k]) - p[k]));
+  return x;
+}
 
 // The point where segment pq crosses the plane of triangle t. Constructed
 // in doubles and therefore ROUNDED: it lies within a few ulps of both pq and
@@ -49,45 +73,45 @@ struct Insert {
 // Always computed from the same inputs in the same order (the key sorts
 // them), so every triangle that needs this point gets the same coordinates.
 Vec3 pierce_point(const double* p, const double* q, const Tri& t, const Plc& plc) {
+  using LD = long double;  // a little more precision where the planes are nearly parallel
   const double* a = xyz(plc, t[0]);
   const double* b = xyz(plc, t[1]);
   const double* c = xyz(plc, t[2]);
-  double u[3], v[3], n[3];
+  LD u[3], v[3], n[3];
   for (int k = 0; k < 3; ++k) {
-    u[k] = b[k] - a[k];
-    v[k] = c[k] - a[k];
+    u[k] = LD(b[k]) - a[k];
+    v[k] = LD(c[k]) - a[k];
   }
   n[0] = u[1] * v[2] - u[2] * v[1];
   n[1] = u[2] * v[0] - u[0] * v[2];
   n[2] = u[0] * v[1] - u[1] * v[0];
-  double dp = 0, dq = 0;
+  LD dp = 0, dq = 0;
   for (int k = 0; k < 3; ++k) {
-    dp += n[k] * (p[k] - a[k]);
-    dq += n[k] * (q[k] - a[k]);
+    dp += n[k] * (LD(p[k]) - a[k]);
+    dq += n[k] * (LD(q[k]) - a[k]);
   }
-  const double s = dp / (dp - dq);
-  return Vec3{p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1]), p[2] + s * (q[2] - p[2])};
+  return along(p, q, dp / (dp - dq));
 }
 
 // The crossing point of the coplanar segments pq and ab (known to cross),
-// constructed in doubles and therefore ROUNDED like pierce_point.
+// constructed like pierce_point and ROUNDED the same way.
 Vec3 line_crossing(const double* p, const double* q, const double* a, const double* b) {
-  double d[3], e[3], w[3], n[3], m[3];
+  using LD = long double;
+  LD d[3], e[3], w[3], n[3], m[3];
   for (int k = 0; k < 3; ++k) {
-    d[k] = q[k] - p[k];
-    e[k] = b[k] - a[k];
-    w[k] = a[k] - p[k];
+    d[k] = LD(q[k]) - p[k];
+    e[k] = LD(b[k]) - a[k];
+    w[k] = LD(a[k]) - p[k];
   }
-  auto cross = [](const double* x, const double* y, double* out) {
+  auto cross = [](const LD* x, const LD* y, LD* out) {
     out[0] = x[1] * y[2] - x[2] * y[1];
     out[1] = x[2] * y[0] - x[0] * y[2];
     out[2] = x[0] * y[1] - x[1] * y[0];
   };
   cross(d, e, n);
   cross(w, e, m);
-  const double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-  const double s = (m[0] * n[0] + m[1] * n[1] + m[2] * n[2]) / nn;
-  return Vec3{p[0] + s * d[0], p[1] + s * d[1], p[2] + s * d[2]};
+  const LD nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+  return along(p, q, (m[0] * n[0] + m[1] * n[1] + m[2] * n[2]) / nn);
 }
 
 class Crossings {
@@ -114,7 +138,7 @@ class Crossings {
       const auto& ends = side == 0 ? ends_f : ends_g;
       for (const auto& e : ends)
         if (e.first < 0) in.inside.push_back(e.second);
-      if (ends.size() == 2) in.segments.push_back({ends[0].second, ends[1].second});
+      if (ends.size() == 2) in.segments.push_back({ends[0].second, ends[1].second, side == 0 ? g : f});
     }
     return true;
   }
@@ -124,6 +148,7 @@ class Crossings {
   /// inside; a polygon facet with a point on one of its edges gets it in its
   /// loop. Returns the number of facets changed.
   size_t apply() {
+    find_triple_points();
     std::vector<Facet> facets;
     std::vector<uint32_t> source;
     size_t split = 0;
@@ -137,7 +162,7 @@ class Crossings {
       for (auto& loop : facet.loops) on_edges |= take_edge_points(loop, tri_facet ? &in : nullptr);
       std::vector<Tri> tris;
       if (!tri_facet || (in.inside.empty() && in.on_edge.empty()) ||
-          !retriangulate(tri(static_cast<uint32_t>(f)), in, tris)) {
+          !retriangulate(static_cast<uint32_t>(f), in, tris)) {
         split += on_edges;
         if (on_edges) w_.mark(src);
         facets.push_back(std::move(facet));
@@ -243,18 +268,10 @@ class Crossings {
   // normal component: a flat PLC (coordinates (u, v, 0), exact copies) whose
   // one facet is t's boundary with the edge points, plus the inside points
   // and segments, which triangulate_surface takes as lying in the facet.
-  bool retriangulate(const Tri& t, Insert& in, std::vector<Tri>& out) {
+  bool retriangulate(uint32_t fid, Insert& in, std::vector<Tri>& out) {
+    const Tri t = tri(fid);
     const Plc& plc = w_.plc;
-    int drop = 2;
-    {
-      const double *a = xyz(plc, t[0]), *b = xyz(plc, t[1]), *c = xyz(plc, t[2]);
-      double n[3];
-      n[0] = (b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]);
-      n[1] = (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]);
-      n[2] = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-      for (int k = 0; k < 2; ++k)
-        if (std::fabs(n[k]) > std::fabs(n[drop])) drop = k;
-    }
+    const int drop = projection_axis(t);
     const int ua = (drop + 1) % 3, va = (drop + 2) % 3;
     std::vector<VertexId> ids;  // flat id -> PLC id
     auto flat_id = [&](VertexId v) {
@@ -283,6 +300,8 @@ class Crossings {
       for (VertexId x : pts) loop.push_back(flat_id(x));
     }
     for (VertexId x : in.inside) flat_id(x);
+    for (const auto& s : in.segments)
+      for (VertexId x : split_chain(fid, s)) flat_id(x);
     Plc flat;
     for (VertexId v : ids) flat.points.push_back(Vec3{xyz(plc, v)[ua], xyz(plc, v)[va], 0});
     // Two points with one projection would be one flat point: give up.
@@ -296,14 +315,133 @@ class Crossings {
     f.loops.push_back(loop);
     flat.facets.push_back(f);
     for (const auto& s : in.segments) {
-      const VertexId a = flat_id(s[0]), b = flat_id(s[1]);
-      if (a != b) flat.segments.push_back({a, b});
+      const std::vector<VertexId> chain = split_chain(fid, s);
+      for (size_t k = 0; k + 1 < chain.size(); ++k) {
+        const VertexId a = flat_id(chain[k]), b = flat_id(chain[k + 1]);
+        if (a != b) flat.segments.push_back({a, b});
+      }
     }
     if (ids.size() != flat.points.size()) return false;
     std::vector<uint32_t> tris, tri_facet;
     if (!triangulate_surface(flat, tris, tri_facet).ok() || tris.empty()) return false;
     for (size_t k = 0; k + 2 < tris.size(); k += 3) out.push_back({ids[tris[k]], ids[tris[k + 1]], ids[tris[k + 2]]});
     return true;
+  }
+
+  // Where three triangles meet: inside triangle t the intersection segments
+  // with u1 and with u2 cross at the point common to the three planes. It
+  // splits both segments in t, and the segments (u1, t), (u1, u2) in u1 and
+  // (u2, t), (u2, u1) in u2. Crossing is decided exactly (orient2d in t's
+  // projection) on the segments' rounded ends; the point is constructed
+  // once per triple of triangles (three_planes, ROUNDED).
+  void find_triple_points() {
+    const Plc& plc = w_.plc;
+    for (auto& [f, in] : inserts_) {
+      const int drop = projection_axis(tri(f));
+      for (size_t i = 0; i < in.segments.size(); ++i)
+        for (size_t j = i + 1; j < in.segments.size(); ++j) {
+          const Insert::Segment &s1 = in.segments[i], &s2 = in.segments[j];
+          if (s1.other == s2.other) continue;
+          if (s1.a == s2.a || s1.a == s2.b || s1.b == s2.a || s1.b == s2.b) continue;
+          const double *a = xyz(plc, s1.a), *b = xyz(plc, s1.b);
+          const double *c = xyz(plc, s2.a), *d = xyz(plc, s2.b);
+          const int o1 = pred::orient2d_projected(a, b, c, drop);
+          const int o2 = pred::orient2d_projected(a, b, d, drop);
+          const int o3 = pred::orient2d_projected(c, d, a, drop);
+          const int o4 = pred::orient2d_projected(c, d, b, drop);
+          if (o1 * o2 >= 0 || o3 * o4 >= 0) continue;  // no proper crossing
+          const VertexId x = triple_point(f, s1.other, s2.other, s1, s2);
+          const uint32_t g = s1.other, h = s2.other;
+          for (auto key : {std::make_pair(f, g), std::make_pair(f, h), std::make_pair(g, f),
+                           std::make_pair(g, h), std::make_pair(h, f), std::make_pair(h, g)})
+            splits_[key].push_back(x);
+        }
+    }
+  }
+
+  VertexId triple_point(uint32_t f, uint32_t g, uint32_t h, const Insert::Segment& s1,
+                        const Insert::Segment& s2) {
+    std::array<uint32_t, 3> key{f, g, h};
+    std::sort(key.begin(), key.end());
+    const auto it = triples_.find(key);
+    if (it != triples_.end()) return it->second;
+    Vec3 x;
+    if (!three_planes(tri(key[0]), tri(key[1]), tri(key[2]), x))
+      x = line_crossing(xyz(w_.plc, s1.a), xyz(w_.plc, s1.b), xyz(w_.plc, s2.a), xyz(w_.plc, s2.b));
+    const VertexId id = static_cast<VertexId>(w_.plc.points.size());
+    w_.plc.points.push_back(x);
+    ++report_.intersection_points;
+    return triples_[key] = id;
+  }
+
+  // The point common to the planes of three triangles (Cramer's rule in long
+  // double, then ROUNDED to doubles). False when the planes are (nearly)
+  // parallel in floating point.
+  bool three_planes(const Tri& t1, const Tri& t2, const Tri& t3, Vec3& out) const {
+    using LD = long double;
+    LD n[3][3], d[3];
+    const Tri* ts[3] = {&t1, &t2, &t3};
+    for (int i = 0; i < 3; ++i) {
+      const double *a = xyz(w_.plc, (*ts[i])[0]), *b = xyz(w_.plc, (*ts[i])[1]), *c = xyz(w_.plc, (*ts[i])[2]);
+      LD u[3], v[3];
+      for (int k = 0; k < 3; ++k) {
+        u[k] = LD(b[k]) - a[k];
+        v[k] = LD(c[k]) - a[k];
+      }
+      n[i][0] = u[1] * v[2] - u[2] * v[1];
+      n[i][1] = u[2] * v[0] - u[0] * v[2];
+      n[i][2] = u[0] * v[1] - u[1] * v[0];
+      d[i] = n[i][0] * a[0] + n[i][1] * a[1] + n[i][2] * a[2];
+    }
+    auto cross = [](const LD* x, const LD* y, LD* o) {
+      o[0] = x[1] * y[2] - x[2] * y[1];
+      o[1] = x[2] * y[0] - x[0] * y[2];
+      o[2] = x[0] * y[1] - x[1] * y[0];
+    };
+    LD c12[3], c23[3], c31[3];
+    cross(n[1], n[2], c23);
+    cross(n[2], n[0], c31);
+    cross(n[0], n[1], c12);
+    const LD det = n[0][0] * c23[0] + n[0][1] * c23[1] + n[0][2] * c23[2];
+    double* o = &out.x;
+    for (int k = 0; k < 3; ++k) {
+      o[k] = static_cast<double>((d[0] * c23[k] + d[1] * c31[k] + d[2] * c12[k]) / det);
+      if (!std::isfinite(o[k])) return false;
+    }
+    return true;
+  }
+
+  // The segment with its triple points, in order from a to b.
+  std::vector<VertexId> split_chain(uint32_t f, const Insert::Segment& s) const {
+    std::vector<VertexId> chain{s.a};
+    const auto it = splits_.find({f, s.other});
+    if (it != splits_.end()) {
+      std::vector<VertexId> mid = it->second;
+      std::sort(mid.begin(), mid.end());
+      mid.erase(std::unique(mid.begin(), mid.end()), mid.end());
+      const double *a = xyz(w_.plc, s.a), *b = xyz(w_.plc, s.b);
+      auto param = [&](VertexId x) {  // only orders points along the segment
+        long double t = 0;
+        for (int k = 0; k < 3; ++k) t += (static_cast<long double>(xyz(w_.plc, x)[k]) - a[k]) * (static_cast<long double>(b[k]) - a[k]);
+        return t;
+      };
+      std::sort(mid.begin(), mid.end(), [&](VertexId x, VertexId y) { return param(x) < param(y); });
+      chain.insert(chain.end(), mid.begin(), mid.end());
+    }
+    chain.push_back(s.b);
+    return chain;
+  }
+
+  int projection_axis(const Tri& t) const {
+    const double *a = xyz(w_.plc, t[0]), *b = xyz(w_.plc, t[1]), *c = xyz(w_.plc, t[2]);
+    double n[3];
+    n[0] = (b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]);
+    n[1] = (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]);
+    n[2] = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    int drop = 2;
+    for (int k = 0; k < 2; ++k)
+      if (std::fabs(n[k]) > std::fabs(n[drop])) drop = k;
+    return drop;
   }
 
   // The new points on a loop's edges: for a triangle (in != nullptr) as
@@ -337,9 +475,35 @@ class Crossings {
   Work& w_;
   RepairReport& report_;
   std::map<std::pair<VertexId, VertexId>, std::vector<VertexId>> edge_points_;
+  std::map<std::pair<uint32_t, uint32_t>, std::vector<VertexId>> splits_;  ///< (facet, other) -> triple points
+  std::map<std::array<uint32_t, 3>, VertexId> triples_;
   std::map<uint32_t, Insert> inserts_;
   std::map<std::array<VertexId, 5>, VertexId> made_;
 };
+
+// Crossings, and touching contacts (an edge crossing the other facet's edge
+// or piercing it at one point, the facets on one side): both are cut by the
+// same piercing points. Coplanar contacts and segments are not handled.
+bool handled(const Intersection& x) {
+  return x.kind == IntersectionKind::Cross || x.kind == IntersectionKind::VertexInFacet;
+}
+
+// Rounded points can break what steps 1-3 made true: a new point may land on
+// an existing point, a thin new triangle may come out collinear, a polygon
+// that took a point on an edge may no longer be planar, a point may land
+// exactly on another facet. Those steps run again (they are exact; their
+// counts go to a scratch report, since these are no input defects), and the
+// input checks must pass before the exact intersection test runs again.
+Status tidy_after_rounding(Work& w) {
+  RepairReport scratch;
+  weld_points(w, scratch);
+  clean_polygons(w, scratch);
+  drop_duplicate_facets(w, scratch);
+  split_nonplanar_facets(w, scratch);
+  Status st = split_at_tjunctions(w, scratch);
+  if (st.ok()) st = check_plc(w.plc);
+  return st;
+}
 
 }  // namespace
 
@@ -350,7 +514,7 @@ Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection
     std::vector<uint8_t> involved(facets, 0);
     size_t crossing = 0;
     for (const Intersection& x : left) {
-      if (x.kind != IntersectionKind::Cross || x.b >= facets) continue;
+      if (!handled(x) || x.b >= facets) continue;
       involved[x.a] = involved[x.b] = 1;
       ++crossing;
     }
@@ -362,7 +526,10 @@ Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection
     std::vector<uint8_t> polygon(facets, 0);
     bool any_polygon = false;
     for (uint32_t f = 0; f < facets; ++f)
-      if (involved[f] && !is_triangle(w.plc.facets[f])) any_polygon = polygon[f] = 1;
+      if (involved[f] && !is_triangle(w.plc.facets[f])) {
+        polygon[f] = 1;
+        any_polygon = true;
+      }
     if (any_polygon) {
       Status st = triangulate_in_place(w, polygon);
       if (!st.ok()) return st;
@@ -371,7 +538,7 @@ Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection
     Crossings c(w, report);
     size_t added = 0;
     for (const Intersection& x : left) {
-      if (x.kind != IntersectionKind::Cross || x.b >= w.plc.facets.size()) continue;
+      if (!handled(x) || x.b >= w.plc.facets.size()) continue;
       if (!is_triangle(w.plc.facets[x.a]) || !is_triangle(w.plc.facets[x.b])) continue;
       added += c.add_pair(x.a, x.b);
     }
@@ -380,10 +547,8 @@ Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection
       return Status::success();
     }
     report.crossing_facets += c.apply();
-    // A polygon that took a rounded point on an edge may no longer be
-    // planar: step 2 splits it (exactly), counted here, not as an input defect.
-    RepairReport scratch;
-    split_nonplanar_facets(w, scratch);
+    Status st = tidy_after_rounding(w);
+    if (!st.ok()) return st;
   }
 }
 

@@ -278,3 +278,29 @@ TEST_CASE("repair step 4: crossing models of tests/data", "[repair][corpus]") {
     require_meshable(out);
   }
 }
+
+TEST_CASE("repair step 4: a soup of crossing triangles, with triple points", "[repair]") {
+  // 100 random triangles of tests/data (an open soup): many triangles cross
+  // several others, so intersection segments cross inside triangles.
+  Plc in, out;
+  REQUIRE(read_plc_file(corpus::kData + "/triangle_soup.stl", in, false).ok());
+  RepairReport rep;
+  const Status st = repair(in, out, rep);
+  INFO(st.error.to_string());
+  REQUIRE(st.ok());
+  CHECK(rep.crossing_pairs > 1000);
+  // More new points than crossing pairs: the triple points.
+  CHECK(rep.intersection_points > rep.crossing_pairs);
+  CHECK(rep.unresolved_pairs == 0);
+  REQUIRE(check_plc(out).ok());
+  std::vector<Intersection> found;
+  find_self_intersections(out, found);
+  CHECK(found.empty());
+  for (size_t v = 0; v < in.points.size(); ++v) CHECK(out.points[v] == in.points[v]);
+  // Still open: meshing says so, naming an input facet after the mapping.
+  Result r = tetrahedralize(out);
+  CHECK(r.status.error.code == ErrorCode::OpenBoundary);
+  map_to_input_facets(rep, r);
+  CHECK(r.status.error.facet >= 0);
+  CHECK(r.status.error.facet < static_cast<int64_t>(in.facets.size()));
+}
