@@ -19,9 +19,11 @@
 //
 // Handled: triangle pairs whose contact is cut out by piercing points (an
 // edge crossing the other triangle or one of its edges), with no vertex on
-// the other's plane: crossings, and touching contacts at one point.
-// Coplanar overlaps, contacts through a vertex and explicit segments are
-// left and reported.
+// the other's plane: crossings, and touching contacts at one point; and
+// coplanar overlaps, where each triangle is cut along the other's edges and
+// the two copies of the overlap are then one duplicate facet dropped.
+// Contacts through a vertex, in-plane contacts other than overlaps and
+// explicit segments are left and reported.
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -117,6 +119,70 @@ Vec3 line_crossing(const double* p, const double* q, const double* a, const doub
 class Crossings {
  public:
   explicit Crossings(Work& w, RepairReport& report) : w_(w), report_(report) {}
+
+  /// Records what the overlap of the coplanar triangles f and g adds to
+  /// each: every edge of one cuts the other where it runs inside it (its
+  /// ends: its own vertices inside the other, exact, and its crossings with
+  /// the other's edges, constructed). Both then hold the overlap with the
+  /// same vertices and edges; the copies of it are dropped as duplicate
+  /// facets afterwards (tidy_after_rounding). False on a configuration this
+  /// does not handle (a vertex on the other's edge without being its vertex).
+  bool add_coplanar_pair(uint32_t f, uint32_t g) {
+    const Tri t = tri(f), u = tri(g);
+    const int drop = projection_axis(t);
+    bool any = false;
+    for (int side = 0; side < 2; ++side) {
+      const Tri& host = side == 0 ? t : u;
+      const Tri& cutter = side == 0 ? u : t;
+      const uint32_t host_f = side == 0 ? f : g, cutter_f = side == 0 ? g : f;
+      for (int i = 0; i < 3; ++i) {
+        std::vector<VertexId> on;  // points of the edge inside the closed host
+        const VertexId a = cutter[i], b = cutter[(i + 1) % 3];
+        for (VertexId v : {a, b}) {
+          const int where = locate_in(host, v, drop);
+          if (where < 0) return false;  // on an edge of host without being its vertex
+          if (where == 1) {
+            on.push_back(v);
+            if (std::find(host.begin(), host.end(), v) == host.end()) inserts_[host_f].inside.push_back(v);
+          }
+        }
+        for (int j = 0; j < 3; ++j) {
+          const VertexId c = host[j], d = host[(j + 1) % 3];
+          if (a == c || a == d || b == c || b == d) continue;
+          const double *pa = xyz(w_.plc, a), *pb = xyz(w_.plc, b);
+          const double *pc = xyz(w_.plc, c), *pd = xyz(w_.plc, d);
+          const int o1 = pred::orient2d_projected(pa, pb, pc, drop);
+          const int o2 = pred::orient2d_projected(pa, pb, pd, drop);
+          const int o3 = pred::orient2d_projected(pc, pd, pa, drop);
+          const int o4 = pred::orient2d_projected(pc, pd, pb, drop);
+          if (o1 * o2 < 0 && o3 * o4 < 0) on.push_back(point_on_edges(a, b, c, d));
+          else if ((o1 == 0 || o2 == 0) && o3 * o4 < 0) return false;  // through a corner
+        }
+        std::sort(on.begin(), on.end());
+        on.erase(std::unique(on.begin(), on.end()), on.end());
+        if (on.size() > 2) return false;
+        if (on.size() == 2) {
+          inserts_[host_f].segments.push_back({on[0], on[1], cutter_f});
+          any = true;
+        }
+      }
+    }
+    return any;
+  }
+
+  // Where point v lies relative to the triangle t (projection `drop`): 1 in
+  // the closed triangle at a vertex or strictly inside, 0 outside, -1 on an
+  // edge without being one of its vertices.
+  int locate_in(const Tri& t, VertexId v, int drop) const {
+    if (std::find(t.begin(), t.end(), v) != t.end()) return 1;
+    const double* p = xyz(w_.plc, v);
+    int o[3];
+    for (int i = 0; i < 3; ++i) o[i] = pred::orient2d_projected(xyz(w_.plc, t[i]), xyz(w_.plc, t[(i + 1) % 3]), p, drop);
+    const bool nonneg = o[0] >= 0 && o[1] >= 0 && o[2] >= 0;
+    const bool nonpos = o[0] <= 0 && o[1] <= 0 && o[2] <= 0;
+    if (!nonneg && !nonpos) return 0;
+    return (o[0] != 0 && o[1] != 0 && o[2] != 0) ? 1 : -1;
+  }
 
   /// Records what the crossing of facets f and g (both triangles) adds to
   /// each. False when the pair is not in general position.
@@ -485,7 +551,8 @@ class Crossings {
 // or piercing it at one point, the facets on one side): both are cut by the
 // same piercing points. Coplanar contacts and segments are not handled.
 bool handled(const Intersection& x) {
-  return x.kind == IntersectionKind::Cross || x.kind == IntersectionKind::VertexInFacet;
+  return x.kind == IntersectionKind::Cross || x.kind == IntersectionKind::VertexInFacet ||
+         x.kind == IntersectionKind::CoplanarOverlap;
 }
 
 // Rounded points can break what steps 1-3 made true: a new point may land on
@@ -540,7 +607,8 @@ Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection
     for (const Intersection& x : left) {
       if (!handled(x) || x.b >= w.plc.facets.size()) continue;
       if (!is_triangle(w.plc.facets[x.a]) || !is_triangle(w.plc.facets[x.b])) continue;
-      added += c.add_pair(x.a, x.b);
+      added += x.kind == IntersectionKind::CoplanarOverlap ? c.add_coplanar_pair(x.a, x.b)
+                                                          : c.add_pair(x.a, x.b);
     }
     if (added == 0) {
       find_self_intersections(w.plc, left);

@@ -259,7 +259,7 @@ TEST_CASE("repair: tests/data models", "[repair][corpus]") {
 }
 
 TEST_CASE("repair step 4: crossing models of tests/data", "[repair][corpus]") {
-  for (const char* name : {"intersecting_cubes.off", "crossing_tets.off"}) {
+  for (const char* name : {"intersecting_cubes.off", "crossing_tets.off", "coplanar_boxes.off"}) {
     INFO(name);
     Plc in, out;
     REQUIRE(read_plc_file(corpus::kData + "/" + name, in, false).ok());
