@@ -114,9 +114,11 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report) {
   report = RepairReport();
   report.input_points = plc.points.size();
   report.input_facets = plc.facets.size();
-  out = plc;
   Status st = check_repairable(plc);
-  if (!st.ok()) return st;
+  if (!st.ok()) {
+    out = plc;
+    return st;
+  }
   Work w;
   w.plc = plc;
   w.source.resize(plc.facets.size());

@@ -262,7 +262,11 @@ class Crossings {
   bool pierce(const Tri& t, const Tri& u, std::vector<std::pair<int, VertexId>>& ends_t,
               std::vector<std::pair<int, VertexId>>& ends_u) {
     const Plc& plc = w_.plc;
-    const double *u0 = xyz(plc, u[0]), *u1 = xyz(plc, u[1]), *u2 = xyz(plc, u[2]);
+    // Copies: a new point may grow plc.points and move its storage.
+    double uc[3][3];
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) uc[j][k] = xyz(plc, u[j])[k];
+    const double *u0 = uc[0], *u1 = uc[1], *u2 = uc[2];
     for (int i = 0; i < 3; ++i) {
       const VertexId p = t[i], q = t[(i + 1) % 3];
       const int sp = pred::orient3d(u0, u1, u2, xyz(plc, p));
@@ -271,7 +275,7 @@ class Crossings {
       if (sp == sq) continue;
       int s[3];
       for (int j = 0; j < 3; ++j)
-        s[j] = pred::orient3d(xyz(plc, p), xyz(plc, q), xyz(plc, u[j]), xyz(plc, u[(j + 1) % 3]));
+        s[j] = pred::orient3d(xyz(plc, p), xyz(plc, q), uc[j], uc[(j + 1) % 3]);
       const bool nonneg = s[0] >= 0 && s[1] >= 0 && s[2] >= 0;
       const bool nonpos = s[0] <= 0 && s[1] <= 0 && s[2] <= 0;
       if (!nonneg && !nonpos) continue;  // the line passes beside u

@@ -108,6 +108,8 @@ void split_nonplanar_facets(Work& w, RepairReport& report) {
   Plc& plc = w.plc;
   std::vector<Facet> facets;
   std::vector<uint32_t> source;
+  facets.reserve(plc.facets.size());
+  source.reserve(plc.facets.size());
   std::vector<std::array<VertexId, 3>> tris;
   for (size_t f = 0; f < plc.facets.size(); ++f) {
     Facet& facet = plc.facets[f];
