@@ -131,6 +131,14 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report) {
   repair_steps::drop_orphaned_points(w, plc);
   repair_steps::split_nonplanar_facets(w, report);
   st = repair_steps::split_at_tjunctions(w, report);
+  {
+    // Facets triangulated at T-junctions can repeat one another where the
+    // input overlapped: those copies are duplicates like any other.
+    RepairReport again;
+    repair_steps::clean_polygons(w, again);
+    repair_steps::drop_duplicate_facets(w, again);
+    report.duplicate_facets += again.duplicate_facets;
+  }
   std::vector<Intersection> left;
   if (st.ok()) st = check_plc(w.plc);
   if (st.ok()) st = repair_steps::resolve_crossings(w, report, left);

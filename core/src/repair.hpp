@@ -49,7 +49,8 @@ void split_nonplanar_facets(Work& w, RepairReport& report);
 Status split_at_tjunctions(Work& w, RepairReport& report);
 /// Replaces every facet flagged in `which` by the triangles of its own
 /// constrained triangulation (triangulate_surface: its vertices and every
-/// PLC point lying in it), one facet each, provenance kept.
+/// PLC point lying in it), one facet each, provenance kept. A facet that
+/// cannot be triangulated is left as it is.
 Status triangulate_in_place(Work& w, const std::vector<uint8_t>& which);
 
 // Step 4 (repair_crossing.cpp): crossing facets get their intersection

@@ -36,6 +36,8 @@ namespace repair_steps {
 namespace {
 
 constexpr size_t kRounds = 4;
+/// An end of an intersection segment that is a vertex of both triangles.
+constexpr int kExisting = -2;
 
 const double* xyz(const Plc& plc, VertexId v) { return &plc.points[v].x; }
 
@@ -203,7 +205,7 @@ class Crossings {
       Insert& in = inserts_[side == 0 ? f : g];
       const auto& ends = side == 0 ? ends_f : ends_g;
       for (const auto& e : ends)
-        if (e.first < 0) in.inside.push_back(e.second);
+        if (e.first == -1) in.inside.push_back(e.second);
       if (ends.size() == 2) in.segments.push_back({ends[0].second, ends[1].second, side == 0 ? g : f});
     }
     return true;
@@ -271,7 +273,18 @@ class Crossings {
       const VertexId p = t[i], q = t[(i + 1) % 3];
       const int sp = pred::orient3d(u0, u1, u2, xyz(plc, p));
       const int sq = pred::orient3d(u0, u1, u2, xyz(plc, q));
-      if (sp == 0 || sq == 0) return false;
+      if (sp == 0 && sq == 0) return false;  // the edge lies in u's plane
+      if (sp == 0 || sq == 0) {
+        // One end on u's plane. After step 3 a vertex of t in the closed
+        // triangle u is a vertex of u: then the contact starts there (an
+        // existing point, kExisting); otherwise that end is outside u.
+        const VertexId z = sp == 0 ? p : q;
+        if (std::find(u.begin(), u.end(), z) != u.end()) {
+          ends_t.push_back({kExisting, z});
+          ends_u.push_back({kExisting, z});
+        }
+        continue;
+      }
       if (sp == sq) continue;
       int s[3];
       for (int j = 0; j < 3; ++j)
@@ -569,9 +582,11 @@ Status tidy_after_rounding(Work& w) {
   RepairReport scratch;
   weld_points(w, scratch);
   clean_polygons(w, scratch);
-  drop_duplicate_facets(w, scratch);
   split_nonplanar_facets(w, scratch);
   Status st = split_at_tjunctions(w, scratch);
+  // Triangulating facets at T-junctions can make copies of a triangle.
+  clean_polygons(w, scratch);
+  drop_duplicate_facets(w, scratch);
   if (st.ok()) st = check_plc(w.plc);
   return st;
 }

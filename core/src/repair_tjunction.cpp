@@ -280,7 +280,21 @@ Status triangulate_in_place(Work& w, const std::vector<uint8_t>& which) {
   if (part.facets.empty()) return Status::success();
   std::vector<uint32_t> tris, tri_facet;
   Status st = triangulate_surface(part, tris, tri_facet);
-  if (!st.ok()) return st;
+  if (!st.ok()) {
+    // A facet whose triangulation fails (a PLC point lies exactly on a
+    // segment that runs through it) stays as it is: the exact check at the
+    // end reports what that leaves. The others are done one at a time,
+    // from the last, so that the indices of those still to do stay valid
+    // (each try copies the points: only on this rare path).
+    if (part.facets.size() == 1) return Status::success();
+    for (size_t f = plc.facets.size(); f-- > 0;) {
+      if (!which[f]) continue;
+      std::vector<uint8_t> one(plc.facets.size(), 0);
+      one[f] = 1;
+      triangulate_in_place(w, one);
+    }
+    return Status::success();
+  }
   std::vector<std::vector<uint32_t>> tris_of(part.facets.size());
   for (size_t t = 0; t < tri_facet.size(); ++t) tris_of[tri_facet[t]].push_back(static_cast<uint32_t>(t));
   std::vector<Facet> facets;

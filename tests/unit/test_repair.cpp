@@ -304,3 +304,70 @@ TEST_CASE("repair step 4: a soup of crossing triangles, with triple points", "[r
   CHECK(r.status.error.facet >= 0);
   CHECK(r.status.error.facet < static_cast<int64_t>(in.facets.size()));
 }
+
+TEST_CASE("repair step 4: triangles that share a vertex and cross", "[repair]") {
+  Plc in;
+  in.points = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {1, 0.5, 1}, {0.5, 1, -1}};
+  for (auto t : {std::vector<VertexId>{0, 1, 2}, std::vector<VertexId>{0, 3, 4}}) {
+    Facet f;
+    f.loops.push_back(t);
+    in.facets.push_back(f);
+  }
+  std::vector<Intersection> found;
+  find_self_intersections(in, found);
+  REQUIRE(found.size() == 1);
+  Plc out;
+  RepairReport rep;
+  REQUIRE(repair(in, out, rep).ok());
+  CHECK(rep.crossing_pairs == 1);
+  CHECK(rep.intersection_points == 1);  // the segment runs from the shared vertex
+  REQUIRE(out.points.size() == 6);
+  CHECK(out.points[5] == Vec3{0.75, 0.75, 0});  // exact here: every step is a dyadic
+  find_self_intersections(out, found);
+  CHECK(found.empty());
+}
+
+TEST_CASE("repair: degenerate soups end repaired or with an error naming input facets",
+          "[repair]") {
+  // Triangles with corners on a 5x5x5 integer grid: vertices on other
+  // triangles' edges and planes, shared lines, coplanar pieces. Whatever
+  // repair cannot resolve must be reported as such, never as an internal
+  // error, and what it reports as repaired must be a valid PLC.
+  uint64_t state = 12345;
+  auto next = [&state]() {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<int>((state >> 33) % 5);
+  };
+  size_t repaired = 0;
+  for (int soup = 0; soup < 30; ++soup) {
+    Plc in;
+    const int n = 2 + soup % 12;
+    for (int t = 0; t < n; ++t) {
+      Facet f;
+      for (int k = 0; k < 3; ++k) {
+        f.loops.resize(1);
+        f.loops[0].push_back(static_cast<VertexId>(in.points.size()));
+        in.points.push_back(Vec3{double(next()), double(next()), double(next())});
+      }
+      in.facets.push_back(f);
+    }
+    INFO("soup " << soup);
+    Plc out;
+    RepairReport rep;
+    const Status st = repair(in, out, rep);
+    INFO(st.error.to_string());
+    CHECK(st.error.code != ErrorCode::Internal);
+    if (!st.ok()) {
+      CHECK((st.error.code == ErrorCode::SelfIntersection ||
+             st.error.code == ErrorCode::DegenerateFacet));
+      CHECK(st.error.facet < static_cast<int64_t>(in.facets.size()));
+      continue;
+    }
+    ++repaired;
+    REQUIRE(check_plc(out).ok());
+    std::vector<Intersection> found;
+    find_self_intersections(out, found);
+    CHECK(found.empty());
+  }
+  CHECK(repaired >= 10);
+}
