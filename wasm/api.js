@@ -86,6 +86,7 @@ const OPTION_TYPES = {
   validate: 'boolean',
   checkIntersections: 'boolean',
   mergeCoplanarFacets: 'boolean',
+  repair: 'boolean',
   degeneracy: 'string',
   verbosity: 'number',
   stopAfter: 'string',
@@ -148,6 +149,7 @@ function checkOptions(options) {
     validate: options.validate ?? false,
     checkIntersections: options.checkIntersections ?? true,
     mergeCoplanarFacets: options.mergeCoplanarFacets ?? false,
+    repair: options.repair ?? false,
     degeneracy,
     verbosity,
     stopAfter,
@@ -334,6 +336,7 @@ function wrap(mod, abortReason) {
             validate: opts.validate,
             checkIntersections: opts.checkIntersections,
             mergeCoplanarFacets: opts.mergeCoplanarFacets,
+            repair: opts.repair,
             degeneracy: opts.degeneracy,
             verbosity: opts.verbosity,
             stopAfter: opts.stopAfter,
@@ -349,6 +352,42 @@ function wrap(mod, abortReason) {
       delete raw.ok;
       raw.validation = opts.validate ? { ok: true, message: '' } : null;
       return raw;
+    },
+
+    repair(input) {
+      const plc = normalizeInput(input, 'repair');
+      const raw = call(() => mod._repair(plc));
+      if (!raw.ok) throw errorFromRaw(raw);
+      // The repaired PLC in the {points, facets, ...} input shape, so that it
+      // can go straight to tetrahedralize().
+      const facets = [];
+      let loop = 0, vertex = 0, hole = 0;
+      for (let f = 0; f < raw.loopCounts.length; f++) {
+        const loops = [];
+        for (let k = 0; k < raw.loopCounts[f]; k++, loop++) {
+          loops.push(Array.from(raw.loopVertices.subarray(vertex, vertex + raw.loopSizes[loop])));
+          vertex += raw.loopSizes[loop];
+        }
+        const holes = [];
+        for (let k = 0; k < raw.holeCounts[f]; k++, hole++) holes.push(Array.from(raw.holePoints.subarray(3 * hole, 3 * hole + 3)));
+        facets.push({ loops, holes, marker: raw.markers[f] });
+      }
+      const regions = [];
+      for (let i = 0; i + 4 < raw.regions.length; i += 5) {
+        const r = raw.regions;
+        regions.push({ point: [r[i], r[i + 1], r[i + 2]], attribute: r[i + 3], maxVolume: r[i + 4] });
+      }
+      return {
+        fileName: plc.fileName,
+        points: raw.points,
+        facets,
+        segments: raw.segments,
+        holes: raw.holes,
+        regions,
+        facetSources: raw.facetSources,
+        report: raw.report,
+        poly: raw.poly,
+      };
     },
 
     delaunay(points) {

@@ -307,11 +307,84 @@ val result_js(const cdt3d::Result& r) {
   return o;
 }
 
+val repair_report_js(const cdt3d::RepairReport& r) {
+  val o = val::object();
+  auto n = [&o](const char* k, double v) { o.set(k, val(v)); };
+  o.set("changed", val(r.changed()));
+  n("inputPoints", r.input_points), n("points", r.points);
+  n("inputFacets", r.input_facets), n("facets", r.facets);
+  n("weldedPoints", r.welded_points), n("repeatedVertices", r.repeated_vertices);
+  n("zeroAreaPolygons", r.zero_area_polygons), n("degenerateFacets", r.degenerate_facets);
+  n("duplicateFacets", r.duplicate_facets), n("nonplanarFacets", r.nonplanar_facets);
+  n("tjunctionVertices", r.tjunction_vertices), n("tjunctionFacets", r.tjunction_facets);
+  n("crossingPairs", r.crossing_pairs), n("crossingFacets", r.crossing_facets);
+  n("intersectionPoints", r.intersection_points), n("rounds", r.rounds);
+  n("unresolvedPairs", r.unresolved_pairs), n("ms", r.ms);
+  o.set("changedFacets", to_js(r.changed_facets));
+  return o;
+}
+
+// repair(input) -> {ok, report, facetSources, the repaired PLC as flat arrays
+// (the shape plc_from_js reads), poly: its TetGen .poly text} or an error.
+// The input is read without check_plc(): what it rejects is what repair fixes.
+val repair_js(val input) {
+  cdt3d::Plc plc, fixed;
+  cdt3d::Status st = plc_from_js(input, plc, nullptr, false);
+  if (!st.ok()) return failure(st.error);
+  cdt3d::RepairReport report;
+  st = cdt3d::repair(plc, fixed, report);
+  if (!st.ok()) return failure(st.error);
+  std::vector<double> xyz, hole_points, holes, regions;
+  std::vector<uint32_t> counts, sizes, verts, hole_counts, segments;
+  std::vector<int32_t> markers;
+  for (const auto& p : fixed.points) xyz.insert(xyz.end(), {p.x, p.y, p.z});
+  for (const auto& f : fixed.facets) {
+    counts.push_back(static_cast<uint32_t>(f.loops.size()));
+    for (const auto& l : f.loops) {
+      sizes.push_back(static_cast<uint32_t>(l.size()));
+      verts.insert(verts.end(), l.begin(), l.end());
+    }
+    hole_counts.push_back(static_cast<uint32_t>(f.holes.size()));
+    for (const auto& h : f.holes) hole_points.insert(hole_points.end(), {h.x, h.y, h.z});
+    markers.push_back(f.marker);
+  }
+  for (const auto& sg : fixed.segments) segments.insert(segments.end(), {sg[0], sg[1]});
+  for (const auto& h : fixed.holes) holes.insert(holes.end(), {h.x, h.y, h.z});
+  for (const auto& r : fixed.regions)
+    regions.insert(regions.end(), {r.point.x, r.point.y, r.point.z, r.attribute, r.max_volume});
+  val out = val::object();
+  out.set("ok", val(true));
+  out.set("report", repair_report_js(report));
+  out.set("facetSources", to_js(report.facet_source));
+  out.set("points", to_js(xyz));
+  out.set("loopCounts", to_js(counts));
+  out.set("loopSizes", to_js(sizes));
+  out.set("loopVertices", to_js(verts));
+  out.set("holeCounts", to_js(hole_counts));
+  out.set("holePoints", to_js(hole_points));
+  out.set("markers", to_js(markers));
+  out.set("segments", to_js(segments));
+  out.set("holes", to_js(holes));
+  out.set("regions", to_js(regions));
+  out.set("poly", val(cdt3d::write_poly(fixed)));
+  return out;
+}
+
 val tetrahedralize_js(val input, val options, val on_progress) {
   cdt3d::Plc plc;
   double ms_read = 0;
-  cdt3d::Status st = plc_from_js(input, plc, &ms_read);
+  // With repair the input checks are repair's business (as `mesh --repair`).
+  const bool fix = options["repair"].as<bool>();
+  cdt3d::Status st = plc_from_js(input, plc, &ms_read, !fix);
   if (!st.ok()) return failure(st.error);
+  cdt3d::RepairReport report;
+  if (fix) {
+    cdt3d::Plc fixed;
+    st = cdt3d::repair(plc, fixed, report);
+    if (!st.ok()) return failure(st.error);
+    plc = std::move(fixed);
+    ms_read += report.ms;
+  }
   cdt3d::Options opt;
   opt.keep_convex_hull = options["keepConvexHull"].as<bool>();
   opt.validate = options["validate"].as<bool>();
@@ -332,7 +405,8 @@ val tetrahedralize_js(val input, val options, val on_progress) {
   opt.progress = &ProgressBridge::report;
   opt.progress_user = &bridge;
   opt.cancel = &bridge.cancel;
-  cdt3d::Result r = cdt3d::tetrahedralize(plc, opt);
+  cdt3d::Result r = cdt3d::tetrahedralize(plc, opt);  // validates the repaired PLC
+  if (fix) cdt3d::map_to_input_facets(report, r);
   if (!r.status.ok()) {
     val out = failure(r.status.error);
     if (!r.intersecting_facets.empty()) {
@@ -344,7 +418,9 @@ val tetrahedralize_js(val input, val options, val on_progress) {
   }
   r.stats.ms_read += ms_read;
   r.stats.ms_total += ms_read;
-  return result_js(r);
+  val out = result_js(r);
+  if (fix) out.set("repair", repair_report_js(report));
+  return out;
 }
 
 // A Result rebuilt from the arrays of result_js (for validate and write).
@@ -482,6 +558,7 @@ EMSCRIPTEN_BINDINGS(cdt3d) {
   emscripten::function("_tetrahedralize", +[](val input, val options, val progress) {
     return guarded([&] { return tetrahedralize_js(input, options, progress); });
   });
+  emscripten::function("_repair", +[](val input) { return guarded([&] { return repair_js(input); }); });
   emscripten::function("_validate", +[](val input, val result) {
     return guarded([&] { return validate_js(input, result); });
   });

@@ -134,6 +134,18 @@ export interface Cdt3d {
    * @throws {Cdt3dError} bad input (with where), "cancelled", "out-of-memory", "invalid-argument".
    */
   tetrahedralize(input: PlcInput, options?: TetrahedralizeOptions): MeshResult;
+  /**
+   * Repairs a PLC exactly (the native `cdt3d repair`): welds identical points;
+   * drops repeated vertices, zero-area polygons and duplicate facets; splits
+   * non-planar facets into triangles; makes T-junction vertices vertices of
+   * the facets they lie on; inserts the intersection segments of crossing
+   * facets (new points rounded to doubles, checked again exactly). The input
+   * is not checked first (that is what repair is for). The result is a
+   * {@link PlcInput} for tetrahedralize().
+   * @throws {Cdt3dError} what repair cannot fix (e.g. "nan", or "self-intersection"
+   *   naming input facets that still intersect).
+   */
+  repair(input: PlcInput): RepairResult;
   /** Step 1 alone: the Delaunay tetrahedralization of a point set (3 coordinates per point). */
   delaunay(points: Float64Array | number[]): { tets: Uint32Array; stats: { points: number; tets: number; msDelaunay: number } };
   /** Checks a result against its input with exact predicates (valid, facets recovered, constrained Delaunay). */
@@ -201,6 +213,12 @@ export interface TetrahedralizeOptions {
   checkIntersections?: boolean;
   /** Join coplanar edge-adjacent facets (TetGen's default; fewer Steiner points). Default false (like tetgen -M). */
   mergeCoplanarFacets?: boolean;
+  /**
+   * Repair the PLC first (as {@link Cdt3d.repair}); the result's faceFacets,
+   * steinerParents and errors still name input facets, and `repair` says what
+   * changed. Default false.
+   */
+  repair?: boolean;
   /**
    * How step 3 (local degeneracies: five co-spherical vertices) is handled.
    * "symbolic" (default): symbolic perturbation, no vertex moves and no point
@@ -323,6 +341,58 @@ export interface MeshResult {
   stats: MeshStatistics;
   /** {ok: true} when options.validate was set (a failed validation throws), else null. */
   validation: ValidationResult | null;
+  /** With options.repair: what repair changed. */
+  repair?: RepairReport;
+}
+
+/** What repair changed, step by step (the native `cdt3d repair --json` "repair" object). */
+export interface RepairReport {
+  /** False when the PLC was valid already: then nothing was changed. */
+  changed: boolean;
+  inputPoints: number;
+  points: number;
+  inputFacets: number;
+  facets: number;
+  /** Step 1: points merged into an identical earlier point. */
+  weldedPoints: number;
+  /** Step 1: repeated polygon vertices dropped (or cut at). */
+  repeatedVertices: number;
+  /** Step 1: polygons of zero area dropped. */
+  zeroAreaPolygons: number;
+  /** Step 1: facets dropped because no polygon with area was left. */
+  degenerateFacets: number;
+  /** Step 1: facets dropped as repeats of an earlier facet. */
+  duplicateFacets: number;
+  /** Step 2: non-planar facets split into triangles. */
+  nonplanarFacets: number;
+  /** Step 3: (vertex, facet) T-junctions made explicit, and the facets concerned. */
+  tjunctionVertices: number;
+  tjunctionFacets: number;
+  /** Step 4: facet pairs found crossing, facets split, new (rounded) points, rounds. */
+  crossingPairs: number;
+  crossingFacets: number;
+  intersectionPoints: number;
+  rounds: number;
+  /** Facet pairs still intersecting (0 on success). */
+  unresolvedPairs: number;
+  ms: number;
+  /** Input facets some step changed (for highlighting). */
+  changedFacets: Uint32Array;
+}
+
+/** A repaired PLC: a {@link PlcInput} for tetrahedralize(), with what changed. */
+export interface RepairResult {
+  fileName: string;
+  points: Float64Array;
+  facets: { loops: number[][]; holes: [number, number, number][]; marker: number }[];
+  segments: Uint32Array;
+  holes: Float64Array;
+  regions: RegionInput[];
+  /** Per facet of the result: the input facet it comes from. */
+  facetSources: Uint32Array;
+  report: RepairReport;
+  /** The repaired PLC as a TetGen .poly file (what `cdt3d repair -o` writes). */
+  poly: string;
 }
 
 export interface ValidationResult {

@@ -72,6 +72,7 @@ const demo = {
   timings: [],
   highlighted: 0,
   snapshot: () => viewer.snapshot(),
+  repair: null, // the repair report of the last "Repair and mesh"
 };
 window.cdt3dDemo = demo;
 
@@ -105,6 +106,9 @@ async function openModel(source) {
   demo.result = null;
   demo.highlighted = 0;
   $('error').hidden = true;
+  $('repair').hidden = true;
+  $('repair-report').hidden = true;
+  demo.repair = null;
   $('notice').hidden = true;
   $('stats').hidden = true;
   $('downloads').hidden = true;
@@ -130,6 +134,7 @@ async function openModel(source) {
     setState('meshing');
     timing.meshStart = performance.now();
     const options = { validate: $('opt-validate').checked, keepConvexHull: $('opt-hull').checked };
+    if (source.repair) options.repair = true;
     let result;
     try {
       result = await mesher.mesh(input, options, {
@@ -168,6 +173,7 @@ async function openModel(source) {
     showLegend();
     $('downloads').hidden = false;
     $('remesh').disabled = false;
+    if (result.repair) showRepair(result.repair);
     await nextFrames(2);
     if (id !== jobSeq) return;
     timing.shown = performance.now();
@@ -556,8 +562,54 @@ function showError(e, name) {
   }
   $('error-hint').textContent = hint;
   $('error-hint').hidden = !hint;
+  $('repair').hidden = !(REPAIRABLE.has(error.code) && current?.source && !current.source.repair);
   $('error').hidden = false;
   $('model-status').textContent = `Error: ${error.code}`;
+}
+
+// Errors that repair can fix: the error panel offers "Repair and mesh".
+const REPAIRABLE = new Set(['self-intersection', 'duplicate', 'degenerate', 'nonplanar']);
+
+$('repair').addEventListener('click', () => {
+  if (current?.source) openModel({ ...current.source, repair: true });
+});
+
+// What repair changed, counts per kind, and the changed input facets in red
+// on the (ghosted) input surface.
+const REPAIR_ROWS = [
+  ['weldedPoints', 'welded points'],
+  ['duplicateFacets', 'duplicate facets dropped'],
+  ['degenerateFacets', 'zero-area facets dropped'],
+  ['zeroAreaPolygons', 'zero-area polygons dropped'],
+  ['repeatedVertices', 'repeated vertices dropped'],
+  ['nonplanarFacets', 'non-planar facets split'],
+  ['tjunctionVertices', 'T-junction vertices'],
+  ['crossingPairs', 'crossing facet pairs'],
+  ['intersectionPoints', 'new intersection points'],
+];
+
+function showRepair(report) {
+  demo.repair = report;
+  const rows = $('repair-rows');
+  rows.innerHTML = '';
+  for (const [key, label] of REPAIR_ROWS) {
+    const tr = document.createElement('tr');
+    tr.dataset.kind = key;
+    const a = document.createElement('td');
+    a.textContent = label;
+    const b = document.createElement('td');
+    b.textContent = fmt.format(report[key]);
+    tr.append(a, b);
+    rows.append(tr);
+  }
+  const changed = new Set(report.changedFacets);
+  let shown = 0;
+  if (changed.size > 0 && current?.surface) shown = showSurface(current.surface, changed);
+  demo.highlighted = shown;
+  $('repair-changed').textContent = report.changed
+    ? `${fmt.format(changed.size)} input facets changed${shown > 0 ? ' (in red)' : ''}.`
+    : 'Nothing to change: the model was valid.';
+  $('repair-report').hidden = false;
 }
 
 function showNotice(text) {

@@ -15,6 +15,14 @@ inline constexpr int kExitUsage = 2;  // bad command line
 int run_info(int argc, char** argv);      // cmd_info.cpp
 int run_delaunay(int argc, char** argv);  // cmd_delaunay.cpp
 int run_mesh(int argc, char** argv);      // cmd_mesh.cpp
+int run_repair(int argc, char** argv);    // cmd_repair.cpp
+
+// cmd_repair.cpp: the repair report as table lines and as a JSON object.
+std::string repair_summary(const RepairReport& r);
+std::string repair_json(const RepairReport& r);
+
+// cmd_mesh.cpp: writes a whole file (IoError naming it on failure).
+Status write_text(const std::string& name, const std::string& text);
 
 // cli_json.cpp
 std::string json_string(const std::string& s);  ///< quoted and escaped

@@ -26,6 +26,7 @@ void usage(std::FILE* out) {
       "usage: cdt3d mesh MODEL [-o PREFIX] [--format node|vtk|mesh] [--keep-hull]\n"
       "                        [--validate] [--stats] [--json] [-q] [--merge]\n"
       "                        [--paper-degeneracy] [--no-intersection-check] [--stop-after PHASE]\n"
+      "                        [--repair]\n"
       "\n"
       "Constrained Delaunay tetrahedralization of MODEL (.stl .off .obj .ply .poly .smesh).\n"
       "  -o PREFIX         write the mesh: PREFIX.node/.ele/.face (default format),\n"
@@ -41,10 +42,14 @@ void usage(std::FILE* out) {
       "  --paper-degeneracy  step 3 as in Si & Gaertner 2005, section 6 (perturbations, break points,\n"
       "                    boundary protection) instead of the symbolic perturbation\n"
       "  --no-intersection-check  skip the exact self-intersection test of the input\n"
+      "  --repair          repair the PLC first (as `cdt3d repair`); facets in the output\n"
+      "                    and in errors keep their input numbers\n"
       "  --stop-after P    delaunay | segments | degeneracy | facets: stop after that step,\n"
       "                    write all tets as PREFIX.node/.ele and the subsegments as .edge\n"
       "exit codes: 0 success, 1 input or meshing error, 2 usage error\n");
 }
+
+}  // namespace
 
 Status write_text(const std::string& name, const std::string& text) {
   Status st;
@@ -57,6 +62,8 @@ Status write_text(const std::string& name, const std::string& text) {
   if (std::fclose(f) != 0 || !ok) st.error = {ErrorCode::IoError, "Error while writing the file.", name};
   return st;
 }
+
+namespace {
 
 std::string edge_file(const Result& r) {
   std::string s = std::to_string(r.edges.size() / 2) +
@@ -80,7 +87,8 @@ Status write_result(const Result& r, const std::string& prefix, const std::strin
   return st;
 }
 
-void print_json(const Result& r, Phase stop, bool validated, const Status& valid) {
+void print_json(const Result& r, Phase stop, bool validated, const Status& valid,
+                const std::string& repair) {
   const Statistics& s = r.stats;
   std::printf(
       "{\"ok\":true,\"phase\":%s,\"inputPoints\":%zu,\"inputFacets\":%zu,\"inputSegments\":%zu,"
@@ -103,9 +111,10 @@ void print_json(const Result& r, Phase stop, bool validated, const Status& valid
       json_number(s.max_dihedral).c_str());
   for (size_t i = 0; i < s.radius_edge_histogram.size(); ++i)
     std::printf("%s%zu", i ? "," : "", s.radius_edge_histogram[i]);
-  std::printf("],\"valid\":%s,\"validation\":%s}\n",
+  std::printf("],\"valid\":%s,\"validation\":%s%s%s}\n",
               validated ? (valid.ok() ? "true" : "false") : "null",
-              json_string(validated && !valid.ok() ? valid.error.to_string() : "").c_str());
+              json_string(validated && !valid.ok() ? valid.error.to_string() : "").c_str(),
+              repair.empty() ? "" : ",\"repair\":", repair.c_str());
 }
 
 void print_table(const std::string& input, const Result& r, Phase stop, DegeneracyMode mode,
@@ -163,7 +172,7 @@ void print_table(const std::string& input, const Result& r, Phase stop, Degenera
 
 int run_mesh(int argc, char** argv) {
   std::string input, prefix, format = "node", stop_name;
-  bool json = false, quiet = false, quality = false;
+  bool json = false, quiet = false, quality = false, fix = false;
   Options opt;
   for (int i = 0; i < argc; ++i) {
     const std::string a = argv[i];
@@ -184,6 +193,8 @@ int run_mesh(int argc, char** argv) {
       opt.degeneracy = DegeneracyMode::Paper;
     } else if (a == "--merge") {
       opt.merge_coplanar_facets = true;
+    } else if (a == "--repair") {
+      fix = true;
     } else if (a == "--no-intersection-check") {
       opt.check_intersections = false;
     } else if ((a == "-o" || a == "--stop-after" || a == "--format") && i + 1 < argc) {
@@ -217,12 +228,20 @@ int run_mesh(int argc, char** argv) {
 
   const auto t0 = std::chrono::steady_clock::now();
   Plc plc;
-  Status st = read_plc_file(input, plc);
+  // With --repair the input checks are repair's business.
+  Status st = read_plc_file(input, plc, !fix);
+  RepairReport report;
+  if (st.ok() && fix) {
+    Plc fixed;
+    st = repair(plc, fixed, report);
+    plc = std::move(fixed);
+  }
   const double ms_read =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   Result r;
   if (st.ok()) {
-    r = tetrahedralize(plc, opt);
+    r = tetrahedralize(plc, opt);  // validates against the repaired PLC (opt.validate)
+    if (fix) map_to_input_facets(report, r);
     st = r.status;
   }
   r.stats.ms_read += ms_read;
@@ -236,10 +255,12 @@ int run_mesh(int argc, char** argv) {
       std::fprintf(stderr, "cdt3d mesh: %s\n", st.error.to_string().c_str());
     return kExitError;
   }
-  if (json)
-    print_json(r, stop, validated, st);
-  else if (!quiet)
+  if (json) {
+    print_json(r, stop, validated, st, fix ? repair_json(report) : std::string());
+  } else if (!quiet) {
     print_table(input, r, stop, opt.degeneracy, quality, validated);
+    if (fix) std::printf("%s", repair_summary(report).c_str());
+  }
   return kExitOk;
 }
 

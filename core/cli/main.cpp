@@ -15,6 +15,8 @@ void print_usage(std::FILE* out) {
                "  delaunay POINTS [-o P]   Delaunay tetrahedralization of the points\n"
                "  mesh MODEL --stop-after PHASE [-o P]\n"
                "                           run the CDT pipeline up to a phase\n"
+               "  repair MODEL [-o P]      repair the PLC exactly, write P.poly\n"
+               "  mesh MODEL --repair      repair, then mesh\n"
                "\n"
                "MODEL: .stl (ASCII/binary) .off .obj .ply .poly .smesh\n"
                "exit codes: 0 success, 1 input or meshing error, 2 usage error\n");
@@ -31,6 +33,7 @@ int main(int argc, char** argv) {
   if (!std::strcmp(cmd, "info")) return cdt3d::cli::run_info(argc - 2, argv + 2);
   if (!std::strcmp(cmd, "delaunay")) return cdt3d::cli::run_delaunay(argc - 2, argv + 2);
   if (!std::strcmp(cmd, "mesh")) return cdt3d::cli::run_mesh(argc - 2, argv + 2);
+  if (!std::strcmp(cmd, "repair")) return cdt3d::cli::run_repair(argc - 2, argv + 2);
   std::fprintf(stderr, "cdt3d: unknown command '%s'\n", cmd);
   print_usage(stderr);
   return cdt3d::cli::kExitUsage;

@@ -106,12 +106,12 @@ Status read_plc(const uint8_t* data, size_t size, const std::string& file_name, 
 #endif
 }
 
-Status read_plc_file(const std::string& path, Plc& out) {
+Status read_plc_file(const std::string& path, Plc& out, bool check) {
   out = Plc();
   out.file = path;
   if (format_from_name(path) == FileFormat::Unknown) {
     // Report the extension before touching the file system.
-    return read_plc(nullptr, 0, path, out);
+    return read_plc(nullptr, 0, path, out, check);
   }
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) return io::fail(ErrorCode::IoError, "Cannot open the file.", path);
@@ -148,7 +148,7 @@ Status read_plc_file(const std::string& path, Plc& out) {
 #endif
   std::fclose(f);
   if (read_error) return io::fail(ErrorCode::IoError, "Reading the file failed.", path);
-  return read_plc(bytes.data(), bytes.size(), path, out);
+  return read_plc(bytes.data(), bytes.size(), path, out, check);
 }
 
 namespace {

@@ -33,6 +33,7 @@ const READER_ERRORS = {
   'invalid-nan': 'nan',
   'invalid-degenerate': 'degenerate',
   'invalid-duplicate': 'duplicate',
+  'invalid-nonplanar': 'nonplanar',
 };
 
 let cdt3d;

@@ -19,6 +19,8 @@ import type {
   Progress,
   ValidationResult,
   InputSurface,
+  RepairReport,
+  RepairResult,
 } from 'cdt3d';
 
 const options: CreateCdt3dOptions = {
@@ -149,3 +151,16 @@ await createCdt3d({ wasmBinary: 'cdt3d.wasm' });
 const notYet: Cdt3d = createCdt3d();
 
 void [version, codes, heap, notYet];
+
+// Repair: a repaired PLC goes straight back into tetrahedralize.
+const repaired: RepairResult = cdt.repair({ bytes: new Uint8Array(4), fileName: 'model.off' });
+const report: RepairReport = repaired.report;
+const repairCounts: number[] = [report.weldedPoints, report.duplicateFacets, report.tjunctionVertices,
+  report.crossingPairs, report.unresolvedPairs, repaired.facetSources[0]];
+const changedFacets: Uint32Array = report.changedFacets;
+const fromRepaired: MeshResult = cdt.tetrahedralize(repaired, { repair: false });
+const meshReport: RepairReport | undefined = cdt.tetrahedralize({ bytes: new Uint8Array(4), fileName: 'a.obj' }, { repair: true }).repair;
+const polyText: string = repaired.poly;
+// @ts-expect-error repair is a boolean option
+cdt.tetrahedralize(repaired, { repair: 'yes' });
+void [repairCounts, changedFacets, fromRepaired, meshReport, polyText, report.changed];

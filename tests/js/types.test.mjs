@@ -72,6 +72,15 @@ test('interface MeshStatistics declares exactly the stats tetrahedralize returns
   assert.deepEqual(interfaceMembers('MeshStatistics').sort(), Object.keys(r.stats).sort());
 });
 
+test('interface RepairReport declares exactly the report repair() and tetrahedralize({repair}) return', () => {
+  const bytes = readFileSync(path.join(repoRoot, 'tests', 'data', 'tjunction_box.off'));
+  const r = cdt.repair({ bytes, fileName: 'tjunction_box.off' });
+  assert.deepEqual(interfaceMembers('RepairReport').sort(), Object.keys(r.report).sort());
+  assert.deepEqual(interfaceMembers('RepairResult').sort(), Object.keys(r).sort());
+  const m = cdt.tetrahedralize({ bytes, fileName: 'tjunction_box.off' }, { repair: true });
+  assert.deepEqual(Object.keys(m.repair).sort(), Object.keys(r.report).sort());
+});
+
 test('CreateCdt3dOptions declares the options createCdt3d checks', () => {
   assert.deepEqual(interfaceMembers('CreateCdt3dOptions').sort(), ['locateFile', 'wasmBinary']);
 });

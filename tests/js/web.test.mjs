@@ -400,6 +400,36 @@ test('invalid models: the error says what and where, named facets in red', { ski
   }
 });
 
+test('repair: an error repair can fix offers "Repair and mesh", then counts per kind and changed facets', { skip, timeout: 90_000 }, async () => {
+  // An open surface is no case for repair: no button.
+  assert.equal(await openFile(OPEN), 'error');
+  assert.equal(await page.isVisible('#repair'), false, 'open-boundary offers no repair');
+  for (const rel of [INVALID, 'tests/data/tjunction_box.off', 'tests/data/nonplanar_quad.obj']) {
+    const bytes = readFileSync(path.join(repoRoot, rel));
+    const fileName = path.basename(rel);
+    const expected = cdt.repair({ bytes, fileName }).report;
+    const mesh = cdt.tetrahedralize({ bytes, fileName }, { ...PAGE_OPTIONS, repair: true });
+    assert.equal(await openFile(rel), 'error', rel);
+    assert.ok(await page.isVisible('#repair'), `${rel}: no "Repair and mesh" button`);
+    const before = await page.evaluate(() => window.cdt3dDemo.timings.length);
+    await page.click('#repair');
+    await page.waitForFunction((n) => window.cdt3dDemo.timings.length > n, before);
+    assert.equal(await waitForState(FINAL), 'done', rel);
+    const report = await page.evaluate(() => window.cdt3dDemo.repair);
+    for (const key of ['weldedPoints', 'duplicateFacets', 'degenerateFacets', 'nonplanarFacets', 'tjunctionVertices',
+      'crossingPairs', 'intersectionPoints']) {
+      assert.equal(report[key], expected[key], `${rel}: ${key}`);
+      const shown = await page.textContent(`#repair-rows tr[data-kind="${key}"] td:last-child`);
+      assert.equal(Number(shown.replace(/,/g, '')), expected[key], `${rel}: row ${key}`);
+    }
+    assert.ok(await page.isVisible('#repair-report'));
+    assert.equal(comparable(await pageStats()).tets, mesh.stats.tets, `${rel}: tets`);
+    const highlighted = await page.evaluate(() => window.cdt3dDemo.highlighted);
+    assert.ok(highlighted > 0, `${rel}: the changed facets are not highlighted`);
+    await shot(`repair-${fileName.replace(/\W+/g, '_')}`);
+  }
+});
+
 test('a large model can be cancelled, and a new file cancels the running job', { skip, timeout: 90_000 }, async () => {
   // Cancel button.
   await page.selectOption('#sample', LARGE_SAMPLE);

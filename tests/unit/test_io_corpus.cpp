@@ -39,6 +39,7 @@ TEST_CASE("Corpus: every manifest row loads or fails as expected", "[io][corpus]
       {"invalid-nan", ErrorCode::NonFinite},
       {"invalid-duplicate", ErrorCode::DuplicateFacet},
       {"invalid-degenerate", ErrorCode::DegenerateFacet},
+      {"invalid-nonplanar", ErrorCode::NonPlanarFacet},
   };
   for (const Row& row : rows) {
     INFO("model " << row.file << " (" << row.expected << ")");

@@ -333,6 +333,40 @@ TEST_CASE("OBJ: v/f lines, corner forms, negative indices, polylines", "[io][obj
   }
 }
 
+TEST_CASE("OBJ: a trailing backslash continues a statement on the next line", "[io][obj]") {
+  Plc plc;
+  SECTION("face and vertex lines continued, with blanks and CRLF after the backslash") {
+    const std::string text =
+        "v 0 0 0\nv 1 0 \\\n 0\nv 0 1 0\nv 0 0 1\n"
+        "f 1 3 \\\n 2\n"
+        "f 1 2\\\r\n4\n"
+        "f 2 3 \\  \n\\\n 4\n"
+        "vt 0.5 \\\n 0.5\n"
+        "f 1 4 3\n";
+    REQUIRE(read_text(text, "c.obj", plc).ok());
+    check_tet(plc);
+    CHECK(plc.facets[0].loops[0] == std::vector<VertexId>{0, 2, 1});
+    CHECK(plc.facets[1].loops[0] == std::vector<VertexId>{0, 1, 3});
+    // Provenance is the physical line the statement starts on.
+    CHECK(plc.facets[0].line == 6);
+    CHECK(plc.facets[1].line == 8);
+    CHECK(plc.facets[2].line == 10);
+    CHECK(plc.facets[3].line == 15);
+  }
+  SECTION("an error after a continuation names the physical line of the bad token") {
+    const std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 \\\n2 \\\nx3\n";
+    Status s = read_text(text, "c.obj", plc);
+    CHECK(s.error.code == ErrorCode::Parse);
+    CHECK(s.error.line == 6);
+  }
+  SECTION("a backslash inside a line is no continuation") {
+    const std::string text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 \\ 2 3\n";
+    Status s = read_text(text, "c.obj", plc);
+    CHECK(s.error.code == ErrorCode::Parse);
+    CHECK(s.error.line == 4);
+  }
+}
+
 namespace {
 
 // PLY with a vertex element (x y z among other properties) and a face element,

@@ -163,8 +163,8 @@ FileFormat format_from_name(const std::string& file_name);
 Status read_plc(const uint8_t* data, size_t size, const std::string& file_name, Plc& out,
                 bool check = true);
 
-/// Read a file from disk and parse it with read_plc().
-Status read_plc_file(const std::string& path, Plc& out);
+/// Read a file from disk and parse it with read_plc() (check as there).
+Status read_plc_file(const std::string& path, Plc& out, bool check = true);
 
 /// Input checks: finite coordinates within kMaxCoordinate, indices in range,
 /// facets with >= 3 distinct vertices and no repeated vertex in a loop, no
@@ -318,6 +318,63 @@ Status delaunay_tetrahedralization(const std::vector<double>& xyz, std::vector<u
 /// 3 point ids per triangle in `triangles`, its facet in `triangle_facet`.
 Status triangulate_surface(const Plc& plc, std::vector<uint32_t>& triangles,
                            std::vector<uint32_t>& triangle_facet);
+
+// ---------------------------------------------------------------------------
+// Repair
+// ---------------------------------------------------------------------------
+
+/// What repair() changed, step by step. All zero (and changed() false) when
+/// the PLC was valid already: then the output is the input.
+struct RepairReport {
+  // Step 1: clean-up.
+  size_t welded_points = 0;       ///< points merged into an identical earlier point
+  size_t repeated_vertices = 0;   ///< repeated polygon vertices dropped (or cut at)
+  size_t zero_area_polygons = 0;  ///< polygons of zero area (collinear or < 3 vertices) dropped
+  size_t degenerate_facets = 0;   ///< facets dropped because no polygon with area was left
+  size_t duplicate_facets = 0;    ///< facets dropped as repeats of an earlier facet
+  // Step 2.
+  size_t nonplanar_facets = 0;    ///< non-planar facets split into triangles
+  // Step 3: T-junctions.
+  size_t tjunction_vertices = 0;  ///< (vertex, facet) incidences made explicit
+  size_t tjunction_facets = 0;    ///< facets that gained such vertices
+  // Step 4: crossings and overlaps.
+  size_t crossing_pairs = 0;      ///< facet pairs found crossing or overlapping (first round)
+  size_t crossing_facets = 0;     ///< facets re-triangulated along intersection segments
+  size_t intersection_points = 0; ///< new points (constructed, rounded to doubles)
+  size_t rounds = 0;              ///< rounds of step 4 (each re-checks exactly)
+  size_t unresolved_pairs = 0;    ///< facet pairs still intersecting at the end
+  size_t input_points = 0, input_facets = 0, points = 0, facets = 0;
+  double ms = 0;
+  /// Per output facet: the input facet it comes from (provenance).
+  std::vector<uint32_t> facet_source;
+  /// Input facets that some step changed (sorted), for highlighting.
+  std::vector<uint32_t> changed_facets;
+  bool changed() const;
+};
+
+/// Repairs a PLC exactly, in this order: (1) identical points welded,
+/// repeated polygon vertices, zero-area polygons and duplicate facets
+/// dropped; (2) non-planar facets split into triangles; (3) T-junctions: a
+/// vertex lying on another facet's edge or inside it becomes a vertex of
+/// that facet (no new coordinates); (4) crossing facets get their
+/// intersection segments as edges (new points rounded to doubles, checked
+/// again exactly, a bounded number of rounds). Every output facet keeps the
+/// marker and source line/record of its input facet (report.facet_source).
+/// `plc` may fail check_plc() (read it with read_plc(..., check = false)).
+/// Errors: what repair cannot fix (non-finite coordinates, indices out of
+/// range, facets still intersecting: SelfIntersection naming input facets);
+/// `out` then holds the PLC as far as it got. An open surface is left open.
+Status repair(const Plc& plc, Plc& out, RepairReport& report);
+
+/// After tetrahedralize() of a repaired PLC: makes the result name input
+/// facets (face_facet, Steiner parents of facet points, error facets and
+/// intersecting pairs) through report.facet_source. Validate before this.
+void map_to_input_facets(const RepairReport& report, Result& result);
+
+/// The PLC as a TetGen .poly file (numbered from 0, coordinates with %.17g,
+/// which reads back exactly): points, facets with their polygons, facet holes
+/// and markers, explicit segments as 2-vertex polygons, volume holes, regions.
+std::string write_poly(const Plc& plc);
 
 /// Checks a result against its PLC with exact predicates: valid
 /// tetrahedralization (positive tets, face-adjacency consistent, no gaps

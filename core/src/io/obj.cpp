@@ -2,6 +2,8 @@
 // corners are written i, i/t, i//n or i/t/n (1-based; negative = relative to
 // the vertices read so far), "l" polylines as explicit segments, "p" points.
 // Texture coordinates, normals, groups, smoothing and materials are ignored.
+// A trailing backslash continues a statement on the next line; errors name the
+// physical line of the offending token.
 #include "io/read_common.hpp"
 
 namespace cdt3d {
@@ -50,6 +52,7 @@ Status read_obj(const uint8_t* data, size_t size, const std::string& file, Plc& 
   out.file = file;
   if (size == 0) return fail(ErrorCode::Empty, "The file is empty.", file);
   TextReader r(reinterpret_cast<const char*>(data), size, '#');
+  r.set_line_continuation(true);  // legal OBJ: "f 1 2 \\" goes on on the next line
   PlcBuilder b(out, file, 1);
   b.reserve_vertices(size / 32, size / 32, size / 32);
   Token t;

@@ -187,10 +187,23 @@ TextReader::TextReader(const char* data, size_t size, char comment, size_t start
       last_line_(line),
       comment_(comment) {}
 
+size_t TextReader::past_continuation(size_t at) const {
+  if (!continuation_ || at >= size_ || data_[at] != '\\') return at;
+  size_t k = at + 1;
+  while (k < size_ && is_blank(data_[k])) ++k;
+  if (k < size_ && data_[k] != '\n') return at;  // a backslash inside the line
+  return k < size_ ? k + 1 : k;
+}
+
 void TextReader::skip_blank_and_comments(bool cross_lines) {
   while (pos_ < size_) {
     const char c = data_[pos_];
-    if (c == '\n') {
+    const size_t joined = past_continuation(pos_);
+    if (joined != pos_) {
+      // The logical line goes on; count the physical line feed consumed.
+      if (data_[joined - 1] == '\n') ++line_;
+      pos_ = joined;
+    } else if (c == '\n') {
       if (!cross_lines) return;
       ++line_;
       ++pos_;
@@ -210,6 +223,7 @@ void TextReader::read_token(Token& t) {
   while (pos_ < size_) {
     const char c = data_[pos_];
     if (c == '\n' || is_blank(c) || (comment_ != 0 && c == comment_)) break;
+    if (past_continuation(pos_) != pos_) break;  // "2\" at a line end: token "2"
     ++pos_;
   }
   t.p = data_ + start;
@@ -233,6 +247,17 @@ bool TextReader::next_on_line(Token& t) {
 }
 
 void TextReader::skip_line() {
+  if (continuation_) {
+    // A statement we ignore may itself continue on the next physical lines.
+    Token t;
+    while (next_on_line(t)) {
+    }
+    if (pos_ < size_) {
+      ++pos_;  // the line feed
+      ++line_;
+    }
+    return;
+  }
   const void* nl = std::memchr(data_ + pos_, '\n', size_ - pos_);
   if (!nl) {
     pos_ = size_;

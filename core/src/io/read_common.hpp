@@ -74,6 +74,10 @@ class TextReader {
   void skip_line();
   /// True when no token remains anywhere.
   bool at_end();
+  /// OBJ: a backslash that is the last non-blank character of a line joins
+  /// the next line to it (the backslash is no token). Tokens keep the number
+  /// of the physical line they are on, so errors still name that line.
+  void set_line_continuation(bool on) { continuation_ = on; }
 
   /// A saved position, to look ahead and come back.
   struct Mark {
@@ -95,6 +99,9 @@ class TextReader {
  private:
   void skip_blank_and_comments(bool cross_lines);
   void read_token(Token& t);
+  /// With line continuation on: if a continuation backslash starts at `at`,
+  /// the position just past its line feed (or the end); otherwise `at`.
+  size_t past_continuation(size_t at) const;
 
   const char* data_;
   size_t size_;
@@ -102,6 +109,7 @@ class TextReader {
   int64_t line_;
   int64_t last_line_;
   char comment_;
+  bool continuation_ = false;
 };
 
 /// A token for messages: in single quotes, cut at 40 characters, with

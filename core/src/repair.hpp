@@ -1,0 +1,62 @@
+// Internal pieces of repair() (repair.cpp drives them, one file per step):
+// the PLC under repair with the provenance of every facet, and the steps.
+#pragma once
+
+#include <cdt3d/cdt3d.hpp>
+
+#include <cstdint>
+#include <vector>
+
+#include "plc_intersect.hpp"
+
+namespace cdt3d {
+namespace repair_steps {
+
+/// The PLC under repair. Every step keeps `source` in step with
+/// `plc.facets`: source[f] is the input facet that facet f comes from, so
+/// errors, colours and markers can still name the input.
+struct Work {
+  Plc plc;
+  std::vector<uint32_t> source;
+  std::vector<uint8_t> changed;  ///< per input facet: some step changed it
+  std::vector<VertexId> point_of_input;  ///< per input point: its point in `plc`
+
+  void mark(uint32_t input_facet) { changed[input_facet] = 1; }
+};
+
+/// A facet made from part of `from`: one loop, the same marker and source
+/// line or record, no facet holes (a part is a plain polygon).
+Facet part_of(const Facet& from, std::vector<VertexId> loop);
+
+// Step 1 (repair_clean.cpp): identical points welded, repeated polygon
+// vertices dropped (a loop that comes back to a vertex is cut there into
+// loops of its own), zero-area polygons and facets dropped, duplicate facets
+// dropped.
+void weld_points(Work& w, RepairReport& report);
+void clean_polygons(Work& w, RepairReport& report);
+void drop_duplicate_facets(Work& w, RepairReport& report);
+/// Points that facets of `input` used and no facet or segment uses after
+/// step 1 are dropped (a point left behind by a dropped zero-area triangle
+/// may lie on an edge, which the PLC forbids for a free point).
+void drop_orphaned_points(Work& w, const Plc& input);
+
+// Step 2 (repair_nonplanar.cpp): a facet whose vertices are not coplanar is
+// split into triangles.
+void split_nonplanar_facets(Work& w, RepairReport& report);
+
+// Step 3 (repair_tjunction.cpp): a vertex lying exactly on another facet's
+// edge or inside it becomes a vertex of that facet.
+Status split_at_tjunctions(Work& w, RepairReport& report);
+/// Replaces every facet flagged in `which` by the triangles of its own
+/// constrained triangulation (triangulate_surface: its vertices and every
+/// PLC point lying in it), one facet each, provenance kept. A facet that
+/// cannot be triangulated is left as it is.
+Status triangulate_in_place(Work& w, const std::vector<uint8_t>& which);
+
+// Step 4 (repair_crossing.cpp): crossing facets get their intersection
+// segments as edges. `left` receives the improper pairs (in the numbering of
+// w.plc) that remain after the last round; empty when the PLC is clean.
+Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection>& left);
+
+}  // namespace repair_steps
+}  // namespace cdt3d

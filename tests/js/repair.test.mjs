@@ -1,0 +1,97 @@
+// repair() and tetrahedralize(input, { repair: true }) through the package,
+// against the native CLI: every defective model of tests/data of a kind that
+// repair fixes meshes and validates after repair, with the same report as
+// `cdt3d repair --json`; valid models come out unchanged; results name input
+// facets; what cannot be repaired throws a Cdt3dError naming the input.
+import assert from 'node:assert/strict';
+import { spawnSync } from 'node:child_process';
+import { readFileSync } from 'node:fs';
+import path from 'node:path';
+import { before, describe, test } from 'node:test';
+
+import { dataDir, importPackage, readManifest, repoRoot, requireNativeCli, skipNative } from './support.mjs';
+
+let cdt;
+let Cdt3dError;
+before(async () => {
+  const pkg = await importPackage();
+  Cdt3dError = pkg.Cdt3dError;
+  cdt = await pkg.createCdt3d();
+});
+
+const manifest = [...readManifest().values()];
+const REPAIRABLE = /^invalid-(selfintersect|duplicate|degenerate|nonplanar)$/;
+const defective = manifest.filter((r) => REPAIRABLE.test(r.expected)).map((r) => r.file);
+const valid = manifest.filter((r) => r.expected === 'valid' || r.expected === 'valid-plc').map((r) => r.file);
+const input = (file) => ({ bytes: readFileSync(path.join(dataDir, file)), fileName: file });
+
+function nativeRepair(file) {
+  const r = spawnSync(requireNativeCli(), ['repair', path.join('tests', 'data', file), '--json'], {
+    cwd: repoRoot,
+    encoding: 'utf8',
+  });
+  if (r.error) throw r.error;
+  return JSON.parse(r.stdout);
+}
+
+describe('defective models: repaired, meshed, validated', () => {
+  test('there are models of each repairable kind', () => {
+    for (const kind of ['selfintersect', 'duplicate', 'degenerate', 'nonplanar']) {
+      assert.ok(manifest.some((r) => r.expected === `invalid-${kind}`), kind);
+    }
+  });
+  for (const file of defective) {
+    test(file, () => {
+      assert.throws(() => cdt.tetrahedralize(input(file)), Cdt3dError);
+      const repaired = cdt.repair(input(file));
+      assert.equal(repaired.report.changed, true);
+      assert.equal(repaired.report.unresolvedPairs, 0);
+      assert.equal(repaired.facetSources.length, repaired.facets.length);
+      // The repaired PLC passes every input check, meshes and validates.
+      const mesh = cdt.tetrahedralize(repaired, { validate: true });
+      assert.ok(cdt.validate(repaired, mesh).ok);
+      // In one go: faces name input facets.
+      const direct = cdt.tetrahedralize(input(file), { repair: true, validate: true });
+      assert.equal(direct.repair.changed, true);
+      assert.equal(direct.stats.tets, mesh.stats.tets);
+      const inputFacets = direct.repair.inputFacets;
+      assert.ok(direct.faceFacets.every((f) => f < inputFacets));
+      if (!skipNative) {
+        const native = nativeRepair(file).repair;
+        for (const key of Object.keys(native)) {
+          if (key === 'ms' || key === 'changedFacets') continue;
+          assert.equal(repaired.report[key], native[key], key);
+        }
+        assert.equal(repaired.report.changedFacets.length, native.changedFacets);
+      }
+    });
+  }
+});
+
+test('valid models come out unchanged', () => {
+  for (const file of valid.filter((f) => !/bunny|elephant|rocker|fandisk|spot/.test(f))) {
+    const r = cdt.repair(input(file));
+    assert.equal(r.report.changed, false, file);
+    assert.equal(r.report.changedFacets.length, 0, file);
+    assert.equal(r.facets.length, r.report.inputFacets, file);
+  }
+});
+
+test('the repaired .poly text reads back as the same PLC', () => {
+  const r = cdt.repair(input('tjunction_apex.off'));
+  const info = cdt.readPlc(new TextEncoder().encode(r.poly), 'repaired.poly');
+  assert.equal(info.points, r.points.length / 3);
+  assert.equal(info.facets, r.facets.length);
+});
+
+test('what repair cannot fix throws a Cdt3dError naming the input', () => {
+  assert.throws(
+    () => cdt.repair(input('nan_coords.off')),
+    (e) => e instanceof Cdt3dError && e.code === 'nan' && e.file === 'nan_coords.off',
+  );
+  assert.throws(
+    () => cdt.tetrahedralize(input('open_cube.off'), { repair: true }),
+    (e) => e instanceof Cdt3dError && e.code === 'open-boundary',
+  );
+  assert.throws(() => cdt.tetrahedralize(input('cube_ascii.stl'), { repair: 1 }), (e) => e.code === 'invalid-argument');
+});
