@@ -369,6 +369,8 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report);
 /// After tetrahedralize() of a repaired PLC: makes the result name input
 /// facets (face_facet, Steiner parents of facet points, error facets and
 /// intersecting pairs) through report.facet_source. Validate before this.
+/// Segment numbers (edge_segment, parents of segment points) stay those of
+/// the repaired PLC: its edges are not all input edges.
 void map_to_input_facets(const RepairReport& report, Result& result);
 
 /// The PLC as a TetGen .poly file (numbered from 0, coordinates with %.17g,
