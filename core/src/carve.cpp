@@ -7,19 +7,10 @@
 #include <string>
 
 #include "delaunay.hpp"
+#include "status.hpp"
 
 namespace cdt3d {
 namespace {
-
-Status carve_error(ErrorCode code, const std::string& message, int64_t facet = -1,
-                   int64_t vertex = -1) {
-  Status s;
-  s.error.code = code;
-  s.error.message = message;
-  s.error.facet = facet;
-  s.error.vertex = vertex;
-  return s;
-}
 
 // The first loop edge (facet order, loop order) used by exactly one facet.
 bool open_edge(const Plc& plc, VertexId& a, VertexId& b, int64_t& facet) {
@@ -74,10 +65,10 @@ Status carve(const Plc& plc, TetMesh& mesh, const Subfaces& subfaces, bool keep_
     const HalfFace hf = mesh.find_face(s[0], s[1], s[2]);
     sub_hf[i] = hf;
     if (hf == kNone) {
-      return carve_error(ErrorCode::Internal,
-                         "Subface (" + std::to_string(s[0]) + ", " + std::to_string(s[1]) + ", " +
-                             std::to_string(s[2]) + ") is not a face of the mesh.",
-                         i < subfaces.facet.size() ? subfaces.facet[i] : -1);
+      return make_error(ErrorCode::Internal,
+                        "Subface (" + std::to_string(s[0]) + ", " + std::to_string(s[1]) + ", " +
+                            std::to_string(s[2]) + ") is not a face of the mesh.")
+          .facet(i < subfaces.facet.size() ? subfaces.facet[i] : -1);
     }
     if (hf_sub[hf] != kNone) continue;  // listed twice: the first one counts
     hf_sub[hf] = static_cast<uint32_t>(i);
@@ -168,15 +159,16 @@ Status carve(const Plc& plc, TetMesh& mesh, const Subfaces& subfaces, bool keep_
     VertexId a = kNone, b = kNone;
     int64_t facet = -1;
     if (open_edge(plc, a, b, facet)) {
-      return carve_error(ErrorCode::OpenBoundary,
-                         "The surface does not enclose a volume; boundary edge (" +
-                             std::to_string(a) + ", " + std::to_string(b) + ") of facet " +
-                             std::to_string(facet) + " is open.",
-                         facet, a);
+      return make_error(ErrorCode::OpenBoundary,
+                        "The surface does not enclose a volume; boundary edge (" +
+                            std::to_string(a) + ", " + std::to_string(b) + ") of facet " +
+                            std::to_string(facet) + " is open.")
+          .facet(facet)
+          .vertex(a);
     }
-    return carve_error(ErrorCode::OpenBoundary,
-                       "The surface does not enclose a volume: every tetrahedron is outside "
-                       "the surface or in a hole.");
+    return make_error(ErrorCode::OpenBoundary,
+                      "The surface does not enclose a volume: every tetrahedron is outside "
+                      "the surface or in a hole.");
   }
 
   // Constrained faces with a kept tet on at least one side.

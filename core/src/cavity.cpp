@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "delaunay.hpp"
+#include "geometry.hpp"
 #include "predicates.hpp"
 
 namespace cdt3d {
@@ -29,14 +30,6 @@ constexpr size_t kMaxGiftWrapVertices = 4096;
 // Edges of a tet by vertex positions.
 constexpr int kTetEdge[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
 
-Triangle sorted_key(VertexId a, VertexId b, VertexId c) {
-  Triangle k{a, b, c};
-  if (k[0] > k[1]) std::swap(k[0], k[1]);
-  if (k[1] > k[2]) std::swap(k[1], k[2]);
-  if (k[0] > k[1]) std::swap(k[0], k[1]);
-  return k;
-}
-
 // (x0, x1, x2) is a cyclic rotation of (y0, y1, y2).
 bool same_rotation(const VertexId* x, const VertexId* y) {
   for (int r = 0; r < 3; ++r)
@@ -58,10 +51,9 @@ struct Projection {
 };
 
 Projection projection_of(const double* a, const double* b, const double* c) {
-  const double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
-  const double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
-  const double n[3] = {std::fabs(uy * vz - uz * vy), std::fabs(uz * vx - ux * vz),
-                       std::fabs(ux * vy - uy * vx)};
+  const Vec3 normal = triangle_normal(a, b, c);
+  const double n[3] = {std::fabs(normal.x), std::fabs(normal.y), std::fabs(normal.z)};
+  // The best axis first (largest_axis's order), then the others by size.
   int order[3] = {0, 1, 2};
   std::sort(order, order + 3, [&](int i, int j) { return n[i] != n[j] ? n[i] > n[j] : i < j; });
   Projection p;
@@ -249,7 +241,7 @@ uint32_t CavityMesher::new_record(const VertexId v[3], uint32_t side_a, uint32_t
 
 void CavityMesher::kill_record(uint32_t r) {
   recs_[r].alive = false;
-  rec_of_.erase(sorted_key(recs_[r].v[0], recs_[r].v[1], recs_[r].v[2]));
+  rec_of_.erase(sorted_triangle(recs_[r].v[0], recs_[r].v[1], recs_[r].v[2]));
 }
 
 // formcavity step 1: the tets meeting the relative interior of Ω improperly.
@@ -339,13 +331,13 @@ bool CavityMesher::build_records(const std::vector<Triangle>& region, std::strin
       VertexId v[3];
       for (int k = 0; k < 3; ++k) v[k] = m_.vertex(h, kFaceVertex[i][k]);
       const uint32_t r = new_record(v, kPending, kSideKept, out, -1);
-      rec_of_[sorted_key(v[0], v[1], v[2])] = r;
+      rec_of_[sorted_triangle(v[0], v[1], v[2])] = r;
     }
   }
   omega_rec_.resize(region.size());
   for (size_t j = 0; j < region.size(); ++j) {
     const Triangle& T = region[j];
-    const Triangle key = sorted_key(T[0], T[1], T[2]);
+    const Triangle key = sorted_triangle(T[0], T[1], T[2]);
     if (rec_of_.count(key)) {
       why = "a triangle of the region is already a face of the hole";
       return false;
@@ -747,7 +739,7 @@ bool CavityMesher::absorb(TetId t, uint32_t k, std::string& why) {
   for (int i = 0; i < 4; ++i) {
     VertexId v[3];
     for (int j = 0; j < 3; ++j) v[j] = m_.vertex(t, kFaceVertex[i][j]);
-    const auto it = rec_of_.find(sorted_key(v[0], v[1], v[2]));
+    const auto it = rec_of_.find(sorted_triangle(v[0], v[1], v[2]));
     if (it != rec_of_.end()) {
       Rec& R = recs_[it->second];
       if (R.side[1] != kSideKept || hf_tet(R.kept) != t) {
@@ -769,7 +761,7 @@ bool CavityMesher::absorb(TetId t, uint32_t k, std::string& why) {
       return false;
     }
     const uint32_t r = new_record(v, k, kSideKept, out, -1);
-    rec_of_[sorted_key(v[0], v[1], v[2])] = r;
+    rec_of_[sorted_triangle(v[0], v[1], v[2])] = r;
   }
   C.dirty = true;
   return true;
@@ -817,7 +809,7 @@ bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, s
     o.v[1] = local(side == 0 ? R.v[1] : R.v[2]);
     o.v[2] = local(side == 0 ? R.v[2] : R.v[1]);
     o.rec = r, o.side = side;
-    front[sorted_key(o.v[0], o.v[1], o.v[2])] = o;
+    front[sorted_triangle(o.v[0], o.v[1], o.v[2])] = o;
   }
   const std::map<Triangle, Open> faces_of_c = front;
   std::vector<std::array<VertexId, 4>> tets;
@@ -888,7 +880,7 @@ bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, s
         const HalfFace hf = make_hf(d, i);
         const VertexId L[3] = {dt.vertex(d, kFaceVertex[i][0]), dt.vertex(d, kFaceVertex[i][1]),
                                dt.vertex(d, kFaceVertex[i][2])};
-        const Triangle key = sorted_key(L[0], L[1], L[2]);
+        const Triangle key = sorted_triangle(L[0], L[1], L[2]);
         if (C.rec_at[hf] != kNone) {
           front.erase(key);  // a face of C, closed by this tet
           continue;
@@ -974,7 +966,7 @@ bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, s
     front.erase(pick);
     for (int i = 0; i < 3; ++i) {
       const VertexId L[3] = {t[kFaceVertex[i][0]], t[kFaceVertex[i][1]], t[kFaceVertex[i][2]]};
-      const Triangle key = sorted_key(L[0], L[1], L[2]);
+      const Triangle key = sorted_triangle(L[0], L[1], L[2]);
       auto it = front.find(key);
       if (it != front.end()) {
         if (!same_rotation(it->second.v, L)) {
@@ -1011,7 +1003,7 @@ bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, s
     for (int i = 0; i < 4; ++i) {
       const VertexId a = tets[d][kFaceVertex[i][0]], b = tets[d][kFaceVertex[i][1]],
                      c = tets[d][kFaceVertex[i][2]];
-      hfs.push_back({sorted_key(a, b, c), make_hf(d, i)});
+      hfs.push_back({sorted_triangle(a, b, c), make_hf(d, i)});
     }
   }
   std::sort(hfs.begin(), hfs.end());
@@ -1078,7 +1070,7 @@ CavityOutcome CavityMesher::verify_and_expand(CavityReport& report, std::string&
       const Rec& R = recs_[r];
       if (!R.alive || R.side[0] != k || R.side[1] != kSideKept || m_.is_ghost(hf_tet(R.kept)))
         continue;
-      if (is_subface_ && is_subface_(sorted_key(R.v[0], R.v[1], R.v[2]))) continue;
+      if (is_subface_ && is_subface_(sorted_triangle(R.v[0], R.v[1], R.v[2]))) continue;
       if (!absorb(hf_tet(R.kept), k, why)) return CavityOutcome::Failed;
       ++report.expansions;
       ++expanded;
@@ -1139,8 +1131,9 @@ bool CavityMesher::plan_ghost_cavity(uint32_t k, std::string& why) {
   for (uint32_t g = 0; g < C.ghosts.size(); ++g)
     for (int i = 0; i < 3; ++i) {
       const std::array<VertexId, 4>& G = C.ghosts[g];
-      faces.push_back({sorted_key(G[kFaceVertex[i][0]], G[kFaceVertex[i][1]], G[kFaceVertex[i][2]]),
-                       4 * g + uint32_t(i)});
+      faces.push_back(
+          {sorted_triangle(G[kFaceVertex[i][0]], G[kFaceVertex[i][1]], G[kFaceVertex[i][2]]),
+           4 * g + uint32_t(i)});
     }
   std::sort(faces.begin(), faces.end());
   size_t matched_records = 0;
@@ -1196,7 +1189,7 @@ void CavityMesher::commit() {
       VertexId f[3];
       for (int j = 0; j < 3; ++j) f[j] = m_.vertex(t, kFaceVertex[i][j]);
       if (f[0] != kInfinite && f[1] != kInfinite && f[2] != kInfinite)
-        removed_faces_.push_back(sorted_key(f[0], f[1], f[2]));
+        removed_faces_.push_back(sorted_triangle(f[0], f[1], f[2]));
     }
   };
   for (TetId t : hole_) remove(t);
@@ -1256,7 +1249,7 @@ void CavityMesher::commit() {
       for (int i = 0; i < 3; ++i) {
         const std::array<VertexId, 4>& G = C.ghosts[g];
         const Triangle key =
-            sorted_key(G[kFaceVertex[i][0]], G[kFaceVertex[i][1]], G[kFaceVertex[i][2]]);
+            sorted_triangle(G[kFaceVertex[i][0]], G[kFaceVertex[i][1]], G[kFaceVertex[i][2]]);
         const auto it = rec_of_.find(key);
         if (it != rec_of_.end() && recs_[it->second].side[0] == k) {
           recs_[it->second].new_hf[0] = make_hf(C.new_id[g], i);

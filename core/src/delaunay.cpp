@@ -3,25 +3,18 @@
 // 2003), with ghost tets and SoS-perturbed conflict tests. See delaunay.hpp.
 #include "delaunay.hpp"
 
-#include "geometry.hpp"
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <new>
 #include <numeric>
 
+#include "geometry.hpp"
+#include "status.hpp"
+
 namespace cdt3d {
 
 namespace {
-
-Status make_error(ErrorCode code, std::string message, int64_t vertex = -1) {
-  Status s;
-  s.error.code = code;
-  s.error.message = std::move(message);
-  s.error.vertex = vertex;
-  return s;
-}
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -175,9 +168,11 @@ Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result
   if (v >= m.num_vertices())
     return make_error(ErrorCode::InvalidArgument, "Vertex id out of range.");
   if (m.vtet[v] != kNone)
-    return make_error(ErrorCode::InvalidArgument, "Vertex is already in the triangulation.", v);
+    return make_error(ErrorCode::InvalidArgument, "Vertex is already in the triangulation.")
+        .vertex(v);
   if (m.live_tets == 0)
-    return make_error(ErrorCode::InvalidArgument, "The mesh has no tetrahedra to insert into.", v);
+    return make_error(ErrorCode::InvalidArgument, "The mesh has no tetrahedra to insert into.")
+        .vertex(v);
 
   if (vlocal_.size() < m.num_vertices()) vlocal_.resize(m.num_vertices() + m.num_vertices() / 4, 0);
   const double* p = m.point(v);
@@ -185,7 +180,7 @@ Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result
   walk_steps += loc.steps;
   if (result) *result = InsertResult{v, false, loc.tet};
   if (loc.kind == LocateKind::Failed)
-    return make_error(ErrorCode::Internal, "delaunay: point location made no progress.", v);
+    return make_error(ErrorCode::Internal, "delaunay: point location made no progress.").vertex(v);
   if (loc.kind == LocateKind::OnVertex) {
     m.vkind[v] = kVertexDuplicate;
     if (result) result->vertex = loc.vertex, result->duplicate = true;
@@ -306,8 +301,8 @@ Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result
     });
     for (size_t q = 0; q + 1 < recs_.size(); q += 2) {
       if (recs_[q].lo != recs_[q + 1].lo || recs_[q].hi != recs_[q + 1].hi)
-        return make_error(ErrorCode::Internal, "delaunay: cavity boundary is not a closed surface.",
-                          v);
+        return make_error(ErrorCode::Internal, "delaunay: cavity boundary is not a closed surface.")
+            .vertex(v);
       m.glue(recs_[q].hf, recs_[q + 1].hf);
     }
   }
@@ -499,16 +494,19 @@ Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<Vert
   {
     std::vector<bool> listed(nv, false);
     for (VertexId v : vertices) {
-      if (v >= nv) return make_error(ErrorCode::IndexOutOfRange, "Vertex id out of range.", v);
-      if (listed[v]) return make_error(ErrorCode::InvalidArgument, "Vertex listed twice.", v);
+      if (v >= nv)
+        return make_error(ErrorCode::IndexOutOfRange, "Vertex id out of range.").vertex(v);
+      if (listed[v])
+        return make_error(ErrorCode::InvalidArgument, "Vertex listed twice.").vertex(v);
       listed[v] = true;
       const double* p = m.point(v);
       for (int k = 0; k < 3; ++k) {
         if (!std::isfinite(p[k]))
-          return make_error(ErrorCode::NonFinite, "Point has a non-finite coordinate.", v);
+          return make_error(ErrorCode::NonFinite, "Point has a non-finite coordinate.").vertex(v);
         if (std::fabs(p[k]) > kMaxCoordinate)
           return make_error(ErrorCode::CoordinateRange,
-                            "Point coordinate exceeds the supported range.", v);
+                            "Point coordinate exceeds the supported range.")
+              .vertex(v);
       }
     }
   }

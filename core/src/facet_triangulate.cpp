@@ -43,7 +43,9 @@
 #include <string>
 #include <vector>
 
+#include "geometry.hpp"
 #include "predicates.hpp"
+#include "status.hpp"
 #include "subfaces.hpp"
 
 namespace cdt3d {
@@ -74,7 +76,7 @@ class Cdt2 {
   std::string make_delaunay();
 
   bool is_constrained(uint32_t a, uint32_t b) const {
-    return std::binary_search(constrained_.begin(), constrained_.end(), key(a, b));
+    return std::binary_search(constrained_.begin(), constrained_.end(), edge_key(a, b));
   }
   /// Triangle and position of the vertex opposite edge (a, b), or {-1, -1}.
   std::pair<int32_t, int> find_edge(uint32_t a, uint32_t b);
@@ -89,12 +91,8 @@ class Cdt2 {
   size_t flips = 0;
 
  private:
-  static uint64_t key(uint32_t a, uint32_t b) {
-    if (a > b) std::swap(a, b);
-    return (static_cast<uint64_t>(a) << 32) | b;
-  }
   void add_constrained(uint32_t a, uint32_t b) {
-    const uint64_t k = key(a, b);
+    const uint64_t k = edge_key(a, b);
     auto it = std::lower_bound(constrained_.begin(), constrained_.end(), k);
     if (it == constrained_.end() || *it != k) constrained_.insert(it, k);
   }
@@ -445,11 +443,8 @@ std::string Cdt2::make_delaunay() {
 // ---------------------------------------------------------------------------
 
 Status facet_error(size_t f, const std::string& what) {
-  Status s;
-  s.error.code = ErrorCode::Internal;
-  s.error.message = "Facet triangulation failed: " + what + ".";
-  s.error.facet = static_cast<int64_t>(f);
-  return s;
+  return make_error(ErrorCode::Internal, "Facet triangulation failed: " + what + ".")
+      .facet(static_cast<int64_t>(f));
 }
 
 // Projection dropping axis `drop`, the two others in cyclic order (as
@@ -686,12 +681,7 @@ Status FacetTriangulator::run(size_t f, const std::vector<VertexId>* interior, S
   const double* C = mesh_.point(c0);
 
   // Projection plane: drop the largest normal component (exactly nonzero).
-  const double u[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
-  const double w[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
-  const double nrm[3] = {std::fabs(u[1] * w[2] - u[2] * w[1]),
-                         std::fabs(u[2] * w[0] - u[0] * w[2]),
-                         std::fabs(u[0] * w[1] - u[1] * w[0])};
-  int drop = nrm[0] >= nrm[1] ? (nrm[0] >= nrm[2] ? 0 : 2) : (nrm[1] >= nrm[2] ? 1 : 2);
+  int drop = projection_axis(A, B, C);
   if (pred::orient2d_projected(A, B, C, drop) == 0) {
     drop = -1;
     for (int k = 0; k < 3 && drop < 0; ++k)
@@ -775,14 +765,12 @@ Status FacetTriangulator::run(size_t f, const std::vector<VertexId>* interior, S
       for (size_t k = 0; k + 1 < c.size(); ++k) {
         const uint32_t p = local(c[k]), q = local(c[k + 1]);
         constraints_.push_back({p, q});
-        if (pass == 0)
-          loop_keys_.push_back((static_cast<uint64_t>(std::min(p, q)) << 32) | std::max(p, q));
+        if (pass == 0) loop_keys_.push_back(edge_key(p, q));
       }
     }
   std::sort(loop_keys_.begin(), loop_keys_.end());
   auto is_loop_edge = [this](uint32_t p, uint32_t q) {
-    const uint64_t k = (static_cast<uint64_t>(std::min(p, q)) << 32) | std::max(p, q);
-    return std::binary_search(loop_keys_.begin(), loop_keys_.end(), k);
+    return std::binary_search(loop_keys_.begin(), loop_keys_.end(), edge_key(p, q));
   };
   for (const auto& e : constraints_) {
     msg = cdt.insert_constraint(e[0], e[1]);

@@ -9,10 +9,9 @@
 //
 // Each phase returns a Status naming the element it failed on; this file only
 // sequences them, times them, reports progress, and converts the mesh.
-#include <cdt3d/cdt3d.hpp>
-
 #include <algorithm>
 #include <array>
+#include <cdt3d/cdt3d.hpp>
 #include <chrono>
 #include <new>
 #include <string>
@@ -28,6 +27,7 @@
 #include "segment_recovery.hpp"
 #include "sos_order.hpp"
 #include "stats.hpp"
+#include "status.hpp"
 #include "subfaces.hpp"
 #include "tet_mesh.hpp"
 
@@ -173,17 +173,12 @@ Status Pipeline::check_open_facets(const CarveResult& carved) const {
     if (f < bounded.size()) bounded[f] = 1;
   for (uint32_t f = 0; f < plc_->facets.size(); ++f) {
     if (bounded[f]) continue;
-    Status st;
-    st.error.code = ErrorCode::OpenBoundary;
-    st.error.facet = f;
-    st.error.file = plc_->file;
-    st.error.line = plc_->facets[f].line;
-    st.error.record = plc_->facets[f].record;
-    st.error.message =
-        "The surface does not enclose a volume around facet " + std::to_string(f) +
-        ": no kept tetrahedron touches it (the surface is open or the facet lies outside the "
-        "domain). Use keep-hull to mesh open surfaces as constraints inside the convex hull.";
-    return st;
+    return make_error(ErrorCode::OpenBoundary,
+                      "The surface does not enclose a volume around facet " + std::to_string(f) +
+                          ": no kept tetrahedron touches it (the surface is open or the facet "
+                          "lies outside the domain). Use keep-hull to mesh open surfaces as "
+                          "constraints inside the convex hull.")
+        .facet_of(*plc_, f);
   }
   return Status::success();
 }
@@ -211,16 +206,11 @@ size_t Pipeline::move_flat_tets_outside(const CarveResult& carved) {
     uint32_t sub;
     bool operator<(const Key& o) const { return v != o.v ? v < o.v : sub < o.sub; }
   };
-  auto sorted = [](VertexId a, VertexId b, VertexId c) {
-    std::array<VertexId, 3> k = {a, b, c};
-    std::sort(k.begin(), k.end());
-    return k;
-  };
   std::vector<Key> keys;
   keys.reserve(subfaces_.tri.size());
   for (uint32_t i = 0; i < subfaces_.tri.size(); ++i) {
     const auto& t = subfaces_.tri[i];
-    keys.push_back({sorted(t[0], t[1], t[2]), i});
+    keys.push_back({sorted_triangle(t[0], t[1], t[2]), i});
   }
   std::sort(keys.begin(), keys.end());
   auto find = [&](const std::array<VertexId, 3>& k) -> uint32_t {
@@ -231,7 +221,7 @@ size_t Pipeline::move_flat_tets_outside(const CarveResult& carved) {
   std::vector<std::array<uint32_t, 3>> sub;
   segs_.subsegments(sub);
   std::vector<std::array<VertexId, 2>> subsegs;
-  for (const auto& e : sub) subsegs.push_back({std::min(e[0], e[1]), std::max(e[0], e[1])});
+  for (const auto& e : sub) subsegs.push_back(sorted_edge(e[0], e[1]));
   std::sort(subsegs.begin(), subsegs.end());
   std::vector<uint8_t> changed(subfaces_.tri.size(), 0);
   size_t moved = 0;
@@ -239,8 +229,9 @@ size_t Pipeline::move_flat_tets_outside(const CarveResult& carved) {
     int face[2], n = 0;
     uint32_t sub[2];
     for (int i = 0; i < 4 && n <= 2; ++i) {
-      const uint32_t s = find(sorted(mesh_.vertex(t, kFaceVertex[i][0]), mesh_.vertex(t, kFaceVertex[i][1]),
-                                     mesh_.vertex(t, kFaceVertex[i][2])));
+      const uint32_t s = find(sorted_triangle(mesh_.vertex(t, kFaceVertex[i][0]),
+                                              mesh_.vertex(t, kFaceVertex[i][1]),
+                                              mesh_.vertex(t, kFaceVertex[i][2])));
       if (s == kNone) continue;
       if (n < 2) face[n] = i, sub[n] = s;
       ++n;
@@ -258,9 +249,7 @@ size_t Pipeline::move_flat_tets_outside(const CarveResult& carved) {
     if (r == 3) continue;
     const VertexId u = s1[r], v = s1[(r + 1) % 3], p = s1[(r + 2) % 3];
     // Never across a subsegment: the other diagonal would drop it.
-    if (std::binary_search(subsegs.begin(), subsegs.end(),
-                           std::array<VertexId, 2>{std::min(u, v), std::max(u, v)}))
-      continue;
+    if (std::binary_search(subsegs.begin(), subsegs.end(), sorted_edge(u, v))) continue;
     VertexId q = kNone;
     bool consistent = false;
     for (int k = 0; k < 3; ++k) {
@@ -585,14 +574,10 @@ Status delaunay_tetrahedralization(const std::vector<double>& xyz, std::vector<u
                                    double* ms) {
   const auto t0 = Clock::now();
   tets.clear();
-  Status st;
-  if (xyz.size() % 3 != 0) {
-    st.error.code = ErrorCode::InvalidArgument;
-    st.error.message = "Points need 3 coordinates each.";
-    return st;
-  }
+  if (xyz.size() % 3 != 0)
+    return make_error(ErrorCode::InvalidArgument, "Points need 3 coordinates each.");
   TetMesh mesh;
-  st = delaunay_tetrahedralize(mesh, xyz.data(), xyz.size() / 3);
+  Status st = delaunay_tetrahedralize(mesh, xyz.data(), xyz.size() / 3);
   if (!st.ok()) return st;
   tets.reserve(4 * mesh.num_real_tets());
   for (TetId t = 0; t < mesh.num_tet_slots(); ++t)

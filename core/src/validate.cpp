@@ -37,14 +37,15 @@
 //     points are numerically flat (a flat tet flipped away, flat_flips.hpp).
 #include <algorithm>
 #include <array>
-#include <iterator>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <string>
 #include <vector>
 
 #include "geometry.hpp"
 #include "predicates.hpp"
+#include "status.hpp"
 #include "tet_mesh.hpp"
 
 namespace cdt3d {
@@ -52,30 +53,15 @@ namespace {
 
 using Tri3 = std::array<uint32_t, 3>;
 
-Status fail(const std::string& message, int64_t facet = -1, int64_t vertex = -1,
-            int64_t segment = -1) {
-  Status s;
-  s.error.code = ErrorCode::Internal;
-  s.error.message = "Validation: " + message;
-  s.error.facet = facet;
-  s.error.vertex = vertex;
-  s.error.segment = segment;
-  return s;
+// A violated property: an internal error, since a valid run cannot produce
+// one. The caller names the element with the builder's setters.
+ErrorBuilder fail(const std::string& message) {
+  return make_error(ErrorCode::Internal, "Validation: " + message);
 }
 
 std::string tri_name(const Tri3& t) {
   return "(" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) +
          ")";
-}
-
-Tri3 sorted(Tri3 t) {
-  std::sort(t.begin(), t.end());
-  return t;
-}
-
-uint64_t edge_key(uint32_t a, uint32_t b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<uint64_t>(a) << 32) | b;
 }
 
 struct FaceRec {
@@ -161,8 +147,8 @@ Status Validator::sizes() {
     const Vec3& p = plc_.points[i];
     if (pt(static_cast<uint32_t>(i))[0] != p.x || pt(static_cast<uint32_t>(i))[1] != p.y ||
         pt(static_cast<uint32_t>(i))[2] != p.z)
-      return fail("point " + std::to_string(i) + " differs from the PLC's point.", -1,
-                  static_cast<int64_t>(i));
+      return fail("point " + std::to_string(i) + " differs from the PLC's point.")
+          .vertex(static_cast<int64_t>(i));
   }
   const size_t ns = np_ - r_.input_points;
   if (r_.steiner_kind.size() != ns || r_.steiner_parent.size() != ns)
@@ -172,12 +158,12 @@ Status Validator::sizes() {
     const int64_t p = r_.steiner_parent[i];
     const int64_t v = static_cast<int64_t>(r_.input_points + i);
     if (k != SteinerKind::Segment && k != SteinerKind::Facet && k != SteinerKind::Volume)
-      return fail("Steiner point " + std::to_string(v) + " has an unknown kind.", -1, v);
+      return fail("Steiner point " + std::to_string(v) + " has an unknown kind.").vertex(v);
     if (k == SteinerKind::Volume && p != -1)
-      return fail("volume Steiner point " + std::to_string(v) + " has a parent.", -1, v);
+      return fail("volume Steiner point " + std::to_string(v) + " has a parent.").vertex(v);
     if (k == SteinerKind::Facet && (p < 0 || static_cast<size_t>(p) >= plc_.facets.size()))
-      return fail("facet Steiner point " + std::to_string(v) + " has no valid parent facet.", -1,
-                  v);
+      return fail("facet Steiner point " + std::to_string(v) + " has no valid parent facet.")
+          .vertex(v);
   }
   if (r_.face_facet.size() != nf_) return fail("face_facet needs one entry per face.");
   if (!m_.face_markers.empty() && m_.face_markers.size() != nf_)
@@ -194,8 +180,8 @@ Status Validator::sizes() {
       return fail("face " + std::to_string(i) + " names facet " +
                   std::to_string(r_.face_facet[i]) + ", which does not exist.");
     if (!m_.face_markers.empty() && m_.face_markers[i] != plc_.facets[r_.face_facet[i]].marker)
-      return fail("face " + std::to_string(i) + " has a marker other than its facet's.",
-                  r_.face_facet[i]);
+      return fail("face " + std::to_string(i) + " has a marker other than its facet's.")
+          .facet(r_.face_facet[i]);
   }
   for (double x : m_.points) scale_ = std::max(scale_, std::fabs(x));
   return Status::success();
@@ -211,12 +197,12 @@ Status Validator::tets_and_faces() {
     const uint32_t* w = &m_.tets[4 * static_cast<size_t>(t)];
     if (pred::orient3d(pt(w[0]), pt(w[1]), pt(w[2]), pt(w[3])) <= 0)
       return fail("tet " + std::to_string(t) + " (" + std::to_string(w[0]) + ", " +
-                      std::to_string(w[1]) + ", " + std::to_string(w[2]) + ", " +
-                      std::to_string(w[3]) + ") is not positively oriented.",
-                  -1, w[0]);
+                  std::to_string(w[1]) + ", " + std::to_string(w[2]) + ", " + std::to_string(w[3]) +
+                  ") is not positively oriented.")
+          .vertex(w[0]);
     for (int i = 0; i < 4; ++i) {
       in_tet_[w[i]] = 1;
-      faces_.push_back({sorted(tet_face(t, i)), t, i});
+      faces_.push_back({sorted_triangle(tet_face(t, i)), t, i});
       for (int j = i + 1; j < 4; ++j) edges_.push_back(edge_key(w[i], w[j]));
     }
   }
@@ -231,8 +217,8 @@ Status Validator::tets_and_faces() {
     while (j < faces_.size() && faces_[j].key == faces_[i].key) ++j;
     if (j - i > 2)
       return fail("face " + tri_name(faces_[i].key) + " belongs to " + std::to_string(j - i) +
-                      " tets.",
-                  -1, faces_[i].key[0]);
+                  " tets.")
+          .vertex(faces_[i].key[0]);
     if (j - i == 2) {
       const FaceRec& a = faces_[i];
       const FaceRec& b = faces_[i + 1];
@@ -240,8 +226,8 @@ Status Validator::tets_and_faces() {
       const uint32_t d = m_.tets[4 * static_cast<size_t>(b.tet) + b.face];
       if (pred::orient3d(pt(f[0]), pt(f[1]), pt(f[2]), pt(d)) >= 0)
         return fail("tets " + std::to_string(a.tet) + " and " + std::to_string(b.tet) +
-                        " overlap at face " + tri_name(a.key) + ".",
-                    -1, a.key[0]);
+                    " overlap at face " + tri_name(a.key) + ".")
+            .vertex(a.key[0]);
     } else {
       boundary_.push_back(static_cast<uint32_t>(i));
     }
@@ -253,12 +239,12 @@ Status Validator::tets_and_faces() {
 Status Validator::constrained_faces() {
   constrained_.resize(nf_);
   for (size_t i = 0; i < nf_; ++i)
-    constrained_[i] = sorted({m_.faces[3 * i], m_.faces[3 * i + 1], m_.faces[3 * i + 2]});
+    constrained_[i] = sorted_triangle({m_.faces[3 * i], m_.faces[3 * i + 1], m_.faces[3 * i + 2]});
   std::vector<Tri3> keys = constrained_;
   std::sort(keys.begin(), keys.end());
   for (size_t i = 0; i + 1 < keys.size(); ++i)
     if (keys[i] == keys[i + 1])
-      return fail("constrained face " + tri_name(keys[i]) + " is listed twice.", -1, keys[i][0]);
+      return fail("constrained face " + tri_name(keys[i]) + " is listed twice.").vertex(keys[i][0]);
   face_tet_.assign(nf_, 0);
   face_two_.assign(nf_, 0);
   auto lower = [this](const Tri3& k) {
@@ -268,8 +254,9 @@ Status Validator::constrained_faces() {
   for (size_t i = 0; i < nf_; ++i) {
     auto it = lower(constrained_[i]);
     if (it == faces_.end() || it->key != constrained_[i])
-      return fail("constrained face " + tri_name(constrained_[i]) + " is not a face of a tet.",
-                  r_.face_facet[i], constrained_[i][0]);
+      return fail("constrained face " + tri_name(constrained_[i]) + " is not a face of a tet.")
+          .facet(r_.face_facet[i])
+          .vertex(constrained_[i][0]);
     face_tet_[i] = static_cast<uint32_t>(it - faces_.begin());
     face_two_[i] = (it + 1) != faces_.end() && (it + 1)->key == it->key;
   }
@@ -315,8 +302,8 @@ Status Validator::constrained_faces() {
         if (pred::orient3d(pt(f[0]), pt(f[1]), pt(f[2]), pt(e)) < 0 &&
             std::fabs(volume_ratio(pt(f[0]), pt(f[1]), pt(f[2]), pt(e))) > kFlatTetRatio)
           return fail("the boundary of the kept tets is not convex at face " + tri_name(F.key) +
-                          " (with the convex hull kept, as some boundary face is not constrained).",
-                      -1, F.key[0]);
+                      " (with the convex hull kept, as some boundary face is not constrained).")
+              .vertex(F.key[0]);
       }
     }
     i = j;
@@ -352,8 +339,8 @@ Status Validator::segments() {
     const int64_t p = r_.steiner_parent[i];
     const uint32_t v = static_cast<uint32_t>(r_.input_points + i);
     if (p < 0 || static_cast<size_t>(p) >= segments_.size())
-      return fail("segment Steiner point " + std::to_string(v) + " has no valid parent segment.",
-                  -1, v);
+      return fail("segment Steiner point " + std::to_string(v) + " has no valid parent segment.")
+          .vertex(v);
     chains_[static_cast<size_t>(p)].push_back(v);
   }
   for (size_t s = 0; s < segments_.size(); ++s) {
@@ -380,9 +367,10 @@ Status Validator::segments() {
     for (size_t k = 0; k + 1 < c.size(); ++k)
       if (!is_edge(c[k], c[k + 1]) && in_some_tet(c[k], c[k + 1]))
         return fail("segment (" + std::to_string(c.front()) + ", " + std::to_string(c.back()) +
-                        ") is not a chain of mesh edges: (" + std::to_string(c[k]) + ", " +
-                        std::to_string(c[k + 1]) + ") is missing.",
-                    -1, c[k], static_cast<int64_t>(s));
+                    ") is not a chain of mesh edges: (" + std::to_string(c[k]) + ", " +
+                    std::to_string(c[k + 1]) + ") is missing.")
+            .vertex(c[k])
+            .segment(static_cast<int64_t>(s));
   }
   return Status::success();
 }
@@ -458,9 +446,7 @@ Status Validator::facets() {
         n[1] += (p.z - q.z) * (p.x + q.x);
         n[2] += (p.x - q.x) * (p.y + q.y);
       }
-      fdrop_[f] = std::fabs(n[0]) >= std::fabs(n[1])
-                      ? (std::fabs(n[0]) >= std::fabs(n[2]) ? 0 : 2)
-                      : (std::fabs(n[1]) >= std::fabs(n[2]) ? 1 : 2);
+      fdrop_[f] = largest_axis(n[0], n[1], n[2]);
     }
     auto vertex_ok = [&](uint32_t v) {
       if (v < r_.input_points) return std::binary_search(verts.begin(), verts.end(), v);
@@ -505,18 +491,21 @@ Status Validator::facets() {
       for (uint32_t v : t)
         if (!vertex_ok(v))
           return fail("face " + tri_name(t) + " of facet " + std::to_string(f) + " uses vertex " +
-                          std::to_string(v) + ", which does not belong to the facet.",
-                      F, v);
+                      std::to_string(v) + ", which does not belong to the facet.")
+              .facet(F)
+              .vertex(v);
       const int o = pred::orient2d_projected(pt(t[0]), pt(t[1]), pt(t[2]), drop);
       if (o == 0)
         return fail("face " + tri_name(t) + " of facet " + std::to_string(f) +
-                        " is degenerate in the facet's plane.",
-                    F, t[0]);
+                    " is degenerate in the facet's plane.")
+            .facet(F)
+            .vertex(t[0]);
       if (side == 0) side = o;
       if (o != side)
         return fail("the faces of facet " + std::to_string(f) +
-                        " overlap or are not consistently oriented (face " + tri_name(t) + ").",
-                    F, t[0]);
+                    " overlap or are not consistently oriented (face " + tri_name(t) + ").")
+            .facet(F)
+            .vertex(t[0]);
       area_out += tri_area(t);
       for (int k = 0; k < 3; ++k) {
         fedges.push_back(edge_key(t[k], t[(k + 1) % 3]));
@@ -534,14 +523,16 @@ Status Validator::facets() {
       const uint32_t a = static_cast<uint32_t>(fedges[i] >> 32), b = static_cast<uint32_t>(fedges[i]);
       if (j - i > 2)
         return fail("edge (" + std::to_string(a) + ", " + std::to_string(b) + ") is in " +
-                        std::to_string(j - i) + " faces of facet " + std::to_string(f) + ".",
-                    F, a);
+                    std::to_string(j - i) + " faces of facet " + std::to_string(f) + ".")
+            .facet(F)
+            .vertex(a);
       if (j - i == 1) {
         if (!std::binary_search(allowed_edges.begin(), allowed_edges.end(), fedges[i]))
           return fail("the faces of facet " + std::to_string(f) + " end at edge (" +
-                          std::to_string(a) + ", " + std::to_string(b) +
-                          "), which is on none of its segments.",
-                      F, a);
+                      std::to_string(a) + ", " + std::to_string(b) +
+                      "), which is on none of its segments.")
+              .facet(F)
+              .vertex(a);
         if (!std::binary_search(loop_edges.begin(), loop_edges.end(), fedges[i])) partial = true;
       }
       i = j;
@@ -549,14 +540,15 @@ Status Validator::facets() {
     for (uint64_t e : loop_edges)
       if (!partial && !std::binary_search(fedges.begin(), fedges.end(), e))
         return fail("loop subsegment (" + std::to_string(e >> 32) + ", " +
-                        std::to_string(static_cast<uint32_t>(e)) + ") of facet " +
-                        std::to_string(f) + " is no edge of its faces.",
-                    F, static_cast<int64_t>(e >> 32));
+                    std::to_string(static_cast<uint32_t>(e)) + ") of facet " + std::to_string(f) +
+                    " is no edge of its faces.")
+            .facet(F)
+            .vertex(static_cast<int64_t>(e >> 32));
     const double tol = 1e-9 * area_in + 64 * 2.2e-16 * scale_ * perimeter;
     if (partial ? area_out > area_in + tol : std::fabs(area_out - area_in) > tol)
       return fail("the faces of facet " + std::to_string(f) + " cover an area of " +
-                      std::to_string(area_out) + " instead of " + std::to_string(area_in) + ".",
-                  F);
+                  std::to_string(area_out) + " instead of " + std::to_string(area_in) + ".")
+          .facet(F);
     if (partial || facet.loops.size() != 1) facets_closed_ = false;
   }
   // Probes of the facets without faces, sorted by x; each tet tests those in
@@ -582,9 +574,8 @@ Status Validator::facets() {
       }
       if (strictly)
         return fail("facet " + std::to_string(it->facet) +
-                        " has no constrained faces but passes through tet " + std::to_string(t) +
-                        ".",
-                    it->facet);
+                    " has no constrained faces but passes through tet " + std::to_string(t) + ".")
+            .facet(it->facet);
     }
   }
   return Status::success();
@@ -759,8 +750,9 @@ Status Validator::unconstrained_in_facets() {
         if (!separates(g, h) && !separates(h, g) && !flat_in_facet(i, f) &&
             !along_one_segment(k) && !beyond_subsegment(k, f, drop))
           return fail("face " + tri_name(k) + " lies in facet " + std::to_string(f) +
-                          " but is not constrained.",
-                      f, k[0]);
+                      " but is not constrained.")
+              .facet(f)
+              .vertex(k[0]);
       }
     }
   }
@@ -870,10 +862,12 @@ Status Validator::delaunay() {
     const uint32_t e = m_.tets[4 * static_cast<size_t>(b.tet) + b.face];
     if (pred::insphere(pt(w[0]), pt(w[1]), pt(w[2]), pt(w[3]), pt(e)) > 0 &&
         !flipped_for_flat_tet(w, e))
-      return fail("face " + tri_name(a.key) + " is not constrained and not locally Delaunay: "
-                      "vertex " + std::to_string(e) + " is inside the circumsphere of tet " +
-                      std::to_string(a.tet) + ".",
-                  -1, e);
+      return fail("face " + tri_name(a.key) +
+                  " is not constrained and not locally Delaunay: "
+                  "vertex " +
+                  std::to_string(e) + " is inside the circumsphere of tet " +
+                  std::to_string(a.tet) + ".")
+          .vertex(e);
   }
   return Status::success();
 }
