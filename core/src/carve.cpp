@@ -7,6 +7,7 @@
 #include <string>
 
 #include "delaunay.hpp"
+#include "geometry.hpp"
 #include "status.hpp"
 
 namespace cdt3d {
@@ -181,6 +182,89 @@ Status carve(const Plc& plc, TetMesh& mesh, const Subfaces& subfaces, bool keep_
     out.face_facet.push_back(i < subfaces.facet.size() ? subfaces.facet[i] : kNone);
   }
   return Status::success();
+}
+
+// A flat tet: two of its faces are subfaces of one facet, so its four
+// vertices all lie in that facet, up to the rounding of Steiner points (§5
+// rounds them to doubles, so a facet is only nearly planar). Both diagonals
+// of the quadrilateral are then faces of the mesh. When the tet is kept but
+// the tets across its two subfaces are outside (a boundary facet), the facet
+// is triangulated with the tet's two other faces instead: they triangulate
+// the same quadrilateral, and the flat tet joins the exterior. Returns the
+// number of facets changed; the caller carves again.
+size_t move_flat_tets_outside(const TetMesh& mesh, const SegmentSet& segs,
+                              const CarveResult& carved, Subfaces& subfaces) {
+  // Such a tet is numerically flat (its vertices are a few ulps from one
+  // plane); the others need no face lookups.
+  std::vector<TetId> flat;
+  for (TetId t : carved.tets) {
+    const VertexId* w = &mesh.tv[4 * static_cast<size_t>(t)];
+    if (numerically_flat(mesh.point(w[0]), mesh.point(w[1]), mesh.point(w[2]), mesh.point(w[3])))
+      flat.push_back(t);
+  }
+  if (flat.empty()) return 0;
+  struct Key {
+    std::array<VertexId, 3> v;
+    uint32_t sub;
+    bool operator<(const Key& o) const { return v != o.v ? v < o.v : sub < o.sub; }
+  };
+  std::vector<Key> keys;
+  keys.reserve(subfaces.tri.size());
+  for (uint32_t i = 0; i < subfaces.tri.size(); ++i) {
+    const auto& t = subfaces.tri[i];
+    keys.push_back({sorted_triangle(t[0], t[1], t[2]), i});
+  }
+  std::sort(keys.begin(), keys.end());
+  auto find = [&](const std::array<VertexId, 3>& k) -> uint32_t {
+    auto it = std::lower_bound(keys.begin(), keys.end(), Key{k, 0});
+    return it != keys.end() && it->v == k ? it->sub : kNone;
+  };
+  auto kept = [&](TetId t) { return (mesh.tflag[t] & kTetInside) != 0; };
+  std::vector<std::array<uint32_t, 3>> sub;
+  segs.subsegments(sub);
+  std::vector<std::array<VertexId, 2>> subsegs;
+  for (const auto& e : sub) subsegs.push_back(sorted_edge(e[0], e[1]));
+  std::sort(subsegs.begin(), subsegs.end());
+  std::vector<uint8_t> changed(subfaces.tri.size(), 0);
+  size_t moved = 0;
+  for (TetId t : flat) {
+    int face[2], n = 0;
+    uint32_t sub[2];
+    for (int i = 0; i < 4 && n <= 2; ++i) {
+      const uint32_t s =
+          find(sorted_triangle(mesh.vertex(t, kFaceVertex[i][0]), mesh.vertex(t, kFaceVertex[i][1]),
+                               mesh.vertex(t, kFaceVertex[i][2])));
+      if (s == kNone) continue;
+      if (n < 2) face[n] = i, sub[n] = s;
+      ++n;
+    }
+    if (n != 2 || subfaces.facet[sub[0]] != subfaces.facet[sub[1]]) continue;
+    if (changed[sub[0]] || changed[sub[1]]) continue;
+    if (kept(mesh.neighbor(t, face[0])) || kept(mesh.neighbor(t, face[1]))) continue;
+    // s1 = (u, v, p) with the shared edge u -> v; s2 runs v -> u to q. The
+    // quadrilateral is u -> q -> v -> p; the other diagonal gives (u, q, p)
+    // and (q, v, p), oriented like the old pair.
+    auto& s1 = subfaces.tri[sub[0]];
+    auto& s2 = subfaces.tri[sub[1]];
+    int r = 0;
+    while (r < 3 && std::find(s2.begin(), s2.end(), s1[(r + 2) % 3]) != s2.end()) ++r;
+    if (r == 3) continue;
+    const VertexId u = s1[r], v = s1[(r + 1) % 3], p = s1[(r + 2) % 3];
+    // Never across a subsegment: the other diagonal would drop it.
+    if (std::binary_search(subsegs.begin(), subsegs.end(), sorted_edge(u, v))) continue;
+    VertexId q = kNone;
+    bool consistent = false;
+    for (int k = 0; k < 3; ++k) {
+      if (s2[k] != u && s2[k] != v) q = s2[k];
+      if (s2[k] == v && s2[(k + 1) % 3] == u) consistent = true;
+    }
+    if (q == kNone || !consistent) continue;
+    s1 = {u, q, p};
+    s2 = {q, v, p};
+    changed[sub[0]] = changed[sub[1]] = 1;
+    ++moved;
+  }
+  return moved;
 }
 
 }  // namespace cdt3d

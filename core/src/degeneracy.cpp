@@ -6,9 +6,12 @@
 // sphere (in the common plane when four of the points are coplanar), unless
 // the break point would encroach upon a subsegment or a subface, in which
 // case the boundary is protected first (§6, boundary protection procedure).
-// The outer loop repeats until D2 has no local degeneracy. Input vertices are
-// never moved; Steiner vertices could be (segment-safe perturbation) but this
-// step removes every degeneracy by break points, see remove_local_degeneracies.
+// A degeneracy with a perturbable vertex (a Steiner vertex on a segment or
+// inside a facet; input vertices never move) is first tried by a
+// segment-safe perturbation of it: try_perturb removes the vertex
+// (remove_vertex) and inserts it again a little way along its segment or
+// facet (move_vertex). The outer loop repeats until D2 has no local
+// degeneracy.
 #include "degeneracy.hpp"
 
 #include <algorithm>
@@ -33,6 +36,24 @@ namespace {
 constexpr size_t kMaxRounds = 64;
 constexpr int kMaxDraws = 24;             // random positions tried per break point
 constexpr double kRelativeJitter = 1e-3;  // perturbation size, relative to the radius
+
+// Points step 3 may add in all (break, protection and re-split segment
+// points): kPointsPerVertex per vertex of D1 plus kPointsBase for tiny
+// inputs. A valid PLC needs far fewer; more means the loop cycles.
+constexpr size_t kPointsPerVertex = 4, kPointsBase = 1000;
+
+// Relative slack on the radius of a protecting ball (diametral ball of a
+// subsegment, equatorial ball of a subface) in the floating-point tests and
+// in the ball index. It errs towards "encroached" and towards one index cell
+// too many: either costs at most a protection point or a test, whereas a
+// missed ball would let a break point encroach.
+constexpr double kBallSlack = 1e-6;
+
+// A circle or sphere center farther than this many diameters of the
+// degeneracy's points from their centroid comes from nearly collinear or
+// coplanar points; its rounding error is then too large for it to be a break
+// point, and the break point is drawn around the centroid instead.
+constexpr double kMaxCenterDistance = 1e3;
 
 // Floating-point constructions (circle and sphere centers) only place points
 // and rank candidates; every topological decision uses the exact predicates.
@@ -228,7 +249,7 @@ bool BallIndex::cell_of(Vec3 p, int level, int64_t c[3]) const {
 bool BallIndex::keys(uint32_t i, std::vector<uint64_t>& out) const {
   out.clear();
   const Ball& b = balls_[i];
-  const double r = b.radius * (1 + 1e-6) + 1e-300;
+  const double r = b.radius * (1 + kBallSlack) + kTinyLength;
   if (!std::isfinite(r) || !finite(b.center)) return false;
   int level = 0;
   while (level < kLevels - 1 && std::ldexp(h_, level) < 2 * r) ++level;
@@ -688,7 +709,7 @@ bool DegeneracyRemoval::encroaches(const Ball& b, const double* p) const {
   if (b.v[2] == kNone) return pred::dot_sign(mesh_.point(b.v[0]), p, mesh_.point(b.v[1])) <= 0;
   if (!std::isfinite(b.radius) || !finite(b.center)) return true;
   const Vec3 d = to_vec(p) - b.center;
-  return dot(d, d) <= b.radius * b.radius * (1 + 1e-6);
+  return dot(d, d) <= b.radius * b.radius * (1 + kBallSlack);
 }
 
 // The current subsegments (and, unless segments_only, subfaces) that p
@@ -1266,7 +1287,7 @@ Status DegeneracyRemoval::handle(const Found& f, bool force, Outcome& outcome) {
     if (!finite(center)) center = sphere_center(pts[1], pts[2], pts[3], pts[4]);
     for (int k = 0; k < 5; ++k) centroid = centroid + 0.2 * pts[k];
   }
-  const bool center_ok = finite(center) && norm(center - centroid) <= 1e3 * diam;
+  const bool center_ok = finite(center) && norm(center - centroid) <= kMaxCenterDistance * diam;
   // The index is brought up to date once per pass (run); here it is only
   // built on first need.
   Status st;
@@ -1322,7 +1343,7 @@ Status DegeneracyRemoval::handle(const Found& f, bool force, Outcome& outcome) {
 
 Status DegeneracyRemoval::run(const volatile bool* cancel) {
   if (facet_interior_.size() < plc_.facets.size()) facet_interior_.resize(plc_.facets.size());
-  point_budget_ = 4 * mesh_.num_vertices() + 1000;
+  point_budget_ = kPointsPerVertex * mesh_.num_vertices() + kPointsBase;
   // A degeneracy whose break point asked for protection is tried again (§6:
   // "push Δ into Q") in the next pass of the same round, up to kRetries
   // times. From the kForceAfter-th try on, subfaces no longer stop its break
@@ -1406,9 +1427,9 @@ void find_local_degeneracies(const TetMesh& mesh, std::vector<LocalDegeneracy>& 
   for (const Found& f : found) out.push_back(f.ids);
 }
 
-// Every degeneracy is removed by a break point (or by the boundary protection
-// its break point asks for); no vertex is moved. Moving a perturbable Steiner
-// vertex (§6) would need vertex removal, which the mesh does not offer.
+// §6 as published: each round perturbs what it can (a perturbable Steiner
+// vertex moved segment-safely), then removes the rest by break points, or by
+// the boundary protection a break point asks for (DegeneracyRemoval::run).
 Status remove_local_degeneracies(const Plc& plc, TetMesh& mesh, SegmentSet& segs,
                                  std::vector<std::vector<VertexId>>& facet_interior,
                                  std::vector<VertexId>& volume_points, DegeneracyStats* stats,

@@ -51,6 +51,11 @@
 namespace cdt3d {
 namespace {
 
+// Lawson's flips (Cdt2::make_delaunay) reach the constrained Delaunay
+// triangulation of n points after O(n^2) flips; more than this bound means
+// rounding made them cycle, and the facet is reported instead of looping.
+constexpr size_t kFlipsPerPointPair = 4, kFlipsBase = 1000;
+
 // ---------------------------------------------------------------------------
 // 2D constrained Delaunay triangulation on local vertex ids 0..n-1
 // ---------------------------------------------------------------------------
@@ -412,7 +417,7 @@ std::string Cdt2::make_delaunay() {
   for (size_t t = tris_.size(); t-- > 0;)
     for (int i = 2; i >= 0; --i) stack.push_back(static_cast<uint32_t>(3 * t + i));
   const size_t n = ids_.size();
-  const size_t limit = 1000 + 4 * n * n;
+  const size_t limit = kFlipsBase + kFlipsPerPointPair * n * n;
   size_t done = 0;
   while (!stack.empty()) {
     const uint32_t h = stack.back();

@@ -7,13 +7,20 @@
 // so each expression gives the same double on both.
 #pragma once
 
+#include <cdt3d/cdt3d.hpp>
+
 #include <algorithm>
 #include <array>
-#include <cdt3d/cdt3d.hpp>
 #include <cmath>
 #include <cstdint>
 
 namespace cdt3d {
+
+/// A length far below any coordinate difference the core meets (the
+/// smallest normal double is 2.2e-308), added to a tolerance or padding
+/// that is relative to some size so that it stays positive when that size is
+/// 0 (a zero-radius ball, a zero-volume mesh).
+constexpr double kTinyLength = 1e-300;
 
 // --- 3-vectors: the public Vec3 is the one vector type of the core ---
 
@@ -115,7 +122,7 @@ inline bool numerically_flat(const double* a, const double* b, const double* c, 
 /// Whether some four of the five points are numerically flat. A face between
 /// two tets whose five vertices pass this test may fail the exact insphere
 /// test: the Delaunay choice there would be a flat tet, which the pipeline
-/// flips away (flat_flips.hpp); validate() accepts such faces (its check 8).
+/// flips away (flat_flips.hpp); validate() accepts such faces (its check 9).
 inline bool has_flat_quadruple(const double* const p[5]) {
   for (int skip = 0; skip < 5; ++skip) {
     const double* q[4];

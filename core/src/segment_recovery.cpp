@@ -27,6 +27,11 @@ constexpr size_t kMaxSplitsPerSegment = 4096;
 constexpr double kFlatShifts[] = {0, 1e-8, -1e-8, 1e-6, -1e-6, 1e-4, -1e-4, 1e-2, -1e-2, 0.1, -0.1, 0};
 constexpr size_t kNumFlatShifts = sizeof(kFlatShifts) / sizeof(kFlatShifts[0]);
 
+// Padding of the reference point search's boxes and distance bound, relative
+// to the segment's length: far above the rounding of the few operations that
+// build them, so the search only ever looks at too many tets, never too few.
+constexpr double kSearchPad = 1e-9;
+
 // Radius of the smallest sphere through a, b and p (the circumcircle of the
 // triangle), used only to rank encroaching vertices (§5, reference point);
 // infinite when p is on the line ab. Floating point is fine here: it picks a
@@ -110,7 +115,7 @@ VertexId SegmentRecovery::reference_point(VertexId a, VertexId b) {
   const double seg_hi[3] = {std::max(pa.x, pb.x), std::max(pa.y, pb.y), std::max(pa.z, pb.z)};
   double lo[3], hi[3];
   auto set_box = [&](double reach) {
-    const double pad = 1e-9 * len + 1e-300;
+    const double pad = kSearchPad * len + kTinyLength;
     for (int d = 0; d < 3; ++d) {
       lo[d] = std::max(mid[d] - 0.5 * len, seg_lo[d] - reach) - pad;
       hi[d] = std::min(mid[d] + 0.5 * len, seg_hi[d] + reach) + pad;
@@ -147,7 +152,8 @@ VertexId SegmentRecovery::reference_point(VertexId a, VertexId b) {
     const Vec3 ac = c - pa;
     const double f = len2 > 0 ? std::min(1.0, std::max(0.0, dot(ac, ab) / len2)) : 0;
     const Vec3 e = {ac.x - f * ab.x, ac.y - f * ab.y, ac.z - f * ab.z};
-    const double limit = std::sqrt(rad2) + reach * (1 + 1e-9) + 1e-9 * len + 1e-300;
+    const double limit =
+        std::sqrt(rad2) + reach * (1 + kSearchPad) + kSearchPad * len + kTinyLength;
     return dot(e, e) <= limit * limit;
   };
   mesh_.vertex_star(a, star_);

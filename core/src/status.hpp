@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cdt3d/cdt3d.hpp>
+
 #include <string>
 #include <utility>
 

@@ -2,19 +2,27 @@
 // combinatorial and geometric decision; floating-point sums with tolerances
 // only for the area and volume comparisons, which are checks, never decisions.
 //
-// Checks, in order (the first violation is returned as ErrorCode::Internal):
-//  1. Sizes and indices; the first input_points points are the PLC's points.
+// Checks, in the order run() makes them (the first violation is returned as
+// ErrorCode::Internal):
+//  1. Sizes and indices; the first input_points points are the PLC's points
+//     (sizes).
 //  2. Every tet is positively oriented: orient3d(v0, v1, v2, v3) > 0, the
 //     convention of tet_mesh.hpp (v3 below the plane of v0 v1 v2 seen
 //     counterclockwise from above; insphere(v0..v3, p) > 0 means p inside).
 //  3. Every triangle is a face of at most two tets, which lie on opposite
-//     sides of it.
+//     sides of it (2 and 3: tets_and_faces).
 //  4. Constrained faces: listed once, each a face of a tet. A face of exactly
 //     one tet (the boundary of the kept domain) must be constrained, unless
 //     the result kept the convex hull (detected: some boundary face is not
 //     constrained); then the boundary must be locally convex at every edge
-//     (a closed, connected, locally convex surface bounds a convex set).
-//  5. Facets: the faces of facet f use only vertices of f (its input vertices
+//     (a closed, connected, locally convex surface bounds a convex set)
+//     (constrained_faces).
+//  5. Segments: the ends and the Segment Steiner points of each segment,
+//     sorted along it, are consecutive mesh edges. Checked for segments whose
+//     vertices all belong to kept tets, and a missing piece is an error only
+//     when its midpoint lies in a kept tet (the others lie outside the
+//     domain) (segments; it builds the chains check 6 uses).
+//  6. Facets: the faces of facet f use only vertices of f (its input vertices
 //     and the PLC points and segments lying in it, found by triangulating the
 //     input facet without Steiner points; Steiner points on those segments;
 //     Facet Steiner points of f), are consistently oriented, and the edges of
@@ -23,18 +31,20 @@
 //     edge is on a loop, the area must equal the facet's area; when the patch
 //     ends on a segment inside the facet (the facet leaves the domain there),
 //     the area may only be smaller. A facet without faces must lie outside
-//     the kept tets (a point of it is strictly inside none).
-//  6. Segments: the ends and the Segment Steiner points of each segment,
-//     sorted along it, are consecutive mesh edges (checked for segments whose
-//     vertices all belong to kept tets; the others lie outside the domain).
-//  7. Volume: for closed results (no hull kept, every facet with faces either
+//     the kept tets (a point of it is strictly inside none) (facets).
+//  7. No unconstrained face lies in a facet: its projection overlaps no
+//     triangle of the facet, up to the slivers rounded Steiner points make
+//     beside a subsegment (unconstrained_in_facets).
+//  8. Volume: for closed results (no hull kept, every facet with faces either
 //     entirely on the boundary with the domain on one side, or entirely
 //     inside, single-loop facets), the tets' volume equals the volume the
-//     boundary facets enclose (divergence theorem on the input loops).
-//  8. Constrained Delaunay: every face shared by two tets that is not
+//     boundary facets enclose (divergence theorem on the input loops)
+//     (volume).
+//  9. Constrained Delaunay: every face shared by two tets that is not
 //     constrained is locally Delaunay: insphere of the opposite vertex <= 0
 //     (exact, unperturbed; co-spherical allowed), unless four of its five
-//     points are numerically flat (a flat tet flipped away, flat_flips.hpp).
+//     points are numerically flat (a flat tet flipped away, flat_flips.hpp)
+//     (delaunay).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -52,6 +62,18 @@ namespace cdt3d {
 namespace {
 
 using Tri3 = std::array<uint32_t, 3>;
+
+// Area check (6): the faces' area sums and the input facet's differ by
+// rounding in the sums (relative kAreaSumTolerance) and by Steiner points
+// rounded to doubles, each at most a few ulps (kRoundingUlps ulps of the
+// coordinate scale) off the facet, along the patch's perimeter.
+constexpr double kAreaSumTolerance = 1e-9;
+constexpr double kRoundingUlps = 64;
+constexpr double kUlp = 2.2e-16;  // DBL_EPSILON (2.22e-16), to two digits
+// Volume check (8): the tets' volume and the one the facets enclose are both
+// sums of signed terms; they may differ by this much relative to the sum of
+// the terms' magnitudes.
+constexpr double kVolumeSumTolerance = 1e-8;
 
 // A violated property: an internal error, since a valid run cannot produce
 // one. The caller names the element with the builder's setters.
@@ -544,7 +566,7 @@ Status Validator::facets() {
                     " is no edge of its faces.")
             .facet(F)
             .vertex(static_cast<int64_t>(e >> 32));
-    const double tol = 1e-9 * area_in + 64 * 2.2e-16 * scale_ * perimeter;
+    const double tol = kAreaSumTolerance * area_in + kRoundingUlps * kUlp * scale_ * perimeter;
     if (partial ? area_out > area_in + tol : std::fabs(area_out - area_in) > tol)
       return fail("the faces of facet " + std::to_string(f) + " cover an area of " +
                   std::to_string(area_out) + " instead of " + std::to_string(area_in) + ".")
@@ -835,7 +857,7 @@ Status Validator::volume() {
       vf += out_sign[f] * det(&plc_.points[L[0]].x, &plc_.points[L[k]].x,
                               &plc_.points[L[k + 1]].x) / 6;
   }
-  if (std::fabs(vt - vf) > 1e-8 * vabs + 1e-300)
+  if (std::fabs(vt - vf) > kVolumeSumTolerance * vabs + kTinyLength)
     return fail("the tets' volume " + std::to_string(vt) + " differs from the volume " +
                 std::to_string(vf) + " enclosed by the facets.");
   return Status::success();
@@ -872,6 +894,7 @@ Status Validator::delaunay() {
   return Status::success();
 }
 
+// The checks of the file header, numbered as there.
 Status Validator::run() {
   Status st = sizes();
   if (st.ok()) st = tets_and_faces();
