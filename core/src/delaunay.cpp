@@ -161,40 +161,16 @@ uint32_t PointInserter::local_id(VertexId x) {
   return l;
 }
 
-Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result) {
+// Cavity: breadth-first from the located tet t0 over tets in conflict with
+// p (Bowyer-Watson); fills cavity_ and boundary_. Two transient flag bits
+// mark "in the cavity" and "tested, not in conflict" (a byte per tet is
+// denser in cache than the epoch stamps).
+void PointInserter::grow_cavity(TetId t0, const double* p, VertexId v) {
   TetMesh& m = mesh_;
-  new_tets_.clear();
-  cavity_.clear();
-  if (v >= m.num_vertices())
-    return make_error(ErrorCode::InvalidArgument, "Vertex id out of range.");
-  if (m.vtet[v] != kNone)
-    return make_error(ErrorCode::InvalidArgument, "Vertex is already in the triangulation.")
-        .vertex(v);
-  if (m.live_tets == 0)
-    return make_error(ErrorCode::InvalidArgument, "The mesh has no tetrahedra to insert into.")
-        .vertex(v);
-
-  if (vlocal_.size() < m.num_vertices()) vlocal_.resize(m.num_vertices() + m.num_vertices() / 4, 0);
-  const double* p = m.point(v);
-  const Location loc = locate_point(m, p, hint, rng_);
-  walk_steps += loc.steps;
-  if (result) *result = InsertResult{v, false, loc.tet};
-  if (loc.kind == LocateKind::Failed)
-    return make_error(ErrorCode::Internal, "delaunay: point location made no progress.").vertex(v);
-  if (loc.kind == LocateKind::OnVertex) {
-    m.vkind[v] = kVertexDuplicate;
-    if (result) result->vertex = loc.vertex, result->duplicate = true;
-    return Status::success();
-  }
-
-  // Cavity: breadth-first from the located tet over tets in conflict. Two
-  // transient flag bits mark "in the cavity" and "tested, not in conflict"
-  // (a byte per tet is denser in cache than the epoch stamps).
   uint8_t* flag = m.tflag.data();
   // The located tet is in conflict without a test: p lies in its closure and
   // is not a vertex (strictly inside its circumsphere), or strictly beyond
   // the hull face of a ghost.
-  const TetId t0 = loc.tet;
   boundary_.clear();
   cavity_.push_back(t0);
   flag[t0] |= kTetInCavity;
@@ -227,13 +203,13 @@ Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result
     }
   }
   for (const BoundaryFace& f : boundary_) flag[hf_tet(f.outside)] &= uint8_t(~kTetTested);
-  if (reject_flat_ && cone_has_flat_tet(p)) {
-    abandon_cavity();
-    if (result) result->rejected = true;
-    return Status::success();
-  }
-  cavity_tets += cavity_.size();
+}
 
+// Replaces the cavity by the cone of its boundary faces to v and glues the
+// new tets to each other and to the outside.
+Status PointInserter::fill_cavity(VertexId v) {
+  TetMesh& m = mesh_;
+  uint8_t* flag = m.tflag.data();
   // Cone each boundary face (a, b, c) to v: (a, b, c, v) is positive because
   // v sees the face from inside the cavity. A ghost keeps kInfinite at
   // position 3 by an even permutation.
@@ -307,6 +283,11 @@ Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result
     }
   }
 
+  return Status::success();
+}
+
+void PointInserter::point_vertices_to_new_tets() {
+  TetMesh& m = mesh_;
   // Vertex-to-tet map: every vertex of the cavity lies on its boundary and
   // gets a new real tet (near the vertex the old tets it had are replaced by
   // new ones), so vtet always names a real tet.
@@ -316,6 +297,44 @@ Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result
     m.vtet[w[0]] = t, m.vtet[w[1]] = t, m.vtet[w[2]] = t, m.vtet[w[3]] = t;
     last_tet_ = t;
   }
+}
+
+Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result) {
+  TetMesh& m = mesh_;
+  new_tets_.clear();
+  cavity_.clear();
+  if (v >= m.num_vertices())
+    return make_error(ErrorCode::InvalidArgument, "Vertex id out of range.");
+  if (m.vtet[v] != kNone)
+    return make_error(ErrorCode::InvalidArgument, "Vertex is already in the triangulation.")
+        .vertex(v);
+  if (m.live_tets == 0)
+    return make_error(ErrorCode::InvalidArgument, "The mesh has no tetrahedra to insert into.")
+        .vertex(v);
+
+  if (vlocal_.size() < m.num_vertices()) vlocal_.resize(m.num_vertices() + m.num_vertices() / 4, 0);
+  const double* p = m.point(v);
+  const Location loc = locate_point(m, p, hint, rng_);
+  walk_steps += loc.steps;
+  if (result) *result = InsertResult{v, false, loc.tet};
+  if (loc.kind == LocateKind::Failed)
+    return make_error(ErrorCode::Internal, "delaunay: point location made no progress.").vertex(v);
+  if (loc.kind == LocateKind::OnVertex) {
+    m.vkind[v] = kVertexDuplicate;
+    if (result) result->vertex = loc.vertex, result->duplicate = true;
+    return Status::success();
+  }
+
+  grow_cavity(loc.tet, p, v);
+  if (reject_flat_ && cone_has_flat_tet(p)) {
+    abandon_cavity();
+    if (result) result->rejected = true;
+    return Status::success();
+  }
+  cavity_tets += cavity_.size();
+  Status st = fill_cavity(v);
+  if (!st.ok()) return st;
+  point_vertices_to_new_tets();
   if (m.vkind[v] == kVertexNotInserted || m.vkind[v] == kVertexDuplicate) m.vkind[v] = kVertexInput;
   return Status::success();
 }

@@ -288,21 +288,12 @@ size_t flip_subfaces_toward_mesh(TetMesh& mesh, Subfaces& subfaces) {
   return flip_toward_mesh_impl(mesh, subfaces, q, nbr, fixed, missing);
 }
 
-Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* stats,
-                      const volatile bool* cancel, bool force_failure) {
-  FacetRecoveryStats st;
-  if (stats) *stats = st;
-  // Statistics are reported on failure as well (what was done until then).
-  struct Report {
-    FacetRecoveryStats* out;
-    const FacetRecoveryStats& st;
-    ~Report() {
-      if (out) *out = st;
-    }
-  } report{stats, st};
-  Subfaces& sf = subfaces;
+namespace {
+
+// The subfaces are well formed: one facet each, vertices in the mesh, not
+// degenerate.
+Status check_subfaces(const TetMesh& mesh, const Subfaces& sf) {
   const size_t n = sf.tri.size();
-  st.subfaces = n;
   if (sf.facet.size() != n)
     return make_error(ErrorCode::InvalidArgument,
                       "Subfaces: facet list and triangle list differ in size.");
@@ -318,6 +309,50 @@ Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* sta
         pred::collinear3d(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2])))
       return make_error(ErrorCode::DegenerateFacet, "A subface is degenerate.").facet(sf.facet[s]);
   }
+  return Status::success();
+}
+
+// The missing region of s0 (§7): the missing subfaces of its facet
+// connected to it across edges missing from the mesh (subface_adjacency's
+// nbr); a subface marked `single` is a region of its own. `mark` holds
+// visit stamps, `epoch` is fresh.
+void missing_region(uint32_t s0, const Subfaces& sf, MeshQuery& q, const std::vector<uint32_t>& nbr,
+                    const std::vector<uint8_t>& single, uint32_t epoch, std::vector<uint32_t>& mark,
+                    std::vector<uint32_t>& region) {
+  region.assign(1, s0);
+  mark[s0] = epoch;
+  if (single[s0]) return;
+  for (size_t k = 0; k < region.size(); ++k) {
+    const uint32_t s = region[k];
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t t = nbr[3 * s + e];
+      if (t == kNone || mark[t] == epoch || single[t]) continue;
+      if (q.has_edge(sf.tri[s][e], sf.tri[s][(e + 1) % 3])) continue;
+      mark[t] = epoch;
+      region.push_back(t);
+    }
+  }
+}
+
+}  // namespace
+
+Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* stats,
+                      const volatile bool* cancel, bool force_failure) {
+  FacetRecoveryStats st;
+  if (stats) *stats = st;
+  // Statistics are reported on failure as well (what was done until then).
+  struct Report {
+    FacetRecoveryStats* out;
+    const FacetRecoveryStats& st;
+    ~Report() {
+      if (out) *out = st;
+    }
+  } report{stats, st};
+  Subfaces& sf = subfaces;
+  const size_t n = sf.tri.size();
+  st.subfaces = n;
+  Status checked = check_subfaces(mesh, sf);
+  if (!checked.ok()) return checked;
   MeshQuery q(mesh);
   auto present = [&](uint32_t s) { return q.has_face(sf.tri[s][0], sf.tri[s][1], sf.tri[s][2]); };
 
@@ -357,23 +392,7 @@ Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* sta
                                                      std::to_string(max_attempts) +
                                                      " region attempts.")
           .facet(sf.facet[s0]);
-    // The missing region of s0 (§7): missing subfaces of its facet connected
-    // across edges missing from the mesh.
-    ++epoch;
-    region.assign(1, s0);
-    mark[s0] = epoch;
-    if (!single[s0]) {
-      for (size_t k = 0; k < region.size(); ++k) {
-        const uint32_t s = region[k];
-        for (int e = 0; e < 3; ++e) {
-          const uint32_t t = nbr[3 * s + e];
-          if (t == kNone || mark[t] == epoch || single[t]) continue;
-          if (q.has_edge(sf.tri[s][e], sf.tri[s][(e + 1) % 3])) continue;
-          mark[t] = epoch;
-          region.push_back(t);
-        }
-      }
-    }
+    missing_region(s0, sf, q, nbr, single, ++epoch, mark, region);
     tris.clear();
     for (uint32_t s : region) tris.push_back(sf.tri[s]);
     CavityReport rep;

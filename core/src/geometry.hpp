@@ -13,6 +13,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 namespace cdt3d {
 
@@ -73,6 +74,20 @@ inline std::array<VertexId, 3> sorted_triangle(const std::array<VertexId, 3>& t)
 inline int largest_axis(double nx, double ny, double nz) {
   const double ax = std::fabs(nx), ay = std::fabs(ny), az = std::fabs(nz);
   return ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
+}
+
+/// Newell's normal of a polygon of PLC points (not unit): twice its
+/// vector area, for a planar loop of any shape, convex or not.
+inline Vec3 newell_normal(const Plc& plc, const std::vector<VertexId>& loop) {
+  Vec3 n{0, 0, 0};
+  for (size_t i = 0; i < loop.size(); ++i) {
+    const Vec3& p = plc.points[loop[i]];
+    const Vec3& q = plc.points[loop[(i + 1) % loop.size()]];
+    n.x += (p.y - q.y) * (p.z + q.z);
+    n.y += (p.z - q.z) * (p.x + q.x);
+    n.z += (p.x - q.x) * (p.y + q.y);
+  }
+  return n;
 }
 
 /// Cross product (b - a) x (c - a) in doubles: the (unnormalised) normal of

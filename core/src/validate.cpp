@@ -117,6 +117,21 @@ class Validator {
   Status tets_and_faces();
   Status constrained_faces();
   Status facets();
+  // The parts of facets(): facet f's input vertices and segments, its loop
+  // and allowed edges, the faces' check, and the test of faceless facets.
+  double facet_input(size_t f, const std::vector<uint32_t>& tris,
+                     const std::vector<size_t>& input_tris);
+  void facet_edges(size_t f, std::vector<uint64_t>& allowed_edges,
+                   std::vector<uint64_t>& loop_edges) const;
+  bool vertex_in_facet(uint32_t v, size_t f) const;
+  Status facet_faces(size_t f, const std::vector<size_t>& faces, double area_in,
+                     const std::vector<uint64_t>& allowed_edges,
+                     const std::vector<uint64_t>& loop_edges);
+  struct Probe {
+    double p[3] = {0, 0, 0};
+    uint32_t facet = 0;
+  };
+  Status probes_outside(std::vector<Probe>& probes) const;
   Status unconstrained_in_facets();
   Status segments();
   Status volume();
@@ -397,184 +412,151 @@ Status Validator::segments() {
   return Status::success();
 }
 
-Status Validator::facets() {
-  // The input facets triangulated without Steiner points: their vertices
-  // (loop vertices, PLC points and segments lying in them) and areas.
-  std::vector<uint32_t> tris, tri_facet;
-  Status st = triangulate_surface(plc_, tris, tri_facet);
-  if (!st.ok()) {
-    st.error.code = ErrorCode::Internal;
-    st.error.message = "Validation: the input facet cannot be triangulated: " + st.error.message;
-    return st;
+// Facet f's input vertices, the segments lying in it and its input
+// triangles (fverts_, fsegs_, ftris_), the axis its projection drops (the
+// largest component of Newell's normal of its first loop); returns its area.
+double Validator::facet_input(size_t f, const std::vector<uint32_t>& tris,
+                              const std::vector<size_t>& input_tris) {
+  std::vector<uint32_t>& verts = fverts_[f];
+  std::vector<uint32_t>& segs_in = fsegs_[f];
+  double area_in = 0;
+  for (size_t i : input_tris) {
+    const Tri3 t = {tris[3 * i], tris[3 * i + 1], tris[3 * i + 2]};
+    ftris_[f].push_back(t);
+    area_in += tri_area(t);
+    for (int k = 0; k < 3; ++k) {
+      verts.push_back(t[k]);
+      const int64_t s = segment_index(t[k], t[(k + 1) % 3]);
+      if (s >= 0) segs_in.push_back(static_cast<uint32_t>(s));
+    }
   }
-  auto input_tri = [&](size_t i) { return Tri3{tris[3 * i], tris[3 * i + 1], tris[3 * i + 2]}; };
-  const size_t nfacets = plc_.facets.size();
-  std::vector<std::vector<size_t>> sub_of(nfacets), faces_of(nfacets);
-  for (size_t i = 0; i < tri_facet.size(); ++i) sub_of[tri_facet[i]].push_back(i);
-  for (size_t i = 0; i < nf_; ++i) faces_of[r_.face_facet[i]].push_back(i);
+  std::sort(verts.begin(), verts.end());
+  verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+  std::sort(segs_in.begin(), segs_in.end());
+  segs_in.erase(std::unique(segs_in.begin(), segs_in.end()), segs_in.end());
+  const Vec3 n = newell_normal(plc_, plc_.facets[f].loops[0]);
+  fdrop_[f] = largest_axis(n.x, n.y, n.z);
+  return area_in;
+}
 
-  struct Probe {
-    double p[3] = {0, 0, 0};
-    uint32_t facet = 0;
-  };
-  std::vector<Probe> probes;
-  fverts_.assign(nfacets, {});
-  fsegs_.assign(nfacets, {});
-  ftris_.assign(nfacets, {});
-  fdrop_.assign(nfacets, 2);
-  std::vector<uint64_t> allowed_edges, loop_edges;
-  for (size_t f = 0; f < nfacets; ++f) {
-    const int64_t F = static_cast<int64_t>(f);
-    std::vector<uint32_t>& verts = fverts_[f];
-    std::vector<uint32_t>& segs_in = fsegs_[f];
-    double area_in = 0;
-    for (size_t i : sub_of[f]) {
-      const Tri3 t = input_tri(i);
-      ftris_[f].push_back(t);
-      area_in += tri_area(t);
-      for (int k = 0; k < 3; ++k) {
-        verts.push_back(t[k]);
-        const int64_t s = segment_index(t[k], t[(k + 1) % 3]);
-        if (s >= 0) segs_in.push_back(static_cast<uint32_t>(s));
-      }
-    }
-    std::sort(verts.begin(), verts.end());
-    verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
-    std::sort(segs_in.begin(), segs_in.end());
-    segs_in.erase(std::unique(segs_in.begin(), segs_in.end()), segs_in.end());
-    allowed_edges.clear();
-    for (uint32_t s : segs_in)
+// The subsegments of the segments lying in facet f (the edges where its
+// patch may end) and those of its loops, as sorted edge keys.
+void Validator::facet_edges(size_t f, std::vector<uint64_t>& allowed_edges,
+                            std::vector<uint64_t>& loop_edges) const {
+  allowed_edges.clear();
+  for (uint32_t s : fsegs_[f])
+    for (size_t k = 0; k + 1 < chains_[s].size(); ++k)
+      allowed_edges.push_back(edge_key(chains_[s][k], chains_[s][k + 1]));
+  std::sort(allowed_edges.begin(), allowed_edges.end());
+  loop_edges.clear();
+  for (const auto& L : plc_.facets[f].loops)
+    for (size_t i = 0; i < L.size(); ++i) {
+      const int64_t s = segment_index(L[i], L[(i + 1) % L.size()]);
+      if (s < 0) continue;
       for (size_t k = 0; k + 1 < chains_[s].size(); ++k)
-        allowed_edges.push_back(edge_key(chains_[s][k], chains_[s][k + 1]));
-    std::sort(allowed_edges.begin(), allowed_edges.end());
-    loop_edges.clear();
-    for (const auto& L : plc_.facets[f].loops)
-      for (size_t i = 0; i < L.size(); ++i) {
-        const int64_t s = segment_index(L[i], L[(i + 1) % L.size()]);
-        if (s < 0) continue;
-        for (size_t k = 0; k + 1 < chains_[s].size(); ++k)
-          loop_edges.push_back(edge_key(chains_[s][k], chains_[s][k + 1]));
-      }
-    std::sort(loop_edges.begin(), loop_edges.end());
-    loop_edges.erase(std::unique(loop_edges.begin(), loop_edges.end()), loop_edges.end());
-
-    {
-      double n[3] = {0, 0, 0};
-      const auto& L = plc_.facets[f].loops[0];
-      for (size_t i = 0; i < L.size(); ++i) {
-        const Vec3& p = plc_.points[L[i]];
-        const Vec3& q = plc_.points[L[(i + 1) % L.size()]];
-        n[0] += (p.y - q.y) * (p.z + q.z);
-        n[1] += (p.z - q.z) * (p.x + q.x);
-        n[2] += (p.x - q.x) * (p.y + q.y);
-      }
-      fdrop_[f] = largest_axis(n[0], n[1], n[2]);
+        loop_edges.push_back(edge_key(chains_[s][k], chains_[s][k + 1]));
     }
-    auto vertex_ok = [&](uint32_t v) {
-      if (v < r_.input_points) return std::binary_search(verts.begin(), verts.end(), v);
-      const size_t i = v - r_.input_points;
-      const int64_t p = r_.steiner_parent[i];
-      switch (r_.steiner_kind[i]) {
-        case SteinerKind::Facet: return p == F;
-        case SteinerKind::Segment:
-          return std::binary_search(segs_in.begin(), segs_in.end(), static_cast<uint32_t>(p));
-        default: return false;
-      }
-    };
+  std::sort(loop_edges.begin(), loop_edges.end());
+  loop_edges.erase(std::unique(loop_edges.begin(), loop_edges.end()), loop_edges.end());
+}
 
-    if (faces_of[f].empty()) {
-      // Must lie outside the kept tets: the centroid of its largest input
-      // triangle is strictly inside no tet (checked below for all facets).
-      size_t best = 0;
-      double best_area = -1;
-      for (size_t i : sub_of[f]) {
-        const double a = tri_area(input_tri(i));
-        if (a > best_area) best_area = a, best = i;
-      }
-      if (best_area < 0) continue;
-      Probe q;
-      q.facet = static_cast<uint32_t>(f);
-      for (int k = 0; k < 3; ++k) {
-        const Vec3& v = plc_.points[tris[3 * best + k]];
-        q.p[0] += v.x / 3, q.p[1] += v.y / 3, q.p[2] += v.z / 3;
-      }
-      probes.push_back(q);
-      continue;
-    }
+// Output vertex v may be a vertex of a face of facet f: an input vertex of
+// f, a Steiner point on one of its segments, or a Facet Steiner point of f.
+bool Validator::vertex_in_facet(uint32_t v, size_t f) const {
+  if (v < r_.input_points) return std::binary_search(fverts_[f].begin(), fverts_[f].end(), v);
+  const size_t i = v - r_.input_points;
+  const int64_t p = r_.steiner_parent[i];
+  switch (r_.steiner_kind[i]) {
+    case SteinerKind::Facet:
+      return p == static_cast<int64_t>(f);
+    case SteinerKind::Segment:
+      return std::binary_search(fsegs_[f].begin(), fsegs_[f].end(), static_cast<uint32_t>(p));
+    default:
+      return false;
+  }
+}
 
-    // Vertices, orientation in the facet's plane, edges.
-    const Facet& facet = plc_.facets[f];
-    const int drop = fdrop_[f];
-    int side = 0;
-    double area_out = 0, perimeter = 0;
-    std::vector<uint64_t> fedges;
-    for (size_t i : faces_of[f]) {
-      const Tri3 t = {m_.faces[3 * i], m_.faces[3 * i + 1], m_.faces[3 * i + 2]};
-      for (uint32_t v : t)
-        if (!vertex_ok(v))
-          return fail("face " + tri_name(t) + " of facet " + std::to_string(f) + " uses vertex " +
-                      std::to_string(v) + ", which does not belong to the facet.")
-              .facet(F)
-              .vertex(v);
-      const int o = pred::orient2d_projected(pt(t[0]), pt(t[1]), pt(t[2]), drop);
-      if (o == 0)
-        return fail("face " + tri_name(t) + " of facet " + std::to_string(f) +
-                    " is degenerate in the facet's plane.")
+// Check 6 on the faces of facet f: their vertices, orientation in the
+// facet's plane, the patch's boundary edges, its area.
+Status Validator::facet_faces(size_t f, const std::vector<size_t>& faces, double area_in,
+                              const std::vector<uint64_t>& allowed_edges,
+                              const std::vector<uint64_t>& loop_edges) {
+  const int64_t F = static_cast<int64_t>(f);
+  const int drop = fdrop_[f];
+  int side = 0;
+  double area_out = 0, perimeter = 0;
+  std::vector<uint64_t> fedges;
+  for (size_t i : faces) {
+    const Tri3 t = {m_.faces[3 * i], m_.faces[3 * i + 1], m_.faces[3 * i + 2]};
+    for (uint32_t v : t)
+      if (!vertex_in_facet(v, f))
+        return fail("face " + tri_name(t) + " of facet " + std::to_string(f) + " uses vertex " +
+                    std::to_string(v) + ", which does not belong to the facet.")
             .facet(F)
-            .vertex(t[0]);
-      if (side == 0) side = o;
-      if (o != side)
-        return fail("the faces of facet " + std::to_string(f) +
-                    " overlap or are not consistently oriented (face " + tri_name(t) + ").")
-            .facet(F)
-            .vertex(t[0]);
-      area_out += tri_area(t);
-      for (int k = 0; k < 3; ++k) {
-        fedges.push_back(edge_key(t[k], t[(k + 1) % 3]));
-        const double* a = pt(t[k]);
-        const double* b = pt(t[(k + 1) % 3]);
-        perimeter += std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                               (a[2] - b[2]) * (a[2] - b[2]));
-      }
+            .vertex(v);
+    const int o = pred::orient2d_projected(pt(t[0]), pt(t[1]), pt(t[2]), drop);
+    if (o == 0)
+      return fail("face " + tri_name(t) + " of facet " + std::to_string(f) +
+                  " is degenerate in the facet's plane.")
+          .facet(F)
+          .vertex(t[0]);
+    if (side == 0) side = o;
+    if (o != side)
+      return fail("the faces of facet " + std::to_string(f) +
+                  " overlap or are not consistently oriented (face " + tri_name(t) + ").")
+          .facet(F)
+          .vertex(t[0]);
+    area_out += tri_area(t);
+    for (int k = 0; k < 3; ++k) {
+      fedges.push_back(edge_key(t[k], t[(k + 1) % 3]));
+      const double* a = pt(t[k]);
+      const double* b = pt(t[(k + 1) % 3]);
+      perimeter += std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                             (a[2] - b[2]) * (a[2] - b[2]));
     }
-    std::sort(fedges.begin(), fedges.end());
-    bool partial = false;
-    for (size_t i = 0; i < fedges.size();) {
-      size_t j = i;
-      while (j < fedges.size() && fedges[j] == fedges[i]) ++j;
-      const uint32_t a = static_cast<uint32_t>(fedges[i] >> 32), b = static_cast<uint32_t>(fedges[i]);
-      if (j - i > 2)
-        return fail("edge (" + std::to_string(a) + ", " + std::to_string(b) + ") is in " +
-                    std::to_string(j - i) + " faces of facet " + std::to_string(f) + ".")
+  }
+  std::sort(fedges.begin(), fedges.end());
+  bool partial = false;
+  for (size_t i = 0; i < fedges.size();) {
+    size_t j = i;
+    while (j < fedges.size() && fedges[j] == fedges[i]) ++j;
+    const uint32_t a = static_cast<uint32_t>(fedges[i] >> 32), b = static_cast<uint32_t>(fedges[i]);
+    if (j - i > 2)
+      return fail("edge (" + std::to_string(a) + ", " + std::to_string(b) + ") is in " +
+                  std::to_string(j - i) + " faces of facet " + std::to_string(f) + ".")
+          .facet(F)
+          .vertex(a);
+    if (j - i == 1) {
+      if (!std::binary_search(allowed_edges.begin(), allowed_edges.end(), fedges[i]))
+        return fail("the faces of facet " + std::to_string(f) + " end at edge (" +
+                    std::to_string(a) + ", " + std::to_string(b) +
+                    "), which is on none of its segments.")
             .facet(F)
             .vertex(a);
-      if (j - i == 1) {
-        if (!std::binary_search(allowed_edges.begin(), allowed_edges.end(), fedges[i]))
-          return fail("the faces of facet " + std::to_string(f) + " end at edge (" +
-                      std::to_string(a) + ", " + std::to_string(b) +
-                      "), which is on none of its segments.")
-              .facet(F)
-              .vertex(a);
-        if (!std::binary_search(loop_edges.begin(), loop_edges.end(), fedges[i])) partial = true;
-      }
-      i = j;
+      if (!std::binary_search(loop_edges.begin(), loop_edges.end(), fedges[i])) partial = true;
     }
-    for (uint64_t e : loop_edges)
-      if (!partial && !std::binary_search(fedges.begin(), fedges.end(), e))
-        return fail("loop subsegment (" + std::to_string(e >> 32) + ", " +
-                    std::to_string(static_cast<uint32_t>(e)) + ") of facet " + std::to_string(f) +
-                    " is no edge of its faces.")
-            .facet(F)
-            .vertex(static_cast<int64_t>(e >> 32));
-    const double tol = kAreaSumTolerance * area_in + kRoundingUlps * kUlp * scale_ * perimeter;
-    if (partial ? area_out > area_in + tol : std::fabs(area_out - area_in) > tol)
-      return fail("the faces of facet " + std::to_string(f) + " cover an area of " +
-                  std::to_string(area_out) + " instead of " + std::to_string(area_in) + ".")
-          .facet(F);
-    if (partial || facet.loops.size() != 1) facets_closed_ = false;
+    i = j;
   }
-  // Probes of the facets without faces, sorted by x; each tet tests those in
-  // its bounding box.
+  for (uint64_t e : loop_edges)
+    if (!partial && !std::binary_search(fedges.begin(), fedges.end(), e))
+      return fail("loop subsegment (" + std::to_string(e >> 32) + ", " +
+                  std::to_string(static_cast<uint32_t>(e)) + ") of facet " + std::to_string(f) +
+                  " is no edge of its faces.")
+          .facet(F)
+          .vertex(static_cast<int64_t>(e >> 32));
+  const double tol = kAreaSumTolerance * area_in + kRoundingUlps * kUlp * scale_ * perimeter;
+  if (partial ? area_out > area_in + tol : std::fabs(area_out - area_in) > tol)
+    return fail("the faces of facet " + std::to_string(f) + " cover an area of " +
+                std::to_string(area_out) + " instead of " + std::to_string(area_in) + ".")
+        .facet(F);
+  if (partial || plc_.facets[f].loops.size() != 1) facets_closed_ = false;
+  return Status::success();
+}
+
+// The facets without faces must lie outside the kept tets: their probe
+// points (sorted here by x) are strictly inside no tet; each tet tests those
+// in its bounding box.
+Status Validator::probes_outside(std::vector<Probe>& probes) const {
   std::sort(probes.begin(), probes.end(), [](const Probe& a, const Probe& b) {
     return a.p[0] != b.p[0] ? a.p[0] < b.p[0] : a.facet < b.facet;
   });
@@ -583,7 +565,8 @@ Status Validator::facets() {
     double lo[3], hi[3];
     for (int x = 0; x < 3; ++x) {
       lo[x] = hi[x] = pt(w[0])[x];
-      for (int k = 1; k < 4; ++k) lo[x] = std::min(lo[x], pt(w[k])[x]), hi[x] = std::max(hi[x], pt(w[k])[x]);
+      for (int k = 1; k < 4; ++k)
+        lo[x] = std::min(lo[x], pt(w[k])[x]), hi[x] = std::max(hi[x], pt(w[k])[x]);
     }
     auto it = std::lower_bound(probes.begin(), probes.end(), lo[0],
                                [](const Probe& a, double x) { return a.p[0] < x; });
@@ -601,6 +584,56 @@ Status Validator::facets() {
     }
   }
   return Status::success();
+}
+
+// Check 6 (file header).
+Status Validator::facets() {
+  // The input facets triangulated without Steiner points: their vertices
+  // (loop vertices, PLC points and segments lying in them) and areas.
+  std::vector<uint32_t> tris, tri_facet;
+  Status st = triangulate_surface(plc_, tris, tri_facet);
+  if (!st.ok()) {
+    st.error.code = ErrorCode::Internal;
+    st.error.message = "Validation: the input facet cannot be triangulated: " + st.error.message;
+    return st;
+  }
+  const size_t nfacets = plc_.facets.size();
+  std::vector<std::vector<size_t>> sub_of(nfacets), faces_of(nfacets);
+  for (size_t i = 0; i < tri_facet.size(); ++i) sub_of[tri_facet[i]].push_back(i);
+  for (size_t i = 0; i < nf_; ++i) faces_of[r_.face_facet[i]].push_back(i);
+
+  std::vector<Probe> probes;
+  fverts_.assign(nfacets, {});
+  fsegs_.assign(nfacets, {});
+  ftris_.assign(nfacets, {});
+  fdrop_.assign(nfacets, 2);
+  std::vector<uint64_t> allowed_edges, loop_edges;
+  for (size_t f = 0; f < nfacets; ++f) {
+    const double area_in = facet_input(f, tris, sub_of[f]);
+    facet_edges(f, allowed_edges, loop_edges);
+    if (faces_of[f].empty()) {
+      // Must lie outside the kept tets: the centroid of its largest input
+      // triangle is strictly inside no tet (probes_outside).
+      size_t best = 0;
+      double best_area = -1;
+      for (size_t i : sub_of[f]) {
+        const double a = tri_area({tris[3 * i], tris[3 * i + 1], tris[3 * i + 2]});
+        if (a > best_area) best_area = a, best = i;
+      }
+      if (best_area < 0) continue;
+      Probe q;
+      q.facet = static_cast<uint32_t>(f);
+      for (int k = 0; k < 3; ++k) {
+        const Vec3& v = plc_.points[tris[3 * best + k]];
+        q.p[0] += v.x / 3, q.p[1] += v.y / 3, q.p[2] += v.z / 3;
+      }
+      probes.push_back(q);
+      continue;
+    }
+    st = facet_faces(f, faces_of[f], area_in, allowed_edges, loop_edges);
+    if (!st.ok()) return st;
+  }
+  return probes_outside(probes);
 }
 
 // A face that is not constrained must not lie in a facet: when its three
@@ -828,14 +861,8 @@ Status Validator::volume() {
     const Tri3 g = tet_face(R.tet, R.face);  // counterclockwise from outside the domain
     const auto& L = plc_.facets[f].loops[0];
     // Outward normal of g against the loop's Newell normal.
-    double n[3] = {0, 0, 0};
-    for (size_t k = 0; k < L.size(); ++k) {
-      const Vec3& p = plc_.points[L[k]];
-      const Vec3& q = plc_.points[L[(k + 1) % L.size()]];
-      n[0] += (p.y - q.y) * (p.z + q.z);
-      n[1] += (p.z - q.z) * (p.x + q.x);
-      n[2] += (p.x - q.x) * (p.y + q.y);
-    }
+    const Vec3 nv = newell_normal(plc_, L);
+    const double n[3] = {nv.x, nv.y, nv.z};
     const double* a = pt(g[0]);
     const double* b = pt(g[1]);
     const double* d = pt(g[2]);
