@@ -239,7 +239,7 @@ size_t move_flat_tets_outside(const TetMesh& mesh, const SegmentSet& segs,
   // plane); the others need no face lookups.
   std::vector<TetId> flat;
   for (TetId t : carved.tets) {
-    const VertexId* w = &mesh.tv[4 * static_cast<size_t>(t)];
+    const VertexId* w = mesh.tet_vertices(t);
     if (numerically_flat(mesh.point(w[0]), mesh.point(w[1]), mesh.point(w[2]), mesh.point(w[3])))
       flat.push_back(t);
   }

@@ -248,7 +248,7 @@ void CavityMesher::kill_record(uint32_t r) {
 bool CavityMesher::test_tet(TetId t, const std::vector<Triangle>& region) {
   mark_[t] = kMarkKept;
   touched_.push_back(t);
-  const VertexId* w = &m_.tv[4 * static_cast<size_t>(t)];
+  const VertexId* w = m_.tet_vertices(t);
   const int ns = w[3] == kInfinite ? 3 : 4;  // a ghost meets Ω only in its hull face
   double lo[3], hi[3];
   for (int k = 0; k < 3; ++k) lo[k] = hi[k] = m_.point(w[0])[k];
@@ -326,7 +326,7 @@ CavityOutcome CavityMesher::form_hole(const std::vector<Triangle>& region, std::
 bool CavityMesher::build_records(const std::vector<Triangle>& region, std::string& why) {
   for (TetId h : hole_) {
     for (int i = 0; i < 4; ++i) {
-      const HalfFace out = m_.tadj[4 * static_cast<size_t>(h) + i];
+      const HalfFace out = m_.adjacent(make_hf(h, i));
       if (mark_[hf_tet(out)] == kMarkHole) continue;
       VertexId v[3];
       for (int k = 0; k < 3; ++k) v[k] = m_.vertex(h, kFaceVertex[i][k]);
@@ -428,44 +428,11 @@ bool CavityMesher::link_cavities(std::string& why) {
       continue;
     }
     // Ring of tets around pq, starting at a kept tet.
-    const TetId t0 = hf_tet(recs_[srecs[0]].kept);
-    ring.clear(), arrive.clear();
-    {
-      VertexId x = kNone;
-      for (int i = 0; i < 4; ++i) {
-        const VertexId w = m_.vertex(t0, i);
-        if (w != p && w != q) {
-          x = w;
-          break;
-        }
-      }
-      TetId cur = t0;
-      VertexId u = x;
-      for (;;) {
-        ring.push_back(cur);
-        arrive.push_back(u);
-        VertexId w = kNone;
-        for (int i = 0; i < 4; ++i) {
-          const VertexId z = m_.vertex(cur, i);
-          if (z != p && z != q && z != u) w = z;
-        }
-        const int iu = m_.index_in_tet(cur, u);
-        if (w == kNone || iu < 0) {
-          why = "broken ring of tets around a cavity edge";
-          return false;
-        }
-        cur = m_.neighbor(cur, iu);
-        u = w;
-        if (cur == t0) break;
-        if (ring.size() > limits_.max_ring) {
-          why = "ring of tets around a cavity edge too long";
-          return false;
-        }
-      }
-      if (u != x) {
-        why = "ring of tets around a cavity edge does not close";
-        return false;
-      }
+    const char* broken =
+        m_.ring_around_edge(hf_tet(recs_[srecs[0]].kept), p, q, limits_.max_ring, ring, arrive);
+    if (broken) {
+      why = broken;
+      return false;
     }
     const size_t n = ring.size();
     auto hole = [&](size_t i) { return mark_[ring[i]] == kMarkHole; };
@@ -476,7 +443,7 @@ bool CavityMesher::link_cavities(std::string& why) {
       size_t e = s;
       while (e + 1 < n && hole(e + 1)) ++e;
       const HalfFace hf_in = make_hf(ring[s - 1], m_.index_in_tet(ring[s - 1], arrive[s - 1]));
-      const HalfFace hf_out = m_.tadj[make_hf(ring[e], m_.index_in_tet(ring[e], arrive[e]))];
+      const HalfFace hf_out = m_.adjacent(make_hf(ring[e], m_.index_in_tet(ring[e], arrive[e])));
       auto it_in = rec_of_kept.find(hf_in), it_out = rec_of_kept.find(hf_out);
       if (it_in == rec_of_kept.end() || it_out == rec_of_kept.end()) {
         why = "a face of the hole has no record";
@@ -653,8 +620,8 @@ bool CavityMesher::build_cavity_dt(uint32_t k, std::vector<uint32_t>& missing, s
     const VertexId listed[3] = {C.dt.vertex(t, kFaceVertex[i][0]),
                                 C.dt.vertex(t, kFaceVertex[i][1]),
                                 C.dt.vertex(t, kFaceVertex[i][2])};
-    const HalfFace a_hf = same_rotation(listed, l) ? hf : C.dt.tadj[hf];
-    const HalfFace b_hf = C.dt.tadj[a_hf];
+    const HalfFace a_hf = same_rotation(listed, l) ? hf : C.dt.adjacent(hf);
+    const HalfFace b_hf = C.dt.adjacent(a_hf);
     if (R.side[0] == k) R.dt_hf[0] = a_hf;
     if (R.side[1] == k) R.dt_hf[1] = b_hf;
     C.rec_at[a_hf] = C.rec_at[b_hf] = r;  // both sides: the flood stops there either way
@@ -677,7 +644,7 @@ bool CavityMesher::mark_inside(uint32_t k, std::string& why) {
     for (int s = 0; s < 2; ++s) {
       if (R.side[s] != k) continue;
       stack_in.push_back(hf_tet(R.dt_hf[s]));
-      if (R.side[1 - s] != k) stack_out.push_back(hf_tet(dt.tadj[R.dt_hf[s]]));
+      if (R.side[1 - s] != k) stack_out.push_back(hf_tet(dt.adjacent(R.dt_hf[s])));
     }
   }
   for (TetId t : stack_out) C.inside[t] = 2;
@@ -702,7 +669,7 @@ bool CavityMesher::mark_inside(uint32_t k, std::string& why) {
         const HalfFace hf = make_hf(t, i);
         const uint32_t r = C.rec_at[hf];
         if (r != kNone && !internal(r)) continue;
-        const TetId n = hf_tet(dt.tadj[hf]);
+        const TetId n = hf_tet(dt.adjacent(hf));
         if (C.inside[n] == mine) continue;
         if (C.inside[n] != 0) {
           why = "inside and outside of a cavity meet (its faces do not close it)";
@@ -755,7 +722,7 @@ bool CavityMesher::absorb(TetId t, uint32_t k, std::string& why) {
       }
       continue;
     }
-    const HalfFace out = m_.tadj[4 * static_cast<size_t>(t) + i];
+    const HalfFace out = m_.adjacent(make_hf(t, i));
     if (mark_[hf_tet(out)] == kMarkHole || is_cavity_mark(mark_[hf_tet(out)])) {
       why = "a face between an expanded tet and the hole has no record";
       return false;
@@ -842,7 +809,7 @@ bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, s
       const Rec& R = recs_[r];
       if (!R.alive || is_missing[r] || (R.side[0] != k && R.side[1] != k)) continue;
       const HalfFace hf = R.dt_hf[R.side[0] == k ? 0 : 1];
-      const TetId in = hf_tet(hf), out = hf_tet(dt.tadj[hf]);
+      const TetId in = hf_tet(hf), out = hf_tet(dt.adjacent(hf));
       if (mark[in] != 3) st_in.push_back(in);
       if (mark[out] != 3) st_out.push_back(out);
     }
@@ -862,7 +829,7 @@ bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, s
         for (int i = 0; i < 4; ++i) {
           const HalfFace hf = make_hf(d, i);
           if (C.rec_at[hf] != kNone) continue;
-          const TetId nb = hf_tet(dt.tadj[hf]);
+          const TetId nb = hf_tet(dt.adjacent(hf));
           if (mark[nb] == 3 || mark[nb] == mine) continue;
           if (mark[nb] != 0) {
             why = "gift-wrapping: inside and outside of D_C meet";
@@ -885,7 +852,7 @@ bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, s
           front.erase(key);  // a face of C, closed by this tet
           continue;
         }
-        if (mark[hf_tet(dt.tadj[hf])] == 1) continue;
+        if (mark[hf_tet(dt.adjacent(hf))] == 1) continue;
         Open o;
         o.v[0] = L[0], o.v[1] = L[2], o.v[2] = L[1];
         o.rec = kNone, o.side = 0;
@@ -1017,8 +984,7 @@ bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, s
     }
   for (size_t i = 0; i < hfs.size();) {
     if (i + 1 < hfs.size() && hfs[i + 1].first == hfs[i].first) {
-      dt.tadj[hfs[i].second] = hfs[i + 1].second;
-      dt.tadj[hfs[i + 1].second] = hfs[i].second;
+      dt.glue(hfs[i].second, hfs[i + 1].second);
       i += 2;
       continue;
     }
@@ -1027,7 +993,7 @@ bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, s
       why = "gift-wrapping left an open face";
       return false;
     }
-    dt.tadj[hfs[i].second] = make_hf(outside, 0);
+    dt.link_one_way(hfs[i].second, make_hf(outside, 0));
     C.rec_at[hfs[i].second] = it->second.rec;
     recs_[it->second.rec].dt_hf[it->second.side] = hfs[i].second;
     ++i;
@@ -1230,7 +1196,7 @@ void CavityMesher::commit() {
       if (C.inside[d] != 1) continue;
       for (int i = 0; i < 4; ++i) {
         const HalfFace hf = make_hf(d, i);
-        const HalfFace nb = C.dt.tadj[hf];
+        const HalfFace nb = C.dt.adjacent(hf);
         if (C.inside[hf_tet(nb)] == 1) {
           m_.glue(make_hf(C.new_id[d], i), make_hf(C.new_id[hf_tet(nb)], hf_face(nb)));
           continue;
@@ -1267,7 +1233,7 @@ void CavityMesher::commit() {
   // vtet: a real new tet where there is one, else a real kept tet next to a
   // cavity face, else any live tet holding the vertex.
   for (TetId t : created_real)
-    for (int i = 0; i < 4; ++i) m_.vtet[m_.vertex(t, i)] = t;
+    for (int i = 0; i < 4; ++i) m_.set_vertex_tet(m_.vertex(t, i), t);
   auto valid = [&](VertexId v) {
     const TetId t = m_.vtet[v];
     return t != kNone && t < m_.num_tet_slots() && !m_.is_dead(t) && m_.index_in_tet(t, v) >= 0;
@@ -1278,12 +1244,12 @@ void CavityMesher::commit() {
     for (int j = 0; j < 3; ++j) {
       const VertexId v = R.v[j];
       if (v == kInfinite) continue;
-      if (!valid(v) || (m_.is_ghost(m_.vtet[v]) && !m_.is_ghost(t))) m_.vtet[v] = t;
+      if (!valid(v) || (m_.is_ghost(m_.vtet[v]) && !m_.is_ghost(t))) m_.set_vertex_tet(v, t);
     }
   }
   for (TetId t : created_ghost)
     for (int i = 0; i < 3; ++i)
-      if (!valid(m_.vertex(t, i))) m_.vtet[m_.vertex(t, i)] = t;
+      if (!valid(m_.vertex(t, i))) m_.set_vertex_tet(m_.vertex(t, i), t);
 }
 
 CavityOutcome CavityMesher::recover_region(const std::vector<Triangle>& region,

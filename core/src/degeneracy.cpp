@@ -112,13 +112,13 @@ void collect(const TetMesh& mesh, std::vector<Found>& out) {
   for (size_t ts = 0; ts < slots; ++ts) {
     const TetId t = static_cast<TetId>(ts);
     if (mesh.is_dead(t)) continue;
-    const VertexId* w = &mesh.tv[4 * ts];
+    const VertexId* w = mesh.tet_vertices(t);
     const bool ghost = w[3] == kInfinite;
     for (int i = 0; i < (ghost ? 3 : 4); ++i) {
-      const HalfFace hf = mesh.tadj[4 * ts + i];
+      const HalfFace hf = mesh.adjacent(make_hf(t, i));
       const TetId n = hf_tet(hf);
       if (n < t) continue;  // each pair once
-      const VertexId e = mesh.tv[4 * size_t(n) + hf_face(hf)];
+      const VertexId e = mesh.vertex(n, hf_face(hf));
       const bool n_ghost = mesh.is_ghost(n);
       bool degenerate = false;
       if (!ghost && !n_ghost) {
@@ -165,9 +165,7 @@ bool relocate(TetMesh& mesh, Found& f) {
   for (HalfFace side : {hf, mesh.adjacent(hf)}) {
     const HalfFace other = mesh.adjacent(side);
     const TetId t = hf_tet(side);
-    if (mesh.tv[4 * size_t(t) + hf_face(side)] != opposite ||
-        mesh.tv[4 * size_t(hf_tet(other)) + hf_face(other)] != f.apex)
-      continue;
+    if (mesh.vertex(t, hf_face(side)) != opposite || mesh.opposite(other) != f.apex) continue;
     f.t = t;
     f.face = hf_face(side);
     for (int k = 0; k < 4; ++k) f.verts[k] = mesh.vertex(t, k);
@@ -181,7 +179,7 @@ bool still_present(const TetMesh& mesh, const Found& f) {
   for (int k = 0; k < 4; ++k)
     if (mesh.vertex(f.t, k) != f.verts[k]) return false;
   const HalfFace hf = mesh.adjacent(make_hf(f.t, f.face));
-  return mesh.tv[4 * size_t(hf_tet(hf)) + hf_face(hf)] == f.apex;
+  return mesh.opposite(hf) == f.apex;
 }
 
 // ---------------------------------------------------------------------------
@@ -452,7 +450,7 @@ class DegeneracyRemoval {
 // (beyond the hull face, or in its plane inside its circle) for ghost tets.
 // False when the answer is an exact zero (p co-spherical / co-circular).
 bool DegeneracyRemoval::conflict_sign(TetId t, const double* p, int& sign) const {
-  const VertexId* w = &mesh_.tv[4 * size_t(t)];
+  const VertexId* w = mesh_.tet_vertices(t);
   const double *a = mesh_.point(w[0]), *b = mesh_.point(w[1]), *c = mesh_.point(w[2]);
   if (w[3] != kInfinite) {
     sign = pred::insphere(a, b, c, mesh_.point(w[3]), p);
@@ -514,7 +512,7 @@ bool DegeneracyRemoval::probe(const double* p, TetId hint) {
         mesh_.stamp(n, out_epoch);
       }
       // Boundary face i of t: the new tet is t with vertex i replaced by p.
-      const VertexId* w = &mesh_.tv[4 * size_t(t)];
+      const VertexId* w = mesh_.tet_vertices(t);
       if (w[0] != kInfinite && w[1] != kInfinite && w[2] != kInfinite && w[3] != kInfinite) {
         const double* q[4];
         for (int j = 0; j < 4; ++j) q[j] = j == i ? p : mesh_.point(w[j]);
@@ -524,8 +522,8 @@ bool DegeneracyRemoval::probe(const double* p, TetId hint) {
         if (pred::orient3d(mesh_.point(w[0]), mesh_.point(w[1]), mesh_.point(w[2]), p) == 0) return false;
       }
       const HalfFace hf = mesh_.adjacent(make_hf(t, i));
-      faces_.push_back({w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]],
-                        mesh_.tv[4 * size_t(hf_tet(hf)) + hf_face(hf)]});
+      faces_.push_back(
+          {w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]], mesh_.opposite(hf)});
     }
   }
   // Pairs of new tets: the two boundary faces at each boundary edge.
@@ -927,10 +925,10 @@ Status DegeneracyRemoval::protect(const std::vector<uint32_t>& encroached, const
 // Whether the tets on both sides of face i of t form a local degeneracy (the
 // test of collect()).
 bool DegeneracyRemoval::face_degenerate(TetId t, int i) const {
-  const VertexId* w = &mesh_.tv[4 * size_t(t)];
+  const VertexId* w = mesh_.tet_vertices(t);
   const HalfFace hf = mesh_.adjacent(make_hf(t, i));
   const TetId n = hf_tet(hf);
-  const VertexId e = mesh_.tv[4 * size_t(n) + hf_face(hf)];
+  const VertexId e = mesh_.vertex(n, hf_face(hf));
   const bool ghost = w[3] == kInfinite, n_ghost = mesh_.is_ghost(n);
   if (!ghost && !n_ghost)
     return pred::insphere(mesh_.point(w[0]), mesh_.point(w[1]), mesh_.point(w[2]), mesh_.point(w[3]),
@@ -981,7 +979,7 @@ bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
   for (TetId t : star_) {
     if (mesh_.is_ghost(t)) return false;
     const int iv = mesh_.index_in_tet(t, v);
-    const VertexId* w = &mesh_.tv[4 * size_t(t)];
+    const VertexId* w = mesh_.tet_vertices(t);
     faces.push_back({{0, 0, 0}, w[kFaceVertex[iv][0]], w[kFaceVertex[iv][1]], w[kFaceVertex[iv][2]],
                      mesh_.adjacent(make_hf(t, iv))});
     for (int j = 0; j < 4; ++j)
@@ -1018,7 +1016,7 @@ bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
     if (hf == kNone) return false;
     TetId t = kNone;
     for (HalfFace side : {hf, tmp.adjacent(hf)}) {
-      const VertexId d = tmp.tv[4 * size_t(hf_tet(side)) + hf_face(side)];
+      const VertexId d = tmp.opposite(side);
       if (d != kInfinite &&
           pred::orient3d(mesh_.point(f.a), mesh_.point(f.b), mesh_.point(f.c), mesh_.point(link_[d])) > 0)
         t = hf_tet(side);
@@ -1078,9 +1076,9 @@ bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
       std::sort(key.begin(), key.end());
       mesh_.glue(make_hf(id[t], i), find(key)->outside);
     }
-    for (int j = 0; j < 4; ++j) mesh_.vtet[mesh_.vertex(id[t], j)] = id[t];
+    for (int j = 0; j < 4; ++j) mesh_.set_vertex_tet(mesh_.vertex(id[t], j), id[t]);
   }
-  mesh_.vtet[v] = kNone;
+  mesh_.set_vertex_tet(v, kNone);
   mesh_.vkind[v] = kVertexNotInserted;
   return true;
 }

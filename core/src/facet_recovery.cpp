@@ -159,7 +159,7 @@ void find_missing(const TetMesh& mesh, const Subfaces& sf, std::vector<uint8_t>&
   const size_t slots = mesh.num_tet_slots();
   for (TetId t = 0; t < slots; ++t) {
     if (mesh.is_dead(t)) continue;
-    const VertexId* w = &mesh.tv[4 * size_t(t)];
+    const VertexId* w = mesh.tet_vertices(t);
     if (w[3] == kInfinite) continue;  // hull faces are seen from their real tet
     for (int i = 0; i < 4; ++i) {     // interior faces twice: cheaper than deciding
       const Triangle key =

@@ -40,7 +40,7 @@ class FlatFlipper {
 
  private:
   bool flat(TetId t) const {
-    const VertexId* w = &m_.tv[4 * size_t(t)];
+    const VertexId* w = m_.tet_vertices(t);
     return w[3] != kInfinite && numerically_flat(m_.point(w[0]), m_.point(w[1]), m_.point(w[2]),
                                                  m_.point(w[3]));
   }
@@ -116,7 +116,7 @@ bool FlatFlipper::keeps_delaunay(const std::vector<TetId>& old,
     }
     for (TetId t : old)
       for (int i = 0; i < 4; ++i) {
-        const VertexId* w = &m_.tv[4 * size_t(t)];
+        const VertexId* w = m_.tet_vertices(t);
         if (sorted_triangle(w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]) != k)
           continue;
         const HalfFace out = m_.adjacent(make_hf(t, i));
@@ -147,7 +147,7 @@ void FlatFlipper::try_face(TetId t, int i) {
   const HalfFace hf = make_hf(t, i);
   const TetId n = hf_tet(m_.adjacent(hf));
   if (m_.is_ghost(n)) return;
-  const VertexId* w = &m_.tv[4 * size_t(t)];
+  const VertexId* w = m_.tet_vertices(t);
   const VertexId a = w[kFaceVertex[i][0]], b = w[kFaceVertex[i][1]], c = w[kFaceVertex[i][2]];
   if (is_subface(a, b, c)) return;
   const VertexId d = w[i];

@@ -132,7 +132,7 @@ VertexId SegmentRecovery::reference_point(VertexId a, VertexId b) {
   const Vec3 ab = pb - pa;
   const double len2 = dot(ab, ab);
   auto may_meet = [&](TetId t) {
-    const VertexId* w = &mesh_.tv[4 * static_cast<size_t>(t)];
+    const VertexId* w = mesh_.tet_vertices(t);
     if (w[3] == kInfinite) return false;
     const double* q[4] = {mesh_.point(w[0]), mesh_.point(w[1]), mesh_.point(w[2]), mesh_.point(w[3])};
     for (int d = 0; d < 3; ++d) {
