@@ -577,17 +577,25 @@ void CavityMesher::collect_vertices(uint32_t k) {
   C.verts.erase(std::unique(C.verts.begin(), C.verts.end()), C.verts.end());
 }
 
+// collect_vertices for a bounded cavity, which cannot hold the vertex at
+// infinity (the vertex ids are sorted, so kInfinite would come last).
+bool CavityMesher::collect_bounded_vertices(uint32_t k, std::string& why) {
+  collect_vertices(k);
+  const std::vector<VertexId>& verts = cavs_[k].verts;
+  if (verts.empty() || verts.back() == kInfinite) {
+    why = "a bounded cavity holds the vertex at infinity";
+    return false;
+  }
+  return true;
+}
+
 // Cavity retetrahedralization step 2(1)-(2) for cavity k: D_C of its
 // vertices and the records found in it. `missing` gets the records whose
 // face is not in D_C (not strongly Delaunay in V under the perturbation).
 bool CavityMesher::build_cavity_dt(uint32_t k, std::vector<uint32_t>& missing, std::string& why) {
   Cav& C = cavs_[k];
-  collect_vertices(k);
+  if (!collect_bounded_vertices(k, why)) return false;
   const size_t n = C.verts.size();
-  if (n == 0 || C.verts.back() == kInfinite) {
-    why = "a bounded cavity holds the vertex at infinity";
-    return false;
-  }
   std::vector<double> xyz(3 * n);
   for (size_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c) xyz[3 * i + c] = m_.point(C.verts[i])[c];
@@ -740,29 +748,15 @@ bool CavityMesher::absorb(TetId t, uint32_t k, std::string& why) {
 // result is stored like a D_C: tets in C.dt (local ids), adjacency among
 // them, the cavity's faces in rec_at / dt_hf, and every other face glued to
 // one placeholder slot marked outside.
-bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, std::string& why) {
-  Cav& C = cavs_[k];
-  collect_vertices(k);
-  const size_t n = C.verts.size();
-  if (n == 0 || C.verts.back() == kInfinite) {
-    why = "a bounded cavity holds the vertex at infinity";
-    return false;
-  }
-  if (n > kMaxGiftWrapVertices) {
-    why = "the cavity is too large for gift-wrapping (" + std::to_string(n) + " vertices)";
-    return false;
-  }
+// The faces of cavity k, oriented to face into it, by local vertex ids
+// (C.verts): the first front of the gift-wrapping.
+bool CavityMesher::open_cavity_faces(uint32_t k, std::map<Triangle, OpenFace>& front,
+                                     std::string& why) {
+  const Cav& C = cavs_[k];
   auto local = [&](VertexId v) {
     return static_cast<VertexId>(std::lower_bound(C.verts.begin(), C.verts.end(), v) -
                                  C.verts.begin());
   };
-  auto pt = [&](VertexId l) { return m_.point(C.verts[l]); };
-  struct Open {
-    VertexId v[3];  // local ids
-    uint32_t rec;   // record of a face of C, or kNone for a face made here
-    int side;
-  };
-  std::map<Triangle, Open> front;
   for (uint32_t r = 0; r < recs_.size(); ++r) {
     const Rec& R = recs_[r];
     if (!R.alive || (R.side[0] != k && R.side[1] != k)) continue;
@@ -771,95 +765,180 @@ bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, s
       return false;
     }
     const int side = R.side[0] == k ? 0 : 1;
-    Open o;
+    OpenFace o;
     o.v[0] = local(R.v[0]);
     o.v[1] = local(side == 0 ? R.v[1] : R.v[2]);
     o.v[2] = local(side == 0 ? R.v[2] : R.v[1]);
     o.rec = r, o.side = side;
     front[sorted_triangle(o.v[0], o.v[1], o.v[2])] = o;
   }
-  const std::map<Triangle, Open> faces_of_c = front;
-  std::vector<std::array<VertexId, 4>> tets;
-  if (missing && !missing->empty()) {
-    // Keep the tets of D_C (still holding this state of C) that are inside
-    // C and meet no missing face improperly: flood from the present faces
-    // without entering a tet that meets a missing face. Only the rest is
-    // gift-wrapped, so C stays Delaunay away from the missing faces.
-    const TetMesh& dt = C.dt;
-    const size_t slots = dt.num_tet_slots();
-    std::vector<uint8_t> mark(slots, 0);  // 1 inside, 2 outside, 3 bad
-    for (TetId d = 0; d < slots; ++d) {
-      if (dt.is_dead(d)) continue;
-      if (dt.is_ghost(d)) {
+  return true;
+}
+
+// Keeps the tets of D_C (still holding this state of C) that are inside C
+// and meet no missing face improperly: flood from the present faces without
+// entering a tet that meets a missing face. Only the rest is gift-wrapped, so
+// C stays Delaunay away from the missing faces. The kept tets go to `tets`,
+// and `front` becomes the boundary of what they leave open.
+bool CavityMesher::keep_sound_tets(uint32_t k, const std::vector<uint32_t>& missing,
+                                   std::vector<std::array<VertexId, 4>>& tets,
+                                   std::map<Triangle, OpenFace>& front, std::string& why) {
+  Cav& C = cavs_[k];
+  // Keep the tets of D_C (still holding this state of C) that are inside
+  // C and meet no missing face improperly: flood from the present faces
+  // without entering a tet that meets a missing face. Only the rest is
+  // gift-wrapped, so C stays Delaunay away from the missing faces.
+  const TetMesh& dt = C.dt;
+  const size_t slots = dt.num_tet_slots();
+  std::vector<uint8_t> mark(slots, 0);  // 1 inside, 2 outside, 3 bad
+  for (TetId d = 0; d < slots; ++d) {
+    if (dt.is_dead(d)) continue;
+    if (dt.is_ghost(d)) {
+      mark[d] = 3;
+      continue;
+    }
+    const VertexId tg[4] = {C.verts[dt.vertex(d, 0)], C.verts[dt.vertex(d, 1)],
+                            C.verts[dt.vertex(d, 2)], C.verts[dt.vertex(d, 3)]};
+    for (uint32_t r : missing)
+      if (improper_intersection(m_, tg, 4, recs_[r].v)) {
         mark[d] = 3;
-        continue;
+        break;
       }
-      const VertexId tg[4] = {C.verts[dt.vertex(d, 0)], C.verts[dt.vertex(d, 1)],
-                              C.verts[dt.vertex(d, 2)], C.verts[dt.vertex(d, 3)]};
-      for (uint32_t r : *missing)
-        if (improper_intersection(m_, tg, 4, recs_[r].v)) {
-          mark[d] = 3;
-          break;
-        }
-    }
-    std::vector<uint8_t> is_missing(recs_.size(), 0);
-    for (uint32_t r : *missing) is_missing[r] = 1;
-    std::vector<TetId> st_in, st_out;
-    for (uint32_t r = 0; r < recs_.size(); ++r) {
-      const Rec& R = recs_[r];
-      if (!R.alive || is_missing[r] || (R.side[0] != k && R.side[1] != k)) continue;
-      const HalfFace hf = R.dt_hf[R.side[0] == k ? 0 : 1];
-      const TetId in = hf_tet(hf), out = hf_tet(dt.adjacent(hf));
-      if (mark[in] != 3) st_in.push_back(in);
-      if (mark[out] != 3) st_out.push_back(out);
-    }
-    for (int pass = 0; pass < 2; ++pass) {
-      std::vector<TetId>& stk = pass == 0 ? st_in : st_out;
-      const uint8_t mine = pass == 0 ? 1 : 2;
-      for (TetId d : stk) {
-        if (mark[d] != 0 && mark[d] != mine) {
-          why = "gift-wrapping: a kept tet of D_C is on both sides of the cavity";
-          return false;
-        }
-        mark[d] = mine;
+  }
+  std::vector<uint8_t> is_missing(recs_.size(), 0);
+  for (uint32_t r : missing) is_missing[r] = 1;
+  std::vector<TetId> st_in, st_out;
+  for (uint32_t r = 0; r < recs_.size(); ++r) {
+    const Rec& R = recs_[r];
+    if (!R.alive || is_missing[r] || (R.side[0] != k && R.side[1] != k)) continue;
+    const HalfFace hf = R.dt_hf[R.side[0] == k ? 0 : 1];
+    const TetId in = hf_tet(hf), out = hf_tet(dt.adjacent(hf));
+    if (mark[in] != 3) st_in.push_back(in);
+    if (mark[out] != 3) st_out.push_back(out);
+  }
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<TetId>& stk = pass == 0 ? st_in : st_out;
+    const uint8_t mine = pass == 0 ? 1 : 2;
+    for (TetId d : stk) {
+      if (mark[d] != 0 && mark[d] != mine) {
+        why = "gift-wrapping: a kept tet of D_C is on both sides of the cavity";
+        return false;
       }
-      while (!stk.empty()) {
-        const TetId d = stk.back();
-        stk.pop_back();
-        for (int i = 0; i < 4; ++i) {
-          const HalfFace hf = make_hf(d, i);
-          if (C.rec_at[hf] != kNone) continue;
-          const TetId nb = hf_tet(dt.adjacent(hf));
-          if (mark[nb] == 3 || mark[nb] == mine) continue;
-          if (mark[nb] != 0) {
-            why = "gift-wrapping: inside and outside of D_C meet";
-            return false;
-          }
-          mark[nb] = mine;
-          stk.push_back(nb);
-        }
-      }
+      mark[d] = mine;
     }
-    for (TetId d = 0; d < slots; ++d) {
-      if (mark[d] != 1) continue;
-      tets.push_back({dt.vertex(d, 0), dt.vertex(d, 1), dt.vertex(d, 2), dt.vertex(d, 3)});
+    while (!stk.empty()) {
+      const TetId d = stk.back();
+      stk.pop_back();
       for (int i = 0; i < 4; ++i) {
         const HalfFace hf = make_hf(d, i);
-        const VertexId L[3] = {dt.vertex(d, kFaceVertex[i][0]), dt.vertex(d, kFaceVertex[i][1]),
-                               dt.vertex(d, kFaceVertex[i][2])};
-        const Triangle key = sorted_triangle(L[0], L[1], L[2]);
-        if (C.rec_at[hf] != kNone) {
-          front.erase(key);  // a face of C, closed by this tet
-          continue;
+        if (C.rec_at[hf] != kNone) continue;
+        const TetId nb = hf_tet(dt.adjacent(hf));
+        if (mark[nb] == 3 || mark[nb] == mine) continue;
+        if (mark[nb] != 0) {
+          why = "gift-wrapping: inside and outside of D_C meet";
+          return false;
         }
-        if (mark[hf_tet(dt.adjacent(hf))] == 1) continue;
-        Open o;
-        o.v[0] = L[0], o.v[1] = L[2], o.v[2] = L[1];
-        o.rec = kNone, o.side = 0;
-        front[key] = o;
+        mark[nb] = mine;
+        stk.push_back(nb);
       }
     }
   }
+  for (TetId d = 0; d < slots; ++d) {
+    if (mark[d] != 1) continue;
+    tets.push_back({dt.vertex(d, 0), dt.vertex(d, 1), dt.vertex(d, 2), dt.vertex(d, 3)});
+    for (int i = 0; i < 4; ++i) {
+      const HalfFace hf = make_hf(d, i);
+      const VertexId L[3] = {dt.vertex(d, kFaceVertex[i][0]), dt.vertex(d, kFaceVertex[i][1]),
+                             dt.vertex(d, kFaceVertex[i][2])};
+      const Triangle key = sorted_triangle(L[0], L[1], L[2]);
+      if (C.rec_at[hf] != kNone) {
+        front.erase(key);  // a face of C, closed by this tet
+        continue;
+      }
+      if (mark[hf_tet(dt.adjacent(hf))] == 1) continue;
+      OpenFace o;
+      o.v[0] = L[0], o.v[1] = L[2], o.v[2] = L[1];
+      o.rec = kNone, o.side = 0;
+      front[key] = o;
+    }
+  }
+  return true;
+}
+
+// Stores the gift-wrapped tets of cavity k (local vertex ids) as a filled
+// D_C: its own TetMesh whose open faces all lead to one placeholder tet
+// `outside`, each tied to its record of C. Every vertex of C must be used
+// and every open face must be a face of C.
+bool CavityMesher::store_wrapped(uint32_t k, const std::vector<std::array<VertexId, 4>>& tets,
+                                 const std::map<Triangle, OpenFace>& faces_of_c, std::string& why) {
+  Cav& C = cavs_[k];
+  const size_t n = C.verts.size();
+  TetMesh& dt = C.dt;
+  dt.clear();
+  std::vector<double> xyz(3 * n);
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) xyz[3 * i + c] = m_.point(C.verts[i])[c];
+  dt.coords = xyz;
+  dt.vkind.assign(n, kVertexInput);
+  dt.vtet.assign(n, kNone);
+  for (size_t i = 0; i <= tets.size(); ++i) dt.alloc_tet();
+  const TetId outside = static_cast<TetId>(tets.size());
+  dt.set_tet(outside, 0, 0, 0, 0);
+  C.inside.assign(tets.size() + 1, 1);
+  C.inside[outside] = 2;
+  C.rec_at.assign(4 * (tets.size() + 1), kNone);
+  std::vector<std::pair<Triangle, HalfFace>> hfs;
+  for (TetId d = 0; d < tets.size(); ++d) {
+    dt.set_tet(d, tets[d][0], tets[d][1], tets[d][2], tets[d][3]);
+    for (int i = 0; i < 4; ++i) {
+      const VertexId a = tets[d][kFaceVertex[i][0]], b = tets[d][kFaceVertex[i][1]],
+                     c = tets[d][kFaceVertex[i][2]];
+      hfs.push_back({sorted_triangle(a, b, c), make_hf(d, i)});
+    }
+  }
+  std::sort(hfs.begin(), hfs.end());
+  std::vector<uint8_t> used(n, 0);
+  for (const auto& t : tets)
+    for (VertexId v : t) used[v] = 1;
+  for (size_t i = 0; i < n; ++i)
+    if (!used[i]) {
+      why = "gift-wrapping left vertex " + std::to_string(C.verts[i]) + " of the cavity out";
+      return false;
+    }
+  for (size_t i = 0; i < hfs.size();) {
+    if (i + 1 < hfs.size() && hfs[i + 1].first == hfs[i].first) {
+      dt.glue(hfs[i].second, hfs[i + 1].second);
+      i += 2;
+      continue;
+    }
+    const auto it = faces_of_c.find(hfs[i].first);
+    if (it == faces_of_c.end()) {
+      why = "gift-wrapping left an open face";
+      return false;
+    }
+    dt.link_one_way(hfs[i].second, make_hf(outside, 0));
+    C.rec_at[hfs[i].second] = it->second.rec;
+    recs_[it->second.rec].dt_hf[it->second.side] = hfs[i].second;
+    ++i;
+  }
+  C.faces = faces_of_c.size();
+  return true;
+}
+
+bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, std::string& why) {
+  Cav& C = cavs_[k];
+  if (!collect_bounded_vertices(k, why)) return false;
+  const size_t n = C.verts.size();
+  if (n > kMaxGiftWrapVertices) {
+    why = "the cavity is too large for gift-wrapping (" + std::to_string(n) + " vertices)";
+    return false;
+  }
+  auto pt = [&](VertexId l) { return m_.point(C.verts[l]); };
+  std::map<Triangle, OpenFace> front;
+  if (!open_cavity_faces(k, front, why)) return false;
+  const std::map<Triangle, OpenFace> faces_of_c = front;
+  std::vector<std::array<VertexId, 4>> tets;
+  if (missing && !missing->empty() && !keep_sound_tets(k, *missing, tets, front, why)) return false;
   std::vector<VertexId> cand;
   std::vector<uint8_t> tried;
   const size_t max_steps = 8 * n * n + 64;
@@ -878,7 +957,7 @@ bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, s
       if (rank < best_rank) best_rank = rank, pick = it;
       if (rank == 0) break;
     }
-    const Open f = pick->second;
+    const OpenFace f = pick->second;
     const double *p0 = pt(f.v[0]), *p1 = pt(f.v[1]), *p2 = pt(f.v[2]);
     cand.clear();
     for (VertexId w = 0; w < n; ++w) {
@@ -943,63 +1022,13 @@ bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, s
         front.erase(it);
         continue;
       }
-      Open o;
+      OpenFace o;
       o.v[0] = L[0], o.v[1] = L[2], o.v[2] = L[1];
       o.rec = kNone, o.side = 0;
       front[key] = o;
     }
   }
-  // Store as a filled D_C.
-  TetMesh& dt = C.dt;
-  dt.clear();
-  std::vector<double> xyz(3 * n);
-  for (size_t i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c) xyz[3 * i + c] = pt(static_cast<VertexId>(i))[c];
-  dt.coords = xyz;
-  dt.vkind.assign(n, kVertexInput);
-  dt.vtet.assign(n, kNone);
-  for (size_t i = 0; i <= tets.size(); ++i) dt.alloc_tet();
-  const TetId outside = static_cast<TetId>(tets.size());
-  dt.set_tet(outside, 0, 0, 0, 0);
-  C.inside.assign(tets.size() + 1, 1);
-  C.inside[outside] = 2;
-  C.rec_at.assign(4 * (tets.size() + 1), kNone);
-  std::vector<std::pair<Triangle, HalfFace>> hfs;
-  for (TetId d = 0; d < tets.size(); ++d) {
-    dt.set_tet(d, tets[d][0], tets[d][1], tets[d][2], tets[d][3]);
-    for (int i = 0; i < 4; ++i) {
-      const VertexId a = tets[d][kFaceVertex[i][0]], b = tets[d][kFaceVertex[i][1]],
-                     c = tets[d][kFaceVertex[i][2]];
-      hfs.push_back({sorted_triangle(a, b, c), make_hf(d, i)});
-    }
-  }
-  std::sort(hfs.begin(), hfs.end());
-  std::vector<uint8_t> used(n, 0);
-  for (const auto& t : tets)
-    for (VertexId v : t) used[v] = 1;
-  for (size_t i = 0; i < n; ++i)
-    if (!used[i]) {
-      why = "gift-wrapping left vertex " + std::to_string(C.verts[i]) + " of the cavity out";
-      return false;
-    }
-  for (size_t i = 0; i < hfs.size();) {
-    if (i + 1 < hfs.size() && hfs[i + 1].first == hfs[i].first) {
-      dt.glue(hfs[i].second, hfs[i + 1].second);
-      i += 2;
-      continue;
-    }
-    const auto it = faces_of_c.find(hfs[i].first);
-    if (it == faces_of_c.end()) {
-      why = "gift-wrapping left an open face";
-      return false;
-    }
-    dt.link_one_way(hfs[i].second, make_hf(outside, 0));
-    C.rec_at[hfs[i].second] = it->second.rec;
-    recs_[it->second.rec].dt_hf[it->second.side] = hfs[i].second;
-    ++i;
-  }
-  C.faces = faces_of_c.size();
-  return true;
+  return store_wrapped(k, tets, faces_of_c, why);
 }
 
 // Cavity retetrahedralization step 1 (verify C, expand C if necessary) and
