@@ -489,6 +489,55 @@ void scatter_coords(std::vector<double>& a, const std::vector<VertexId>& order) 
 // mesh whose vertex k is vertices[order[k]] in BRIO order (so points inserted
 // close in time sit close in memory), perturbing by the caller's ids; then
 // the vertex ids are translated back.
+// The vertices to triangulate are mesh vertices, each listed once, with
+// finite coordinates in the supported range.
+Status check_vertices(const TetMesh& m, const std::vector<VertexId>& vertices) {
+  const size_t nv = m.num_vertices();
+  std::vector<bool> listed(nv, false);
+  for (VertexId v : vertices) {
+    if (v >= nv) return make_error(ErrorCode::IndexOutOfRange, "Vertex id out of range.").vertex(v);
+    if (listed[v]) return make_error(ErrorCode::InvalidArgument, "Vertex listed twice.").vertex(v);
+    listed[v] = true;
+    const double* p = m.point(v);
+    for (int k = 0; k < 3; ++k) {
+      if (!std::isfinite(p[k]))
+        return make_error(ErrorCode::NonFinite, "Point has a non-finite coordinate.").vertex(v);
+      if (std::fabs(p[k]) > kMaxCoordinate)
+        return make_error(ErrorCode::CoordinateRange,
+                          "Point coordinate exceeds the supported range.")
+            .vertex(v);
+    }
+  }
+  return Status::success();
+}
+
+// Moves the work mesh `w` (vertex k is order[k]) into `m`, translating its
+// vertex ids back to the caller's; returns the number of ghost tets (hull
+// faces), counted on the way.
+size_t adopt_work_mesh(TetMesh& m, TetMesh& w, const std::vector<VertexId>& order) {
+  const size_t n = order.size();
+  size_t ghosts = 0;
+  const size_t slots = w.num_tet_slots();
+  for (size_t t = 0; t < slots; ++t) {
+    VertexId* x = &w.tv[4 * t];
+    for (int i = 0; i < 4; ++i)
+      if (x[i] < n) x[i] = order[x[i]];
+    if (x[3] == kInfinite && !(w.tflag[t] & kTetDead)) ++ghosts;
+  }
+  m.tv = std::move(w.tv);
+  m.tadj = std::move(w.tadj);
+  m.tstamp = std::move(w.tstamp);
+  m.tflag = std::move(w.tflag);
+  m.free_tets = std::move(w.free_tets);
+  m.live_tets = w.live_tets;
+  m.epoch = w.epoch;
+  for (size_t k = 0; k < n; ++k) {
+    m.vtet[order[k]] = w.vtet[k];
+    m.vkind[order[k]] = w.vkind[k];
+  }
+  return ghosts;
+}
+
 Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<VertexId>* to_vertex,
              DelaunayStats* stats, const DelaunayOptions& options) {
   const auto t_start = std::chrono::steady_clock::now();
@@ -510,25 +559,8 @@ Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<Vert
   if (to_vertex) to_vertex->assign(vertices.begin(), vertices.end());
 
   if (n >= (size_t(1) << 30)) return make_error(ErrorCode::TooLarge, "Too many points.");
-  {
-    std::vector<bool> listed(nv, false);
-    for (VertexId v : vertices) {
-      if (v >= nv)
-        return make_error(ErrorCode::IndexOutOfRange, "Vertex id out of range.").vertex(v);
-      if (listed[v])
-        return make_error(ErrorCode::InvalidArgument, "Vertex listed twice.").vertex(v);
-      listed[v] = true;
-      const double* p = m.point(v);
-      for (int k = 0; k < 3; ++k) {
-        if (!std::isfinite(p[k]))
-          return make_error(ErrorCode::NonFinite, "Point has a non-finite coordinate.").vertex(v);
-        if (std::fabs(p[k]) > kMaxCoordinate)
-          return make_error(ErrorCode::CoordinateRange,
-                            "Point coordinate exceeds the supported range.")
-              .vertex(v);
-      }
-    }
-  }
+  Status checked = check_vertices(m, vertices);
+  if (!checked.ok()) return checked;
   if (n < 4) return make_error(ErrorCode::TooFewPoints, "Fewer than 4 distinct points.");
 
   std::vector<VertexId> order;
@@ -584,27 +616,7 @@ Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<Vert
       hint = ins.last_tet();
   }
 
-  // Translate the work mesh back to the caller's vertex ids (and count the
-  // ghost tets on the way).
-  size_t ghosts = 0;
-  const size_t slots = w.num_tet_slots();
-  for (size_t t = 0; t < slots; ++t) {
-    VertexId* x = &w.tv[4 * t];
-    for (int i = 0; i < 4; ++i)
-      if (x[i] < n) x[i] = order[x[i]];
-    if (x[3] == kInfinite && !(w.tflag[t] & kTetDead)) ++ghosts;
-  }
-  m.tv = std::move(w.tv);
-  m.tadj = std::move(w.tadj);
-  m.tstamp = std::move(w.tstamp);
-  m.tflag = std::move(w.tflag);
-  m.free_tets = std::move(w.free_tets);
-  m.live_tets = w.live_tets;
-  m.epoch = w.epoch;
-  for (size_t k = 0; k < n; ++k) {
-    m.vtet[order[k]] = w.vtet[k];
-    m.vkind[order[k]] = w.vkind[k];
-  }
+  const size_t ghosts = adopt_work_mesh(m, w, order);
   if (to_vertex && !dups.empty()) {
     std::sort(dups.begin(), dups.end());
     for (size_t k = 0; k < n; ++k) {
