@@ -7,19 +7,11 @@
 #include <string>
 
 #include "delaunay.hpp"
+#include "geometry.hpp"
+#include "status.hpp"
 
 namespace cdt3d {
 namespace {
-
-Status carve_error(ErrorCode code, const std::string& message, int64_t facet = -1,
-                   int64_t vertex = -1) {
-  Status s;
-  s.error.code = code;
-  s.error.message = message;
-  s.error.facet = facet;
-  s.error.vertex = vertex;
-  return s;
-}
 
 // The first loop edge (facet order, loop order) used by exactly one facet.
 bool open_edge(const Plc& plc, VertexId& a, VertexId& b, int64_t& facet) {
@@ -59,40 +51,53 @@ bool open_edge(const Plc& plc, VertexId& a, VertexId& b, int64_t& facet) {
   return false;
 }
 
-}  // namespace
+// The tets connected across unconstrained faces (carve.hpp), and what each
+// region becomes.
+struct Regions {
+  std::vector<uint32_t> of;       // per tet slot: its region (kNone: dead slot)
+  std::vector<TetId> first;       // per region: its smallest slot
+  std::vector<uint8_t> removed;   // per region: exterior or hole
+  std::vector<uint8_t> has_real;  // per region: holds a real tet
+  std::vector<double> attribute;  // per region
+  size_t count() const { return first.size(); }
+};
 
-Status carve(const Plc& plc, TetMesh& mesh, const Subfaces& subfaces, bool keep_convex_hull,
-             CarveResult& out) {
-  out = CarveResult();
-  const size_t slots = mesh.num_tet_slots();
-
-  // Constrained half-faces: the subface index on both sides.
-  std::vector<uint32_t> hf_sub(4 * slots, kNone);
-  std::vector<HalfFace> sub_hf(subfaces.tri.size(), kNone);
+// Constrained half-faces: hf_sub[hf] is the subface on half-face hf (both
+// sides), sub_hf[i] the half-face of subface i. A subface listed twice
+// counts once, the first time.
+Status constrained_half_faces(TetMesh& mesh, const Subfaces& subfaces,
+                              std::vector<uint32_t>& hf_sub, std::vector<HalfFace>& sub_hf) {
+  hf_sub.assign(4 * mesh.num_tet_slots(), kNone);
+  sub_hf.assign(subfaces.tri.size(), kNone);
   for (size_t i = 0; i < subfaces.tri.size(); ++i) {
     const auto& s = subfaces.tri[i];
     const HalfFace hf = mesh.find_face(s[0], s[1], s[2]);
     sub_hf[i] = hf;
     if (hf == kNone) {
-      return carve_error(ErrorCode::Internal,
-                         "Subface (" + std::to_string(s[0]) + ", " + std::to_string(s[1]) + ", " +
-                             std::to_string(s[2]) + ") is not a face of the mesh.",
-                         i < subfaces.facet.size() ? subfaces.facet[i] : -1);
+      return make_error(ErrorCode::Internal,
+                        "Subface (" + std::to_string(s[0]) + ", " + std::to_string(s[1]) + ", " +
+                            std::to_string(s[2]) + ") is not a face of the mesh.")
+          .facet(i < subfaces.facet.size() ? subfaces.facet[i] : -1);
     }
     if (hf_sub[hf] != kNone) continue;  // listed twice: the first one counts
     hf_sub[hf] = static_cast<uint32_t>(i);
     hf_sub[mesh.adjacent(hf)] = static_cast<uint32_t>(i);
   }
+  return Status::success();
+}
 
-  // Regions: connected across unconstrained faces, numbered in slot order.
-  std::vector<uint32_t> region(slots, kNone);
-  std::vector<uint32_t> region_first;  // smallest slot per region
+// Regions: connected across unconstrained faces, numbered in slot order.
+// The ghosts' region is removed unless the hull is kept.
+void connect_regions(const TetMesh& mesh, const std::vector<uint32_t>& hf_sub,
+                     bool keep_convex_hull, Regions& R) {
+  const size_t slots = mesh.num_tet_slots();
+  R.of.assign(slots, kNone);
   std::vector<TetId> stack;
   for (TetId t0 = 0; t0 < slots; ++t0) {
-    if (mesh.is_dead(t0) || region[t0] != kNone) continue;
-    const uint32_t r = static_cast<uint32_t>(region_first.size());
-    region_first.push_back(t0);
-    region[t0] = r;
+    if (mesh.is_dead(t0) || R.of[t0] != kNone) continue;
+    const uint32_t r = static_cast<uint32_t>(R.first.size());
+    R.first.push_back(t0);
+    R.of[t0] = r;
     stack.push_back(t0);
     while (!stack.empty()) {
       const TetId t = stack.back();
@@ -101,25 +106,28 @@ Status carve(const Plc& plc, TetMesh& mesh, const Subfaces& subfaces, bool keep_
         const HalfFace hf = make_hf(t, i);
         if (hf_sub[hf] != kNone) continue;
         const TetId n = hf_tet(mesh.adjacent(hf));
-        if (region[n] != kNone) continue;
-        region[n] = r;
+        if (R.of[n] != kNone) continue;
+        R.of[n] = r;
         stack.push_back(n);
       }
     }
   }
-  const size_t nregions = region_first.size();
-  std::vector<uint8_t> removed(nregions, 0);
-  std::vector<uint8_t> has_real(nregions, 0);
+  R.removed.assign(R.count(), 0);
+  R.has_real.assign(R.count(), 0);
   for (TetId t = 0; t < slots; ++t) {
     if (mesh.is_dead(t)) continue;
     if (mesh.is_ghost(t)) {
-      if (!keep_convex_hull) removed[region[t]] = 1;
+      if (!keep_convex_hull) R.removed[R.of[t]] = 1;
     } else {
-      has_real[region[t]] = 1;
+      R.has_real[R.of[t]] = 1;
     }
   }
+}
 
-  // Volume holes and region points.
+// Volume holes remove their regions; region points give attributes (the
+// first listed wins), the other kept regions get largest + 1, + 2, ...
+// Returns the number of kept regions.
+size_t apply_holes_and_attributes(const Plc& plc, const TetMesh& mesh, Regions& R) {
   Rng rng(0x63617276652d6c6fULL);
   TetId hint = kNone;
   auto region_of = [&](const Vec3& p) -> uint32_t {
@@ -127,57 +135,83 @@ Status carve(const Plc& plc, TetMesh& mesh, const Subfaces& subfaces, bool keep_
     const Location loc = locate_point(mesh, xyz, hint, rng);
     if (loc.kind != LocateKind::InTet) return kNone;
     hint = loc.tet;
-    return region[loc.tet];
+    return R.of[loc.tet];
   };
   for (const Vec3& h : plc.holes) {
     const uint32_t r = region_of(h);
-    if (r != kNone) removed[r] = 1;
+    if (r != kNone) R.removed[r] = 1;
   }
-  std::vector<uint8_t> has_attr(nregions, 0);
-  std::vector<double> attr(nregions, 0.0);
+  std::vector<uint8_t> has_attr(R.count(), 0);
+  R.attribute.assign(R.count(), 0.0);
   double largest = 0;
   for (const Region& rp : plc.regions) {
     if (std::isfinite(rp.attribute)) largest = std::max(largest, std::floor(rp.attribute));
     const uint32_t r = region_of(rp.point);
     if (r == kNone || has_attr[r]) continue;
     has_attr[r] = 1;
-    attr[r] = rp.attribute;
+    R.attribute[r] = rp.attribute;
   }
   double next = largest + 1;
-  for (size_t r = 0; r < nregions; ++r) {
-    if (removed[r] || !has_real[r]) continue;
-    ++out.regions;
-    if (!has_attr[r]) attr[r] = next++, has_attr[r] = 1;
+  size_t kept = 0;
+  for (size_t r = 0; r < R.count(); ++r) {
+    if (R.removed[r] || !R.has_real[r]) continue;
+    ++kept;
+    if (!has_attr[r]) R.attribute[r] = next++, has_attr[r] = 1;
   }
+  return kept;
+}
 
-  // Kept tets and flags.
-  std::vector<uint8_t> kept(slots, 0);
+// Flags every live tet kTetInside or kTetOutside and lists the kept ones;
+// kept[t] marks them by slot.
+void keep_tets(TetMesh& mesh, const Regions& R, std::vector<uint8_t>& kept, CarveResult& out) {
+  const size_t slots = mesh.num_tet_slots();
+  kept.assign(slots, 0);
   for (TetId t = 0; t < slots; ++t) {
     if (mesh.is_dead(t)) continue;
     mesh.tflag[t] &= static_cast<uint8_t>(~(kTetInside | kTetOutside));
-    if (!mesh.is_ghost(t) && !removed[region[t]]) {
+    if (!mesh.is_ghost(t) && !R.removed[R.of[t]]) {
       kept[t] = 1;
       mesh.tflag[t] |= kTetInside;
       out.tets.push_back(t);
-      out.attribute.push_back(attr[region[t]]);
+      out.attribute.push_back(R.attribute[R.of[t]]);
     } else {
       mesh.tflag[t] |= kTetOutside;
     }
   }
-  if (out.tets.empty()) {
-    VertexId a = kNone, b = kNone;
-    int64_t facet = -1;
-    if (open_edge(plc, a, b, facet)) {
-      return carve_error(ErrorCode::OpenBoundary,
-                         "The surface does not enclose a volume; boundary edge (" +
-                             std::to_string(a) + ", " + std::to_string(b) + ") of facet " +
-                             std::to_string(facet) + " is open.",
-                         facet, a);
-    }
-    return carve_error(ErrorCode::OpenBoundary,
-                       "The surface does not enclose a volume: every tetrahedron is outside "
-                       "the surface or in a hole.");
+}
+
+// No tet kept: the error names an open boundary edge when there is one.
+Status nothing_kept_error(const Plc& plc) {
+  VertexId a = kNone, b = kNone;
+  int64_t facet = -1;
+  if (open_edge(plc, a, b, facet)) {
+    return make_error(ErrorCode::OpenBoundary,
+                      "The surface does not enclose a volume; boundary edge (" + std::to_string(a) +
+                          ", " + std::to_string(b) + ") of facet " + std::to_string(facet) +
+                          " is open.")
+        .facet(facet)
+        .vertex(a);
   }
+  return make_error(ErrorCode::OpenBoundary,
+                    "The surface does not enclose a volume: every tetrahedron is outside "
+                    "the surface or in a hole.");
+}
+
+}  // namespace
+
+Status carve(const Plc& plc, TetMesh& mesh, const Subfaces& subfaces, bool keep_convex_hull,
+             CarveResult& out) {
+  out = CarveResult();
+  std::vector<uint32_t> hf_sub;
+  std::vector<HalfFace> sub_hf;
+  Status st = constrained_half_faces(mesh, subfaces, hf_sub, sub_hf);
+  if (!st.ok()) return st;
+  Regions R;
+  connect_regions(mesh, hf_sub, keep_convex_hull, R);
+  out.regions = apply_holes_and_attributes(plc, mesh, R);
+  std::vector<uint8_t> kept;
+  keep_tets(mesh, R, kept, out);
+  if (out.tets.empty()) return nothing_kept_error(plc);
 
   // Constrained faces with a kept tet on at least one side.
   for (size_t i = 0; i < subfaces.tri.size(); ++i) {
@@ -189,6 +223,89 @@ Status carve(const Plc& plc, TetMesh& mesh, const Subfaces& subfaces, bool keep_
     out.face_facet.push_back(i < subfaces.facet.size() ? subfaces.facet[i] : kNone);
   }
   return Status::success();
+}
+
+// A flat tet: two of its faces are subfaces of one facet, so its four
+// vertices all lie in that facet, up to the rounding of Steiner points (§5
+// rounds them to doubles, so a facet is only nearly planar). Both diagonals
+// of the quadrilateral are then faces of the mesh. When the tet is kept but
+// the tets across its two subfaces are outside (a boundary facet), the facet
+// is triangulated with the tet's two other faces instead: they triangulate
+// the same quadrilateral, and the flat tet joins the exterior. Returns the
+// number of facets changed; the caller carves again.
+size_t move_flat_tets_outside(const TetMesh& mesh, const SegmentSet& segs,
+                              const CarveResult& carved, Subfaces& subfaces) {
+  // Such a tet is numerically flat (its vertices are a few ulps from one
+  // plane); the others need no face lookups.
+  std::vector<TetId> flat;
+  for (TetId t : carved.tets) {
+    const VertexId* w = mesh.tet_vertices(t);
+    if (numerically_flat(mesh.point(w[0]), mesh.point(w[1]), mesh.point(w[2]), mesh.point(w[3])))
+      flat.push_back(t);
+  }
+  if (flat.empty()) return 0;
+  struct Key {
+    std::array<VertexId, 3> v;
+    uint32_t sub;
+    bool operator<(const Key& o) const { return v != o.v ? v < o.v : sub < o.sub; }
+  };
+  std::vector<Key> keys;
+  keys.reserve(subfaces.tri.size());
+  for (uint32_t i = 0; i < subfaces.tri.size(); ++i) {
+    const auto& t = subfaces.tri[i];
+    keys.push_back({sorted_triangle(t[0], t[1], t[2]), i});
+  }
+  std::sort(keys.begin(), keys.end());
+  auto find = [&](const std::array<VertexId, 3>& k) -> uint32_t {
+    auto it = std::lower_bound(keys.begin(), keys.end(), Key{k, 0});
+    return it != keys.end() && it->v == k ? it->sub : kNone;
+  };
+  auto kept = [&](TetId t) { return (mesh.tflag[t] & kTetInside) != 0; };
+  std::vector<std::array<uint32_t, 3>> sub;
+  segs.subsegments(sub);
+  std::vector<std::array<VertexId, 2>> subsegs;
+  for (const auto& e : sub) subsegs.push_back(sorted_edge(e[0], e[1]));
+  std::sort(subsegs.begin(), subsegs.end());
+  std::vector<uint8_t> changed(subfaces.tri.size(), 0);
+  size_t moved = 0;
+  for (TetId t : flat) {
+    int face[2], n = 0;
+    uint32_t sub[2];
+    for (int i = 0; i < 4 && n <= 2; ++i) {
+      const uint32_t s =
+          find(sorted_triangle(mesh.vertex(t, kFaceVertex[i][0]), mesh.vertex(t, kFaceVertex[i][1]),
+                               mesh.vertex(t, kFaceVertex[i][2])));
+      if (s == kNone) continue;
+      if (n < 2) face[n] = i, sub[n] = s;
+      ++n;
+    }
+    if (n != 2 || subfaces.facet[sub[0]] != subfaces.facet[sub[1]]) continue;
+    if (changed[sub[0]] || changed[sub[1]]) continue;
+    if (kept(mesh.neighbor(t, face[0])) || kept(mesh.neighbor(t, face[1]))) continue;
+    // s1 = (u, v, p) with the shared edge u -> v; s2 runs v -> u to q. The
+    // quadrilateral is u -> q -> v -> p; the other diagonal gives (u, q, p)
+    // and (q, v, p), oriented like the old pair.
+    auto& s1 = subfaces.tri[sub[0]];
+    auto& s2 = subfaces.tri[sub[1]];
+    int r = 0;
+    while (r < 3 && std::find(s2.begin(), s2.end(), s1[(r + 2) % 3]) != s2.end()) ++r;
+    if (r == 3) continue;
+    const VertexId u = s1[r], v = s1[(r + 1) % 3], p = s1[(r + 2) % 3];
+    // Never across a subsegment: the other diagonal would drop it.
+    if (std::binary_search(subsegs.begin(), subsegs.end(), sorted_edge(u, v))) continue;
+    VertexId q = kNone;
+    bool consistent = false;
+    for (int k = 0; k < 3; ++k) {
+      if (s2[k] != u && s2[k] != v) q = s2[k];
+      if (s2[k] == v && s2[(k + 1) % 3] == u) consistent = true;
+    }
+    if (q == kNone || !consistent) continue;
+    s1 = {u, q, p};
+    s2 = {q, v, p};
+    changed[sub[0]] = changed[sub[1]] = 1;
+    ++moved;
+  }
+  return moved;
 }
 
 }  // namespace cdt3d

@@ -47,4 +47,13 @@ struct CarveResult {
 Status carve(const Plc& plc, TetMesh& mesh, const Subfaces& subfaces, bool keep_convex_hull,
              CarveResult& out);
 
+/// Gives the exterior the numerically flat kept tets that lie in a boundary
+/// facet: such a tet has two subfaces of one facet as faces, with outside
+/// tets across both; the facet is then triangulated with the tet's other two
+/// faces (the other diagonal of the same quadrilateral), never across a
+/// subsegment. `carved` is carve()'s result; returns the number of subface
+/// pairs changed, after which the caller carves again.
+size_t move_flat_tets_outside(const TetMesh& mesh, const SegmentSet& segs,
+                              const CarveResult& carved, Subfaces& subfaces);
+
 }  // namespace cdt3d

@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "delaunay.hpp"
+#include "geometry.hpp"
 #include "predicates.hpp"
 
 namespace cdt3d {
@@ -29,14 +30,6 @@ constexpr size_t kMaxGiftWrapVertices = 4096;
 // Edges of a tet by vertex positions.
 constexpr int kTetEdge[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
 
-Triangle sorted_key(VertexId a, VertexId b, VertexId c) {
-  Triangle k{a, b, c};
-  if (k[0] > k[1]) std::swap(k[0], k[1]);
-  if (k[1] > k[2]) std::swap(k[1], k[2]);
-  if (k[0] > k[1]) std::swap(k[0], k[1]);
-  return k;
-}
-
 // (x0, x1, x2) is a cyclic rotation of (y0, y1, y2).
 bool same_rotation(const VertexId* x, const VertexId* y) {
   for (int r = 0; r < 3; ++r)
@@ -58,10 +51,9 @@ struct Projection {
 };
 
 Projection projection_of(const double* a, const double* b, const double* c) {
-  const double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
-  const double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
-  const double n[3] = {std::fabs(uy * vz - uz * vy), std::fabs(uz * vx - ux * vz),
-                       std::fabs(ux * vy - uy * vx)};
+  const Vec3 normal = triangle_normal(a, b, c);
+  const double n[3] = {std::fabs(normal.x), std::fabs(normal.y), std::fabs(normal.z)};
+  // The best axis first (largest_axis's order), then the others by size.
   int order[3] = {0, 1, 2};
   std::sort(order, order + 3, [&](int i, int j) { return n[i] != n[j] ? n[i] > n[j] : i < j; });
   Projection p;
@@ -249,14 +241,14 @@ uint32_t CavityMesher::new_record(const VertexId v[3], uint32_t side_a, uint32_t
 
 void CavityMesher::kill_record(uint32_t r) {
   recs_[r].alive = false;
-  rec_of_.erase(sorted_key(recs_[r].v[0], recs_[r].v[1], recs_[r].v[2]));
+  rec_of_.erase(sorted_triangle(recs_[r].v[0], recs_[r].v[1], recs_[r].v[2]));
 }
 
 // formcavity step 1: the tets meeting the relative interior of Ω improperly.
 bool CavityMesher::test_tet(TetId t, const std::vector<Triangle>& region) {
   mark_[t] = kMarkKept;
   touched_.push_back(t);
-  const VertexId* w = &m_.tv[4 * static_cast<size_t>(t)];
+  const VertexId* w = m_.tet_vertices(t);
   const int ns = w[3] == kInfinite ? 3 : 4;  // a ghost meets Ω only in its hull face
   double lo[3], hi[3];
   for (int k = 0; k < 3; ++k) lo[k] = hi[k] = m_.point(w[0])[k];
@@ -334,18 +326,18 @@ CavityOutcome CavityMesher::form_hole(const std::vector<Triangle>& region, std::
 bool CavityMesher::build_records(const std::vector<Triangle>& region, std::string& why) {
   for (TetId h : hole_) {
     for (int i = 0; i < 4; ++i) {
-      const HalfFace out = m_.tadj[4 * static_cast<size_t>(h) + i];
+      const HalfFace out = m_.adjacent(make_hf(h, i));
       if (mark_[hf_tet(out)] == kMarkHole) continue;
       VertexId v[3];
       for (int k = 0; k < 3; ++k) v[k] = m_.vertex(h, kFaceVertex[i][k]);
       const uint32_t r = new_record(v, kPending, kSideKept, out, -1);
-      rec_of_[sorted_key(v[0], v[1], v[2])] = r;
+      rec_of_[sorted_triangle(v[0], v[1], v[2])] = r;
     }
   }
   omega_rec_.resize(region.size());
   for (size_t j = 0; j < region.size(); ++j) {
     const Triangle& T = region[j];
-    const Triangle key = sorted_key(T[0], T[1], T[2]);
+    const Triangle key = sorted_triangle(T[0], T[1], T[2]);
     if (rec_of_.count(key)) {
       why = "a triangle of the region is already a face of the hole";
       return false;
@@ -436,44 +428,11 @@ bool CavityMesher::link_cavities(std::string& why) {
       continue;
     }
     // Ring of tets around pq, starting at a kept tet.
-    const TetId t0 = hf_tet(recs_[srecs[0]].kept);
-    ring.clear(), arrive.clear();
-    {
-      VertexId x = kNone;
-      for (int i = 0; i < 4; ++i) {
-        const VertexId w = m_.vertex(t0, i);
-        if (w != p && w != q) {
-          x = w;
-          break;
-        }
-      }
-      TetId cur = t0;
-      VertexId u = x;
-      for (;;) {
-        ring.push_back(cur);
-        arrive.push_back(u);
-        VertexId w = kNone;
-        for (int i = 0; i < 4; ++i) {
-          const VertexId z = m_.vertex(cur, i);
-          if (z != p && z != q && z != u) w = z;
-        }
-        const int iu = m_.index_in_tet(cur, u);
-        if (w == kNone || iu < 0) {
-          why = "broken ring of tets around a cavity edge";
-          return false;
-        }
-        cur = m_.neighbor(cur, iu);
-        u = w;
-        if (cur == t0) break;
-        if (ring.size() > limits_.max_ring) {
-          why = "ring of tets around a cavity edge too long";
-          return false;
-        }
-      }
-      if (u != x) {
-        why = "ring of tets around a cavity edge does not close";
-        return false;
-      }
+    const char* broken =
+        m_.ring_around_edge(hf_tet(recs_[srecs[0]].kept), p, q, limits_.max_ring, ring, arrive);
+    if (broken) {
+      why = broken;
+      return false;
     }
     const size_t n = ring.size();
     auto hole = [&](size_t i) { return mark_[ring[i]] == kMarkHole; };
@@ -484,7 +443,7 @@ bool CavityMesher::link_cavities(std::string& why) {
       size_t e = s;
       while (e + 1 < n && hole(e + 1)) ++e;
       const HalfFace hf_in = make_hf(ring[s - 1], m_.index_in_tet(ring[s - 1], arrive[s - 1]));
-      const HalfFace hf_out = m_.tadj[make_hf(ring[e], m_.index_in_tet(ring[e], arrive[e]))];
+      const HalfFace hf_out = m_.adjacent(make_hf(ring[e], m_.index_in_tet(ring[e], arrive[e])));
       auto it_in = rec_of_kept.find(hf_in), it_out = rec_of_kept.find(hf_out);
       if (it_in == rec_of_kept.end() || it_out == rec_of_kept.end()) {
         why = "a face of the hole has no record";
@@ -618,17 +577,25 @@ void CavityMesher::collect_vertices(uint32_t k) {
   C.verts.erase(std::unique(C.verts.begin(), C.verts.end()), C.verts.end());
 }
 
+// collect_vertices for a bounded cavity, which cannot hold the vertex at
+// infinity (the vertex ids are sorted, so kInfinite would come last).
+bool CavityMesher::collect_bounded_vertices(uint32_t k, std::string& why) {
+  collect_vertices(k);
+  const std::vector<VertexId>& verts = cavs_[k].verts;
+  if (verts.empty() || verts.back() == kInfinite) {
+    why = "a bounded cavity holds the vertex at infinity";
+    return false;
+  }
+  return true;
+}
+
 // Cavity retetrahedralization step 2(1)-(2) for cavity k: D_C of its
 // vertices and the records found in it. `missing` gets the records whose
 // face is not in D_C (not strongly Delaunay in V under the perturbation).
 bool CavityMesher::build_cavity_dt(uint32_t k, std::vector<uint32_t>& missing, std::string& why) {
   Cav& C = cavs_[k];
-  collect_vertices(k);
+  if (!collect_bounded_vertices(k, why)) return false;
   const size_t n = C.verts.size();
-  if (n == 0 || C.verts.back() == kInfinite) {
-    why = "a bounded cavity holds the vertex at infinity";
-    return false;
-  }
   std::vector<double> xyz(3 * n);
   for (size_t i = 0; i < n; ++i)
     for (int c = 0; c < 3; ++c) xyz[3 * i + c] = m_.point(C.verts[i])[c];
@@ -661,8 +628,8 @@ bool CavityMesher::build_cavity_dt(uint32_t k, std::vector<uint32_t>& missing, s
     const VertexId listed[3] = {C.dt.vertex(t, kFaceVertex[i][0]),
                                 C.dt.vertex(t, kFaceVertex[i][1]),
                                 C.dt.vertex(t, kFaceVertex[i][2])};
-    const HalfFace a_hf = same_rotation(listed, l) ? hf : C.dt.tadj[hf];
-    const HalfFace b_hf = C.dt.tadj[a_hf];
+    const HalfFace a_hf = same_rotation(listed, l) ? hf : C.dt.adjacent(hf);
+    const HalfFace b_hf = C.dt.adjacent(a_hf);
     if (R.side[0] == k) R.dt_hf[0] = a_hf;
     if (R.side[1] == k) R.dt_hf[1] = b_hf;
     C.rec_at[a_hf] = C.rec_at[b_hf] = r;  // both sides: the flood stops there either way
@@ -685,7 +652,7 @@ bool CavityMesher::mark_inside(uint32_t k, std::string& why) {
     for (int s = 0; s < 2; ++s) {
       if (R.side[s] != k) continue;
       stack_in.push_back(hf_tet(R.dt_hf[s]));
-      if (R.side[1 - s] != k) stack_out.push_back(hf_tet(dt.tadj[R.dt_hf[s]]));
+      if (R.side[1 - s] != k) stack_out.push_back(hf_tet(dt.adjacent(R.dt_hf[s])));
     }
   }
   for (TetId t : stack_out) C.inside[t] = 2;
@@ -710,7 +677,7 @@ bool CavityMesher::mark_inside(uint32_t k, std::string& why) {
         const HalfFace hf = make_hf(t, i);
         const uint32_t r = C.rec_at[hf];
         if (r != kNone && !internal(r)) continue;
-        const TetId n = hf_tet(dt.tadj[hf]);
+        const TetId n = hf_tet(dt.adjacent(hf));
         if (C.inside[n] == mine) continue;
         if (C.inside[n] != 0) {
           why = "inside and outside of a cavity meet (its faces do not close it)";
@@ -747,7 +714,7 @@ bool CavityMesher::absorb(TetId t, uint32_t k, std::string& why) {
   for (int i = 0; i < 4; ++i) {
     VertexId v[3];
     for (int j = 0; j < 3; ++j) v[j] = m_.vertex(t, kFaceVertex[i][j]);
-    const auto it = rec_of_.find(sorted_key(v[0], v[1], v[2]));
+    const auto it = rec_of_.find(sorted_triangle(v[0], v[1], v[2]));
     if (it != rec_of_.end()) {
       Rec& R = recs_[it->second];
       if (R.side[1] != kSideKept || hf_tet(R.kept) != t) {
@@ -763,13 +730,13 @@ bool CavityMesher::absorb(TetId t, uint32_t k, std::string& why) {
       }
       continue;
     }
-    const HalfFace out = m_.tadj[4 * static_cast<size_t>(t) + i];
+    const HalfFace out = m_.adjacent(make_hf(t, i));
     if (mark_[hf_tet(out)] == kMarkHole || is_cavity_mark(mark_[hf_tet(out)])) {
       why = "a face between an expanded tet and the hole has no record";
       return false;
     }
     const uint32_t r = new_record(v, k, kSideKept, out, -1);
-    rec_of_[sorted_key(v[0], v[1], v[2])] = r;
+    rec_of_[sorted_triangle(v[0], v[1], v[2])] = r;
   }
   C.dirty = true;
   return true;
@@ -781,29 +748,15 @@ bool CavityMesher::absorb(TetId t, uint32_t k, std::string& why) {
 // result is stored like a D_C: tets in C.dt (local ids), adjacency among
 // them, the cavity's faces in rec_at / dt_hf, and every other face glued to
 // one placeholder slot marked outside.
-bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, std::string& why) {
-  Cav& C = cavs_[k];
-  collect_vertices(k);
-  const size_t n = C.verts.size();
-  if (n == 0 || C.verts.back() == kInfinite) {
-    why = "a bounded cavity holds the vertex at infinity";
-    return false;
-  }
-  if (n > kMaxGiftWrapVertices) {
-    why = "the cavity is too large for gift-wrapping (" + std::to_string(n) + " vertices)";
-    return false;
-  }
+// The faces of cavity k, oriented to face into it, by local vertex ids
+// (C.verts): the first front of the gift-wrapping.
+bool CavityMesher::open_cavity_faces(uint32_t k, std::map<Triangle, OpenFace>& front,
+                                     std::string& why) {
+  const Cav& C = cavs_[k];
   auto local = [&](VertexId v) {
     return static_cast<VertexId>(std::lower_bound(C.verts.begin(), C.verts.end(), v) -
                                  C.verts.begin());
   };
-  auto pt = [&](VertexId l) { return m_.point(C.verts[l]); };
-  struct Open {
-    VertexId v[3];  // local ids
-    uint32_t rec;   // record of a face of C, or kNone for a face made here
-    int side;
-  };
-  std::map<Triangle, Open> front;
   for (uint32_t r = 0; r < recs_.size(); ++r) {
     const Rec& R = recs_[r];
     if (!R.alive || (R.side[0] != k && R.side[1] != k)) continue;
@@ -812,95 +765,180 @@ bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, s
       return false;
     }
     const int side = R.side[0] == k ? 0 : 1;
-    Open o;
+    OpenFace o;
     o.v[0] = local(R.v[0]);
     o.v[1] = local(side == 0 ? R.v[1] : R.v[2]);
     o.v[2] = local(side == 0 ? R.v[2] : R.v[1]);
     o.rec = r, o.side = side;
-    front[sorted_key(o.v[0], o.v[1], o.v[2])] = o;
+    front[sorted_triangle(o.v[0], o.v[1], o.v[2])] = o;
   }
-  const std::map<Triangle, Open> faces_of_c = front;
-  std::vector<std::array<VertexId, 4>> tets;
-  if (missing && !missing->empty()) {
-    // Keep the tets of D_C (still holding this state of C) that are inside
-    // C and meet no missing face improperly: flood from the present faces
-    // without entering a tet that meets a missing face. Only the rest is
-    // gift-wrapped, so C stays Delaunay away from the missing faces.
-    const TetMesh& dt = C.dt;
-    const size_t slots = dt.num_tet_slots();
-    std::vector<uint8_t> mark(slots, 0);  // 1 inside, 2 outside, 3 bad
-    for (TetId d = 0; d < slots; ++d) {
-      if (dt.is_dead(d)) continue;
-      if (dt.is_ghost(d)) {
+  return true;
+}
+
+// Keeps the tets of D_C (still holding this state of C) that are inside C
+// and meet no missing face improperly: flood from the present faces without
+// entering a tet that meets a missing face. Only the rest is gift-wrapped, so
+// C stays Delaunay away from the missing faces. The kept tets go to `tets`,
+// and `front` becomes the boundary of what they leave open.
+bool CavityMesher::keep_sound_tets(uint32_t k, const std::vector<uint32_t>& missing,
+                                   std::vector<std::array<VertexId, 4>>& tets,
+                                   std::map<Triangle, OpenFace>& front, std::string& why) {
+  Cav& C = cavs_[k];
+  // Keep the tets of D_C (still holding this state of C) that are inside
+  // C and meet no missing face improperly: flood from the present faces
+  // without entering a tet that meets a missing face. Only the rest is
+  // gift-wrapped, so C stays Delaunay away from the missing faces.
+  const TetMesh& dt = C.dt;
+  const size_t slots = dt.num_tet_slots();
+  std::vector<uint8_t> mark(slots, 0);  // 1 inside, 2 outside, 3 bad
+  for (TetId d = 0; d < slots; ++d) {
+    if (dt.is_dead(d)) continue;
+    if (dt.is_ghost(d)) {
+      mark[d] = 3;
+      continue;
+    }
+    const VertexId tg[4] = {C.verts[dt.vertex(d, 0)], C.verts[dt.vertex(d, 1)],
+                            C.verts[dt.vertex(d, 2)], C.verts[dt.vertex(d, 3)]};
+    for (uint32_t r : missing)
+      if (improper_intersection(m_, tg, 4, recs_[r].v)) {
         mark[d] = 3;
-        continue;
+        break;
       }
-      const VertexId tg[4] = {C.verts[dt.vertex(d, 0)], C.verts[dt.vertex(d, 1)],
-                              C.verts[dt.vertex(d, 2)], C.verts[dt.vertex(d, 3)]};
-      for (uint32_t r : *missing)
-        if (improper_intersection(m_, tg, 4, recs_[r].v)) {
-          mark[d] = 3;
-          break;
-        }
-    }
-    std::vector<uint8_t> is_missing(recs_.size(), 0);
-    for (uint32_t r : *missing) is_missing[r] = 1;
-    std::vector<TetId> st_in, st_out;
-    for (uint32_t r = 0; r < recs_.size(); ++r) {
-      const Rec& R = recs_[r];
-      if (!R.alive || is_missing[r] || (R.side[0] != k && R.side[1] != k)) continue;
-      const HalfFace hf = R.dt_hf[R.side[0] == k ? 0 : 1];
-      const TetId in = hf_tet(hf), out = hf_tet(dt.tadj[hf]);
-      if (mark[in] != 3) st_in.push_back(in);
-      if (mark[out] != 3) st_out.push_back(out);
-    }
-    for (int pass = 0; pass < 2; ++pass) {
-      std::vector<TetId>& stk = pass == 0 ? st_in : st_out;
-      const uint8_t mine = pass == 0 ? 1 : 2;
-      for (TetId d : stk) {
-        if (mark[d] != 0 && mark[d] != mine) {
-          why = "gift-wrapping: a kept tet of D_C is on both sides of the cavity";
-          return false;
-        }
-        mark[d] = mine;
+  }
+  std::vector<uint8_t> is_missing(recs_.size(), 0);
+  for (uint32_t r : missing) is_missing[r] = 1;
+  std::vector<TetId> st_in, st_out;
+  for (uint32_t r = 0; r < recs_.size(); ++r) {
+    const Rec& R = recs_[r];
+    if (!R.alive || is_missing[r] || (R.side[0] != k && R.side[1] != k)) continue;
+    const HalfFace hf = R.dt_hf[R.side[0] == k ? 0 : 1];
+    const TetId in = hf_tet(hf), out = hf_tet(dt.adjacent(hf));
+    if (mark[in] != 3) st_in.push_back(in);
+    if (mark[out] != 3) st_out.push_back(out);
+  }
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<TetId>& stk = pass == 0 ? st_in : st_out;
+    const uint8_t mine = pass == 0 ? 1 : 2;
+    for (TetId d : stk) {
+      if (mark[d] != 0 && mark[d] != mine) {
+        why = "gift-wrapping: a kept tet of D_C is on both sides of the cavity";
+        return false;
       }
-      while (!stk.empty()) {
-        const TetId d = stk.back();
-        stk.pop_back();
-        for (int i = 0; i < 4; ++i) {
-          const HalfFace hf = make_hf(d, i);
-          if (C.rec_at[hf] != kNone) continue;
-          const TetId nb = hf_tet(dt.tadj[hf]);
-          if (mark[nb] == 3 || mark[nb] == mine) continue;
-          if (mark[nb] != 0) {
-            why = "gift-wrapping: inside and outside of D_C meet";
-            return false;
-          }
-          mark[nb] = mine;
-          stk.push_back(nb);
-        }
-      }
+      mark[d] = mine;
     }
-    for (TetId d = 0; d < slots; ++d) {
-      if (mark[d] != 1) continue;
-      tets.push_back({dt.vertex(d, 0), dt.vertex(d, 1), dt.vertex(d, 2), dt.vertex(d, 3)});
+    while (!stk.empty()) {
+      const TetId d = stk.back();
+      stk.pop_back();
       for (int i = 0; i < 4; ++i) {
         const HalfFace hf = make_hf(d, i);
-        const VertexId L[3] = {dt.vertex(d, kFaceVertex[i][0]), dt.vertex(d, kFaceVertex[i][1]),
-                               dt.vertex(d, kFaceVertex[i][2])};
-        const Triangle key = sorted_key(L[0], L[1], L[2]);
-        if (C.rec_at[hf] != kNone) {
-          front.erase(key);  // a face of C, closed by this tet
-          continue;
+        if (C.rec_at[hf] != kNone) continue;
+        const TetId nb = hf_tet(dt.adjacent(hf));
+        if (mark[nb] == 3 || mark[nb] == mine) continue;
+        if (mark[nb] != 0) {
+          why = "gift-wrapping: inside and outside of D_C meet";
+          return false;
         }
-        if (mark[hf_tet(dt.tadj[hf])] == 1) continue;
-        Open o;
-        o.v[0] = L[0], o.v[1] = L[2], o.v[2] = L[1];
-        o.rec = kNone, o.side = 0;
-        front[key] = o;
+        mark[nb] = mine;
+        stk.push_back(nb);
       }
     }
   }
+  for (TetId d = 0; d < slots; ++d) {
+    if (mark[d] != 1) continue;
+    tets.push_back({dt.vertex(d, 0), dt.vertex(d, 1), dt.vertex(d, 2), dt.vertex(d, 3)});
+    for (int i = 0; i < 4; ++i) {
+      const HalfFace hf = make_hf(d, i);
+      const VertexId L[3] = {dt.vertex(d, kFaceVertex[i][0]), dt.vertex(d, kFaceVertex[i][1]),
+                             dt.vertex(d, kFaceVertex[i][2])};
+      const Triangle key = sorted_triangle(L[0], L[1], L[2]);
+      if (C.rec_at[hf] != kNone) {
+        front.erase(key);  // a face of C, closed by this tet
+        continue;
+      }
+      if (mark[hf_tet(dt.adjacent(hf))] == 1) continue;
+      OpenFace o;
+      o.v[0] = L[0], o.v[1] = L[2], o.v[2] = L[1];
+      o.rec = kNone, o.side = 0;
+      front[key] = o;
+    }
+  }
+  return true;
+}
+
+// Stores the gift-wrapped tets of cavity k (local vertex ids) as a filled
+// D_C: its own TetMesh whose open faces all lead to one placeholder tet
+// `outside`, each tied to its record of C. Every vertex of C must be used
+// and every open face must be a face of C.
+bool CavityMesher::store_wrapped(uint32_t k, const std::vector<std::array<VertexId, 4>>& tets,
+                                 const std::map<Triangle, OpenFace>& faces_of_c, std::string& why) {
+  Cav& C = cavs_[k];
+  const size_t n = C.verts.size();
+  TetMesh& dt = C.dt;
+  dt.clear();
+  std::vector<double> xyz(3 * n);
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) xyz[3 * i + c] = m_.point(C.verts[i])[c];
+  dt.coords = xyz;
+  dt.vkind.assign(n, kVertexInput);
+  dt.vtet.assign(n, kNone);
+  for (size_t i = 0; i <= tets.size(); ++i) dt.alloc_tet();
+  const TetId outside = static_cast<TetId>(tets.size());
+  dt.set_tet(outside, 0, 0, 0, 0);
+  C.inside.assign(tets.size() + 1, 1);
+  C.inside[outside] = 2;
+  C.rec_at.assign(4 * (tets.size() + 1), kNone);
+  std::vector<std::pair<Triangle, HalfFace>> hfs;
+  for (TetId d = 0; d < tets.size(); ++d) {
+    dt.set_tet(d, tets[d][0], tets[d][1], tets[d][2], tets[d][3]);
+    for (int i = 0; i < 4; ++i) {
+      const VertexId a = tets[d][kFaceVertex[i][0]], b = tets[d][kFaceVertex[i][1]],
+                     c = tets[d][kFaceVertex[i][2]];
+      hfs.push_back({sorted_triangle(a, b, c), make_hf(d, i)});
+    }
+  }
+  std::sort(hfs.begin(), hfs.end());
+  std::vector<uint8_t> used(n, 0);
+  for (const auto& t : tets)
+    for (VertexId v : t) used[v] = 1;
+  for (size_t i = 0; i < n; ++i)
+    if (!used[i]) {
+      why = "gift-wrapping left vertex " + std::to_string(C.verts[i]) + " of the cavity out";
+      return false;
+    }
+  for (size_t i = 0; i < hfs.size();) {
+    if (i + 1 < hfs.size() && hfs[i + 1].first == hfs[i].first) {
+      dt.glue(hfs[i].second, hfs[i + 1].second);
+      i += 2;
+      continue;
+    }
+    const auto it = faces_of_c.find(hfs[i].first);
+    if (it == faces_of_c.end()) {
+      why = "gift-wrapping left an open face";
+      return false;
+    }
+    dt.link_one_way(hfs[i].second, make_hf(outside, 0));
+    C.rec_at[hfs[i].second] = it->second.rec;
+    recs_[it->second.rec].dt_hf[it->second.side] = hfs[i].second;
+    ++i;
+  }
+  C.faces = faces_of_c.size();
+  return true;
+}
+
+bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, std::string& why) {
+  Cav& C = cavs_[k];
+  if (!collect_bounded_vertices(k, why)) return false;
+  const size_t n = C.verts.size();
+  if (n > kMaxGiftWrapVertices) {
+    why = "the cavity is too large for gift-wrapping (" + std::to_string(n) + " vertices)";
+    return false;
+  }
+  auto pt = [&](VertexId l) { return m_.point(C.verts[l]); };
+  std::map<Triangle, OpenFace> front;
+  if (!open_cavity_faces(k, front, why)) return false;
+  const std::map<Triangle, OpenFace> faces_of_c = front;
+  std::vector<std::array<VertexId, 4>> tets;
+  if (missing && !missing->empty() && !keep_sound_tets(k, *missing, tets, front, why)) return false;
   std::vector<VertexId> cand;
   std::vector<uint8_t> tried;
   const size_t max_steps = 8 * n * n + 64;
@@ -919,7 +957,7 @@ bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, s
       if (rank < best_rank) best_rank = rank, pick = it;
       if (rank == 0) break;
     }
-    const Open f = pick->second;
+    const OpenFace f = pick->second;
     const double *p0 = pt(f.v[0]), *p1 = pt(f.v[1]), *p2 = pt(f.v[2]);
     cand.clear();
     for (VertexId w = 0; w < n; ++w) {
@@ -974,7 +1012,7 @@ bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, s
     front.erase(pick);
     for (int i = 0; i < 3; ++i) {
       const VertexId L[3] = {t[kFaceVertex[i][0]], t[kFaceVertex[i][1]], t[kFaceVertex[i][2]]};
-      const Triangle key = sorted_key(L[0], L[1], L[2]);
+      const Triangle key = sorted_triangle(L[0], L[1], L[2]);
       auto it = front.find(key);
       if (it != front.end()) {
         if (!same_rotation(it->second.v, L)) {
@@ -984,64 +1022,13 @@ bool CavityMesher::gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, s
         front.erase(it);
         continue;
       }
-      Open o;
+      OpenFace o;
       o.v[0] = L[0], o.v[1] = L[2], o.v[2] = L[1];
       o.rec = kNone, o.side = 0;
       front[key] = o;
     }
   }
-  // Store as a filled D_C.
-  TetMesh& dt = C.dt;
-  dt.clear();
-  std::vector<double> xyz(3 * n);
-  for (size_t i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c) xyz[3 * i + c] = pt(static_cast<VertexId>(i))[c];
-  dt.coords = xyz;
-  dt.vkind.assign(n, kVertexInput);
-  dt.vtet.assign(n, kNone);
-  for (size_t i = 0; i <= tets.size(); ++i) dt.alloc_tet();
-  const TetId outside = static_cast<TetId>(tets.size());
-  dt.set_tet(outside, 0, 0, 0, 0);
-  C.inside.assign(tets.size() + 1, 1);
-  C.inside[outside] = 2;
-  C.rec_at.assign(4 * (tets.size() + 1), kNone);
-  std::vector<std::pair<Triangle, HalfFace>> hfs;
-  for (TetId d = 0; d < tets.size(); ++d) {
-    dt.set_tet(d, tets[d][0], tets[d][1], tets[d][2], tets[d][3]);
-    for (int i = 0; i < 4; ++i) {
-      const VertexId a = tets[d][kFaceVertex[i][0]], b = tets[d][kFaceVertex[i][1]],
-                     c = tets[d][kFaceVertex[i][2]];
-      hfs.push_back({sorted_key(a, b, c), make_hf(d, i)});
-    }
-  }
-  std::sort(hfs.begin(), hfs.end());
-  std::vector<uint8_t> used(n, 0);
-  for (const auto& t : tets)
-    for (VertexId v : t) used[v] = 1;
-  for (size_t i = 0; i < n; ++i)
-    if (!used[i]) {
-      why = "gift-wrapping left vertex " + std::to_string(C.verts[i]) + " of the cavity out";
-      return false;
-    }
-  for (size_t i = 0; i < hfs.size();) {
-    if (i + 1 < hfs.size() && hfs[i + 1].first == hfs[i].first) {
-      dt.tadj[hfs[i].second] = hfs[i + 1].second;
-      dt.tadj[hfs[i + 1].second] = hfs[i].second;
-      i += 2;
-      continue;
-    }
-    const auto it = faces_of_c.find(hfs[i].first);
-    if (it == faces_of_c.end()) {
-      why = "gift-wrapping left an open face";
-      return false;
-    }
-    dt.tadj[hfs[i].second] = make_hf(outside, 0);
-    C.rec_at[hfs[i].second] = it->second.rec;
-    recs_[it->second.rec].dt_hf[it->second.side] = hfs[i].second;
-    ++i;
-  }
-  C.faces = faces_of_c.size();
-  return true;
+  return store_wrapped(k, tets, faces_of_c, why);
 }
 
 // Cavity retetrahedralization step 1 (verify C, expand C if necessary) and
@@ -1078,7 +1065,7 @@ CavityOutcome CavityMesher::verify_and_expand(CavityReport& report, std::string&
       const Rec& R = recs_[r];
       if (!R.alive || R.side[0] != k || R.side[1] != kSideKept || m_.is_ghost(hf_tet(R.kept)))
         continue;
-      if (is_subface_ && is_subface_(sorted_key(R.v[0], R.v[1], R.v[2]))) continue;
+      if (is_subface_ && is_subface_(sorted_triangle(R.v[0], R.v[1], R.v[2]))) continue;
       if (!absorb(hf_tet(R.kept), k, why)) return CavityOutcome::Failed;
       ++report.expansions;
       ++expanded;
@@ -1139,8 +1126,9 @@ bool CavityMesher::plan_ghost_cavity(uint32_t k, std::string& why) {
   for (uint32_t g = 0; g < C.ghosts.size(); ++g)
     for (int i = 0; i < 3; ++i) {
       const std::array<VertexId, 4>& G = C.ghosts[g];
-      faces.push_back({sorted_key(G[kFaceVertex[i][0]], G[kFaceVertex[i][1]], G[kFaceVertex[i][2]]),
-                       4 * g + uint32_t(i)});
+      faces.push_back(
+          {sorted_triangle(G[kFaceVertex[i][0]], G[kFaceVertex[i][1]], G[kFaceVertex[i][2]]),
+           4 * g + uint32_t(i)});
     }
   std::sort(faces.begin(), faces.end());
   size_t matched_records = 0;
@@ -1196,7 +1184,7 @@ void CavityMesher::commit() {
       VertexId f[3];
       for (int j = 0; j < 3; ++j) f[j] = m_.vertex(t, kFaceVertex[i][j]);
       if (f[0] != kInfinite && f[1] != kInfinite && f[2] != kInfinite)
-        removed_faces_.push_back(sorted_key(f[0], f[1], f[2]));
+        removed_faces_.push_back(sorted_triangle(f[0], f[1], f[2]));
     }
   };
   for (TetId t : hole_) remove(t);
@@ -1237,7 +1225,7 @@ void CavityMesher::commit() {
       if (C.inside[d] != 1) continue;
       for (int i = 0; i < 4; ++i) {
         const HalfFace hf = make_hf(d, i);
-        const HalfFace nb = C.dt.tadj[hf];
+        const HalfFace nb = C.dt.adjacent(hf);
         if (C.inside[hf_tet(nb)] == 1) {
           m_.glue(make_hf(C.new_id[d], i), make_hf(C.new_id[hf_tet(nb)], hf_face(nb)));
           continue;
@@ -1256,7 +1244,7 @@ void CavityMesher::commit() {
       for (int i = 0; i < 3; ++i) {
         const std::array<VertexId, 4>& G = C.ghosts[g];
         const Triangle key =
-            sorted_key(G[kFaceVertex[i][0]], G[kFaceVertex[i][1]], G[kFaceVertex[i][2]]);
+            sorted_triangle(G[kFaceVertex[i][0]], G[kFaceVertex[i][1]], G[kFaceVertex[i][2]]);
         const auto it = rec_of_.find(key);
         if (it != rec_of_.end() && recs_[it->second].side[0] == k) {
           recs_[it->second].new_hf[0] = make_hf(C.new_id[g], i);
@@ -1274,7 +1262,7 @@ void CavityMesher::commit() {
   // vtet: a real new tet where there is one, else a real kept tet next to a
   // cavity face, else any live tet holding the vertex.
   for (TetId t : created_real)
-    for (int i = 0; i < 4; ++i) m_.vtet[m_.vertex(t, i)] = t;
+    for (int i = 0; i < 4; ++i) m_.set_vertex_tet(m_.vertex(t, i), t);
   auto valid = [&](VertexId v) {
     const TetId t = m_.vtet[v];
     return t != kNone && t < m_.num_tet_slots() && !m_.is_dead(t) && m_.index_in_tet(t, v) >= 0;
@@ -1285,12 +1273,12 @@ void CavityMesher::commit() {
     for (int j = 0; j < 3; ++j) {
       const VertexId v = R.v[j];
       if (v == kInfinite) continue;
-      if (!valid(v) || (m_.is_ghost(m_.vtet[v]) && !m_.is_ghost(t))) m_.vtet[v] = t;
+      if (!valid(v) || (m_.is_ghost(m_.vtet[v]) && !m_.is_ghost(t))) m_.set_vertex_tet(v, t);
     }
   }
   for (TetId t : created_ghost)
     for (int i = 0; i < 3; ++i)
-      if (!valid(m_.vertex(t, i))) m_.vtet[m_.vertex(t, i)] = t;
+      if (!valid(m_.vertex(t, i))) m_.set_vertex_tet(m_.vertex(t, i), t);
 }
 
 CavityOutcome CavityMesher::recover_region(const std::vector<Triangle>& region,

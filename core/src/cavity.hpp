@@ -152,7 +152,21 @@ class CavityMesher {
   CavityOutcome verify_and_expand(CavityReport& report, std::string& why);
   bool build_cavity_dt(uint32_t k, std::vector<uint32_t>& missing, std::string& why);
   bool mark_inside(uint32_t k, std::string& why);
+  bool collect_bounded_vertices(uint32_t k, std::string& why);
   bool gift_wrap(uint32_t k, const std::vector<uint32_t>* missing, std::string& why);
+  // gift_wrap's open faces: a face of cavity k (record rec, seen from
+  // `side`) or one made by the wrapping (rec = kNone), by local vertex ids.
+  struct OpenFace {
+    VertexId v[3];
+    uint32_t rec;
+    int side;
+  };
+  bool open_cavity_faces(uint32_t k, std::map<Triangle, OpenFace>& front, std::string& why);
+  bool store_wrapped(uint32_t k, const std::vector<std::array<VertexId, 4>>& tets,
+                     const std::map<Triangle, OpenFace>& faces_of_c, std::string& why);
+  bool keep_sound_tets(uint32_t k, const std::vector<uint32_t>& missing,
+                       std::vector<std::array<VertexId, 4>>& tets,
+                       std::map<Triangle, OpenFace>& front, std::string& why);
   void collect_vertices(uint32_t k);
   bool absorb(TetId t, uint32_t k, std::string& why);
   bool plan_ghost_cavity(uint32_t k, std::string& why);

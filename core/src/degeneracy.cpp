@@ -6,9 +6,12 @@
 // sphere (in the common plane when four of the points are coplanar), unless
 // the break point would encroach upon a subsegment or a subface, in which
 // case the boundary is protected first (§6, boundary protection procedure).
-// The outer loop repeats until D2 has no local degeneracy. Input vertices are
-// never moved; Steiner vertices could be (segment-safe perturbation) but this
-// step removes every degeneracy by break points, see remove_local_degeneracies.
+// A degeneracy with a perturbable vertex (a Steiner vertex on a segment or
+// inside a facet; input vertices never move) is first tried by a
+// segment-safe perturbation of it: try_perturb removes the vertex
+// (remove_vertex) and inserts it again a little way along its segment or
+// facet (move_vertex). The outer loop repeats until D2 has no local
+// degeneracy.
 #include "degeneracy.hpp"
 
 #include <algorithm>
@@ -17,8 +20,10 @@
 #include <unordered_map>
 
 #include "delaunay.hpp"
+#include "geometry.hpp"
 #include "predicates.hpp"
 #include "spatial_sort.hpp"
+#include "status.hpp"
 #include "subfaces.hpp"
 
 namespace cdt3d {
@@ -32,36 +37,39 @@ constexpr size_t kMaxRounds = 64;
 constexpr int kMaxDraws = 24;             // random positions tried per break point
 constexpr double kRelativeJitter = 1e-3;  // perturbation size, relative to the radius
 
-// ---------------------------------------------------------------------------
-// Small floating-point vector helpers. They only place points and rank
-// candidates; every topological decision uses the exact predicates. IEEE
-// +,-,*,/,sqrt round identically natively and in WebAssembly.
-// ---------------------------------------------------------------------------
+// Points step 3 may add in all (break, protection and re-split segment
+// points): kPointsPerVertex per vertex of D1 plus kPointsBase for tiny
+// inputs. A valid PLC needs far fewer; more means the loop cycles.
+constexpr size_t kPointsPerVertex = 4, kPointsBase = 1000;
 
-struct V3 {
-  double x, y, z;
-};
-V3 at(const double* p) { return {p[0], p[1], p[2]}; }
-V3 operator+(V3 a, V3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-V3 operator-(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-V3 operator*(double s, V3 a) { return {s * a.x, s * a.y, s * a.z}; }
-double dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-V3 cross(V3 a, V3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-double norm(V3 a) { return std::sqrt(dot(a, a)); }
-bool finite(V3 a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
+// Relative slack on the radius of a protecting ball (diametral ball of a
+// subsegment, equatorial ball of a subface) in the floating-point tests and
+// in the ball index. It errs towards "encroached" and towards one index cell
+// too many: either costs at most a protection point or a test, whereas a
+// missed ball would let a break point encroach.
+constexpr double kBallSlack = 1e-6;
+
+// A circle or sphere center farther than this many diameters of the
+// degeneracy's points from their centroid comes from nearly collinear or
+// coplanar points; its rounding error is then too large for it to be a break
+// point, and the break point is drawn around the centroid instead.
+constexpr double kMaxCenterDistance = 1e3;
+
+// Floating-point constructions (circle and sphere centers) only place points
+// and rank candidates; every topological decision uses the exact predicates.
 
 // Center of the circle through a, b, c (in their plane); non-finite when
 // they are (nearly) collinear.
-V3 circle_center(V3 a, V3 b, V3 c) {
-  const V3 u = b - a, w = c - a, n = cross(u, w);
+Vec3 circle_center(Vec3 a, Vec3 b, Vec3 c) {
+  const Vec3 u = b - a, w = c - a, n = cross(u, w);
   const double d = 2 * dot(n, n);
   return a + (1 / d) * (dot(u, u) * cross(w, n) + dot(w, w) * cross(n, u));
 }
 
 // Center of the sphere through a, b, c, d; non-finite when they are (nearly)
 // coplanar.
-V3 sphere_center(V3 a, V3 b, V3 c, V3 d) {
-  const V3 u = b - a, v = c - a, w = d - a;
+Vec3 sphere_center(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
+  const Vec3 u = b - a, v = c - a, w = d - a;
   const double den = 2 * dot(u, cross(v, w));
   return a + (1 / den) * (dot(u, u) * cross(v, w) + dot(v, v) * cross(w, u) + dot(w, w) * cross(u, v));
 }
@@ -104,13 +112,13 @@ void collect(const TetMesh& mesh, std::vector<Found>& out) {
   for (size_t ts = 0; ts < slots; ++ts) {
     const TetId t = static_cast<TetId>(ts);
     if (mesh.is_dead(t)) continue;
-    const VertexId* w = &mesh.tv[4 * ts];
+    const VertexId* w = mesh.tet_vertices(t);
     const bool ghost = w[3] == kInfinite;
     for (int i = 0; i < (ghost ? 3 : 4); ++i) {
-      const HalfFace hf = mesh.tadj[4 * ts + i];
+      const HalfFace hf = mesh.adjacent(make_hf(t, i));
       const TetId n = hf_tet(hf);
       if (n < t) continue;  // each pair once
-      const VertexId e = mesh.tv[4 * size_t(n) + hf_face(hf)];
+      const VertexId e = mesh.vertex(n, hf_face(hf));
       const bool n_ghost = mesh.is_ghost(n);
       bool degenerate = false;
       if (!ghost && !n_ghost) {
@@ -157,9 +165,7 @@ bool relocate(TetMesh& mesh, Found& f) {
   for (HalfFace side : {hf, mesh.adjacent(hf)}) {
     const HalfFace other = mesh.adjacent(side);
     const TetId t = hf_tet(side);
-    if (mesh.tv[4 * size_t(t) + hf_face(side)] != opposite ||
-        mesh.tv[4 * size_t(hf_tet(other)) + hf_face(other)] != f.apex)
-      continue;
+    if (mesh.vertex(t, hf_face(side)) != opposite || mesh.opposite(other) != f.apex) continue;
     f.t = t;
     f.face = hf_face(side);
     for (int k = 0; k < 4; ++k) f.verts[k] = mesh.vertex(t, k);
@@ -173,18 +179,7 @@ bool still_present(const TetMesh& mesh, const Found& f) {
   for (int k = 0; k < 4; ++k)
     if (mesh.vertex(f.t, k) != f.verts[k]) return false;
   const HalfFace hf = mesh.adjacent(make_hf(f.t, f.face));
-  return mesh.tv[4 * size_t(hf_tet(hf)) + hf_face(hf)] == f.apex;
-}
-
-Status make_status(ErrorCode code, const std::string& message, int64_t vertex = -1,
-                   int64_t segment = -1, int64_t facet = -1) {
-  Status st;
-  st.error.code = code;
-  st.error.message = message;
-  st.error.vertex = vertex;
-  st.error.segment = segment;
-  st.error.facet = facet;
-  return st;
+  return mesh.opposite(hf) == f.apex;
 }
 
 // ---------------------------------------------------------------------------
@@ -203,7 +198,7 @@ struct Ball {
   VertexId v[3];     // subsegment: v[2] == kNone
   uint32_t owner;    // input segment or facet
   uint32_t version;  // subfaces: the facet's triangulation version
-  V3 center;
+  Vec3 center;
   double radius;
 };
 
@@ -212,14 +207,14 @@ class BallIndex {
   void build(std::vector<Ball>&& balls);
   void add(const Ball& b);
   // Items whose box may contain p (sorted, unique).
-  void query(V3 p, std::vector<uint32_t>& out) const;
+  void query(Vec3 p, std::vector<uint32_t>& out) const;
   const Ball& ball(uint32_t i) const { return balls_[i]; }
   bool built() const { return built_; }
 
  private:
   static constexpr int kLevels = 48;
   static constexpr int64_t kOffset = int64_t(1) << 18;  // cell coordinates in [0, 2^19)
-  bool cell_of(V3 p, int level, int64_t c[3]) const;
+  bool cell_of(Vec3 p, int level, int64_t c[3]) const;
   static uint64_t key(int level, const int64_t c[3]) {
     return (static_cast<uint64_t>(level) << 57) | (static_cast<uint64_t>(c[0]) << 38) |
            (static_cast<uint64_t>(c[1]) << 19) | static_cast<uint64_t>(c[2]);
@@ -233,12 +228,12 @@ class BallIndex {
   std::unordered_map<uint64_t, std::vector<uint32_t>> overlay_;  // lookup only
   std::vector<uint32_t> big_;  // non-finite balls: candidates of every query
   uint64_t levels_used_ = 0;   // bit L: some item at level L
-  V3 lo_{0, 0, 0};
+  Vec3 lo_{0, 0, 0};
   double h_ = 1;
   mutable std::vector<uint64_t> scratch_;
 };
 
-bool BallIndex::cell_of(V3 p, int level, int64_t c[3]) const {
+bool BallIndex::cell_of(Vec3 p, int level, int64_t c[3]) const {
   const double h = std::ldexp(h_, level);
   const double q[3] = {(p.x - lo_.x) / h, (p.y - lo_.y) / h, (p.z - lo_.z) / h};
   for (int d = 0; d < 3; ++d) {
@@ -252,13 +247,14 @@ bool BallIndex::cell_of(V3 p, int level, int64_t c[3]) const {
 bool BallIndex::keys(uint32_t i, std::vector<uint64_t>& out) const {
   out.clear();
   const Ball& b = balls_[i];
-  const double r = b.radius * (1 + 1e-6) + 1e-300;
+  const double r = b.radius * (1 + kBallSlack) + kTinyLength;
   if (!std::isfinite(r) || !finite(b.center)) return false;
   int level = 0;
   while (level < kLevels - 1 && std::ldexp(h_, level) < 2 * r) ++level;
   for (; level < kLevels; ++level) {
     int64_t c0[3], c1[3];
-    if (!cell_of(b.center - V3{r, r, r}, level, c0) || !cell_of(b.center + V3{r, r, r}, level, c1))
+    if (!cell_of(b.center - Vec3{r, r, r}, level, c0) ||
+        !cell_of(b.center + Vec3{r, r, r}, level, c1))
       continue;
     if ((c1[0] - c0[0] + 1) * (c1[1] - c0[1] + 1) * (c1[2] - c0[2] + 1) > 8) continue;
     int64_t c[3];
@@ -279,7 +275,7 @@ void BallIndex::build(std::vector<Ball>&& balls) {
   levels_used_ = 0;
   // Finest cell size: twice the median radius; coarser levels double it.
   std::vector<double> radii;
-  V3 lo = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  Vec3 lo = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
   for (const Ball& b : balls_) {
     if (!std::isfinite(b.radius) || !finite(b.center)) continue;
     radii.push_back(b.radius);
@@ -315,7 +311,7 @@ void BallIndex::add(const Ball& b) {
   for (uint64_t k : scratch_) overlay_[k].push_back(i);
 }
 
-void BallIndex::query(V3 p, std::vector<uint32_t>& out) const {
+void BallIndex::query(Vec3 p, std::vector<uint32_t>& out) const {
   out.assign(big_.begin(), big_.end());
   for (int level = 0; level < kLevels; ++level) {
     if (!(levels_used_ >> level & 1)) continue;
@@ -332,14 +328,15 @@ void BallIndex::query(V3 p, std::vector<uint32_t>& out) const {
 }
 
 Ball segment_ball(const TetMesh& mesh, VertexId a, VertexId b, uint32_t s) {
-  const V3 pa = at(mesh.point(a)), pb = at(mesh.point(b));
+  const Vec3 pa = to_vec(mesh.point(a)), pb = to_vec(mesh.point(b));
   return {{a, b, kNone}, s, 0, 0.5 * (pa + pb), 0.5 * norm(pb - pa)};
 }
 
 Ball subface_ball(const TetMesh& mesh, const std::array<VertexId, 3>& tri, uint32_t f,
                   uint32_t version) {
-  const V3 a = at(mesh.point(tri[0])), b = at(mesh.point(tri[1])), c = at(mesh.point(tri[2]));
-  const V3 o = circle_center(a, b, c);
+  const Vec3 a = to_vec(mesh.point(tri[0])), b = to_vec(mesh.point(tri[1])),
+             c = to_vec(mesh.point(tri[2]));
+  const Vec3 o = circle_center(a, b, c);
   const double r = std::max({norm(a - o), norm(b - o), norm(c - o)});
   return {{tri[0], tri[1], tri[2]}, f, version, o, r};
 }
@@ -373,7 +370,7 @@ class DegeneracyRemoval {
   bool probe(const double* p, TetId hint);
   bool new_pair_degenerate(const double* p, const VertexId q[4]) const;
   bool strictly_breaks(const Found& f, const double* p) const;
-  bool nudge_to_break(const Found& f, V3 dir, double xyz[3]) const;
+  bool nudge_to_break(const Found& f, Vec3 dir, double xyz[3]) const;
 
   // Segment-safe perturbation (§6).
   Status try_perturb(const Found& f, bool& done);
@@ -390,20 +387,19 @@ class DegeneracyRemoval {
   Status refresh_facets();
   bool encroached_by(const double* p, bool segments_only, std::vector<uint32_t>& out);
   bool encroaches(const Ball& b, const double* p) const;
-  bool crossed_subsegment(uint32_t facet, V3 from, const double* to, std::array<uint32_t, 3>& hit);
+  bool crossed_subsegment(uint32_t facet, Vec3 from, const double* to,
+                          std::array<uint32_t, 3>& hit);
 
-  Status protect(const std::vector<uint32_t>& encroached, const Found& f, const V3* plane,
+  Status protect(const std::vector<uint32_t>& encroached, const Found& f, const Vec3* plane,
                  bool& did_something);
   Status split_subsegment(uint32_t s, VertexId a, VertexId b, TetId hint);
   Status insert_facet_point(uint32_t facet, const double* xyz, TetId hint);
   bool is_subsegment(uint32_t s, VertexId a, VertexId b) const;
-  double param(uint32_t s, VertexId v) const;
-  long chain_position(uint32_t s, VertexId v) const;
   double uniform() { return static_cast<double>(draw_.next() >> 11) * 0x1.0p-52 - 1.0; }
   // Two draws in a fixed order: the operands of `uniform() * a + uniform() * b`
   // are evaluated in an unspecified order (g++ and clang differ), which would
   // make native and WebAssembly runs diverge.
-  V3 uniform_in_plane(V3 a, V3 b) {
+  Vec3 uniform_in_plane(Vec3 a, Vec3 b) {
     const double s = uniform();
     const double t = uniform();
     return s * a + t * b;
@@ -425,7 +421,7 @@ class DegeneracyRemoval {
   std::vector<std::vector<uint32_t>> seg_facets_;   // input segment -> facets having it as a loop edge
   std::vector<std::vector<uint32_t>> facet_segs_;   // facet -> its loop edges' input segments
   std::vector<uint8_t> facet_drop_;                 // per facet: axis dropped for 2D tests
-  std::vector<V3> facet_normal_;                    // per facet: Newell normal (not unit)
+  std::vector<Vec3> facet_normal_;                  // per facet: Newell normal (not unit)
   std::vector<uint32_t> vseg_start_, vseg_;         // input vertex -> input segments (CSR)
   std::vector<uint32_t> facet_of_;                  // per vertex: facet of a Steiner vertex inside it
   std::vector<uint8_t> facet_dirty_;                // triangulation out of date
@@ -454,7 +450,7 @@ class DegeneracyRemoval {
 // (beyond the hull face, or in its plane inside its circle) for ghost tets.
 // False when the answer is an exact zero (p co-spherical / co-circular).
 bool DegeneracyRemoval::conflict_sign(TetId t, const double* p, int& sign) const {
-  const VertexId* w = &mesh_.tv[4 * size_t(t)];
+  const VertexId* w = mesh_.tet_vertices(t);
   const double *a = mesh_.point(w[0]), *b = mesh_.point(w[1]), *c = mesh_.point(w[2]);
   if (w[3] != kInfinite) {
     sign = pred::insphere(a, b, c, mesh_.point(w[3]), p);
@@ -516,7 +512,7 @@ bool DegeneracyRemoval::probe(const double* p, TetId hint) {
         mesh_.stamp(n, out_epoch);
       }
       // Boundary face i of t: the new tet is t with vertex i replaced by p.
-      const VertexId* w = &mesh_.tv[4 * size_t(t)];
+      const VertexId* w = mesh_.tet_vertices(t);
       if (w[0] != kInfinite && w[1] != kInfinite && w[2] != kInfinite && w[3] != kInfinite) {
         const double* q[4];
         for (int j = 0; j < 4; ++j) q[j] = j == i ? p : mesh_.point(w[j]);
@@ -526,8 +522,8 @@ bool DegeneracyRemoval::probe(const double* p, TetId hint) {
         if (pred::orient3d(mesh_.point(w[0]), mesh_.point(w[1]), mesh_.point(w[2]), p) == 0) return false;
       }
       const HalfFace hf = mesh_.adjacent(make_hf(t, i));
-      faces_.push_back({w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]],
-                        mesh_.tv[4 * size_t(hf_tet(hf)) + hf_face(hf)]});
+      faces_.push_back(
+          {w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]], mesh_.opposite(hf)});
     }
   }
   // Pairs of new tets: the two boundary faces at each boundary edge.
@@ -562,15 +558,15 @@ bool DegeneracyRemoval::strictly_breaks(const Found& f, const double* p) const {
 // in a lens a few ulps thick around the circle's disk. In exact arithmetic a
 // point of the disk breaks f; the nudge restores that. The move is at most
 // about 2^-30 of the coordinates' magnitude. False if no nudge works.
-bool DegeneracyRemoval::nudge_to_break(const Found& f, V3 dir, double xyz[3]) const {
+bool DegeneracyRemoval::nudge_to_break(const Found& f, Vec3 dir, double xyz[3]) const {
   if (strictly_breaks(f, xyz)) return true;
   const double len = norm(dir);
   if (!(len > 0) || !std::isfinite(len)) return false;
-  const V3 v = at(xyz), u = (1 / len) * dir;
+  const Vec3 v = to_vec(xyz), u = (1 / len) * dir;
   const double mag = std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
   for (double step = mag * 0x1.0p-53; step <= mag * 0x1.0p-30; step *= 2)
     for (double sgn : {1.0, -1.0}) {
-      const V3 x = v + (sgn * step) * u;
+      const Vec3 x = v + (sgn * step) * u;
       const double cand[3] = {x.x, x.y, x.z};
       if (strictly_breaks(f, cand)) {
         xyz[0] = x.x, xyz[1] = x.y, xyz[2] = x.z;
@@ -580,29 +576,8 @@ bool DegeneracyRemoval::nudge_to_break(const Found& f, V3 dir, double xyz[3]) co
   return false;
 }
 
-double DegeneracyRemoval::param(uint32_t s, VertexId v) const {
-  if (v == segs_.input[s][0]) return 0;
-  if (v == segs_.input[s][1]) return 1;
-  const SegmentVertex* sv = segs_.on_segment(v);
-  return sv ? sv->t : 0.5;
-}
-
-long DegeneracyRemoval::chain_position(uint32_t s, VertexId v) const {
-  const std::vector<VertexId>& chain = segs_.chain[s];
-  const double t = param(s, v);
-  size_t lo = 0, hi = chain.size();
-  while (lo < hi) {
-    const size_t m = (lo + hi) / 2;
-    if (param(s, chain[m]) < t) lo = m + 1; else hi = m;
-  }
-  for (size_t i = lo; i < chain.size() && param(s, chain[i]) == t; ++i)
-    if (chain[i] == v) return static_cast<long>(i);
-  auto it = std::find(chain.begin(), chain.end(), v);
-  return it == chain.end() ? -1 : static_cast<long>(it - chain.begin());
-}
-
 bool DegeneracyRemoval::is_subsegment(uint32_t s, VertexId a, VertexId b) const {
-  const long ia = chain_position(s, a), ib = chain_position(s, b);
+  const long ia = segs_.chain_position(s, a), ib = segs_.chain_position(s, b);
   return ia >= 0 && ib >= 0 && (ia + 1 == ib || ib + 1 == ia);
 }
 
@@ -614,18 +589,18 @@ void DegeneracyRemoval::init_topology() {
   seg_facets_.assign(segs_.input.size(), {});
   facet_segs_.assign(nf, {});
   facet_drop_.assign(nf, 2);
-  facet_normal_.assign(nf, V3{0, 0, 0});
+  facet_normal_.assign(nf, Vec3{0, 0, 0});
   facet_dirty_.assign(nf, 1);
   dirty_list_.resize(nf);
   for (uint32_t f = 0; f < nf; ++f) dirty_list_[f] = f;
   facet_version_.assign(nf, 0);
   for (uint32_t f = 0; f < nf; ++f) {
-    V3 n = {0, 0, 0};
-    const V3 origin = at(mesh_.point(plc_.facets[f].loops[0][0]));
+    Vec3 n = {0, 0, 0};
+    const Vec3 origin = to_vec(mesh_.point(plc_.facets[f].loops[0][0]));
     for (const auto& loop : plc_.facets[f].loops) {
       for (size_t k = 0; k < loop.size(); ++k) {
         const VertexId a = loop[k], b = loop[(k + 1) % loop.size()];
-        n = n + cross(at(mesh_.point(a)) - origin, at(mesh_.point(b)) - origin);
+        n = n + cross(to_vec(mesh_.point(a)) - origin, to_vec(mesh_.point(b)) - origin);
         if (loop.size() < 2) continue;
         const std::array<VertexId, 2> key = {std::min(a, b), std::max(a, b)};
         auto it = std::lower_bound(segs_.input.begin(), segs_.input.end(), key);
@@ -637,8 +612,7 @@ void DegeneracyRemoval::init_topology() {
     }
     std::sort(facet_segs_[f].begin(), facet_segs_[f].end());
     facet_segs_[f].erase(std::unique(facet_segs_[f].begin(), facet_segs_[f].end()), facet_segs_[f].end());
-    const double ax = std::fabs(n.x), ay = std::fabs(n.y), az = std::fabs(n.z);
-    facet_drop_[f] = ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
+    facet_drop_[f] = static_cast<uint8_t>(largest_axis(n.x, n.y, n.z));
     facet_normal_[f] = n;
   }
   const size_t nv = segs_.acute.size();
@@ -732,8 +706,8 @@ Status DegeneracyRemoval::ensure_index() {
 bool DegeneracyRemoval::encroaches(const Ball& b, const double* p) const {
   if (b.v[2] == kNone) return pred::dot_sign(mesh_.point(b.v[0]), p, mesh_.point(b.v[1])) <= 0;
   if (!std::isfinite(b.radius) || !finite(b.center)) return true;
-  const V3 d = at(p) - b.center;
-  return dot(d, d) <= b.radius * b.radius * (1 + 1e-6);
+  const Vec3 d = to_vec(p) - b.center;
+  return dot(d, d) <= b.radius * b.radius * (1 + kBallSlack);
 }
 
 // The current subsegments (and, unless segments_only, subfaces) that p
@@ -747,7 +721,7 @@ bool DegeneracyRemoval::encroaches(const Ball& b, const double* p) const {
 // split subsegments are replaced in the index at once).
 bool DegeneracyRemoval::encroached_by(const double* p, bool segments_only,
                                       std::vector<uint32_t>& out) {
-  index_.query(at(p), cand_);
+  index_.query(to_vec(p), cand_);
   out.clear();
   for (uint32_t k : cand_) {
     const Ball& b = index_.ball(k);
@@ -765,7 +739,7 @@ bool DegeneracyRemoval::encroached_by(const double* p, bool segments_only,
 // The first subsegment of the facet's loops crossed by the segment from
 // `from` to `to` (projected along the facet's dropped axis; touching counts),
 // nearest to `from`. Such a crossing means `to` lies outside the facet.
-bool DegeneracyRemoval::crossed_subsegment(uint32_t facet, V3 from, const double* to,
+bool DegeneracyRemoval::crossed_subsegment(uint32_t facet, Vec3 from, const double* to,
                                            std::array<uint32_t, 3>& hit) {
   const int drop = facet_drop_[facet];
   const double g[3] = {from.x, from.y, from.z};
@@ -778,7 +752,7 @@ bool DegeneracyRemoval::crossed_subsegment(uint32_t facet, V3 from, const double
       if (o1 * o2 > 0) continue;
       const int o3 = pred::orient2d_projected(g, to, p, drop), o4 = pred::orient2d_projected(g, to, q, drop);
       if (o3 * o4 > 0 || (o1 == 0 && o2 == 0)) continue;
-      const double d = norm(0.5 * (at(p) + at(q)) - from);  // ranking only
+      const double d = norm(0.5 * (to_vec(p) + to_vec(q)) - from);  // ranking only
       if (d < best) {
         best = d;
         hit = {s, c[i], c[i + 1]};
@@ -797,13 +771,16 @@ bool DegeneracyRemoval::crossed_subsegment(uint32_t facet, V3 from, const double
 // and the chain order, not coordinates, say which vertices are on which
 // segment, and the Delaunay insertion is exact on the rounded point.
 Status DegeneracyRemoval::split_subsegment(uint32_t s, VertexId a, VertexId b, TetId hint) {
-  if (chain_position(s, a) > chain_position(s, b)) std::swap(a, b);
-  const double ta = param(s, a), tb = param(s, b);
-  const V3 p0 = at(mesh_.point(segs_.input[s][0])), p1 = at(mesh_.point(segs_.input[s][1]));
-  const V3 pa = at(mesh_.point(a)), pb = at(mesh_.point(b));
-  auto strictly_between = [&](V3 v) { return dot(v - pa, pb - pa) > 0 && dot(v - pb, pa - pb) > 0; };
+  if (segs_.chain_position(s, a) > segs_.chain_position(s, b)) std::swap(a, b);
+  const double ta = segs_.param(s, a), tb = segs_.param(s, b);
+  const Vec3 p0 = to_vec(mesh_.point(segs_.input[s][0])),
+             p1 = to_vec(mesh_.point(segs_.input[s][1]));
+  const Vec3 pa = to_vec(mesh_.point(a)), pb = to_vec(mesh_.point(b));
+  auto strictly_between = [&](Vec3 v) {
+    return dot(v - pa, pb - pa) > 0 && dot(v - pb, pa - pb) > 0;
+  };
   double t = 0;
-  V3 v = {0, 0, 0};
+  Vec3 v = {0, 0, 0};
   bool ok = false;
   for (int attempt = 0; attempt < kMaxDraws && !ok; ++attempt) {
     const double f = 0.5 + 0.5 * kRelativeJitter * uniform();
@@ -823,23 +800,25 @@ Status DegeneracyRemoval::split_subsegment(uint32_t s, VertexId a, VertexId b, T
     t = 0.5 * (ta + tb);
     v = 0.5 * (pa + pb);
     if (!strictly_between(v))
-      return make_status(ErrorCode::LimitReached,
-                         "degeneracy removal: subsegment (" + std::to_string(a) + ", " +
-                             std::to_string(b) + ") of segment " + std::to_string(s) +
-                             " is too short to split in double precision",
-                         a, s);
+      return make_error(ErrorCode::LimitReached, "degeneracy removal: subsegment (" +
+                                                     std::to_string(a) + ", " + std::to_string(b) +
+                                                     ") of segment " + std::to_string(s) +
+                                                     " is too short to split in double precision")
+          .vertex(a)
+          .segment(s);
   }
   const double xyz[3] = {v.x, v.y, v.z};
   InsertResult res;
   Status st = inserter_.insert_point(xyz, hint, kVertexSteiner, &res);
   if (!st.ok()) return st;
   if (res.duplicate)
-    return make_status(ErrorCode::InvalidPlc,
-                       "degeneracy removal: vertex " + std::to_string(res.vertex) +
-                           " lies on segment " + std::to_string(s),
-                       res.vertex, s);
+    return make_error(ErrorCode::InvalidPlc, "degeneracy removal: vertex " +
+                                                 std::to_string(res.vertex) + " lies on segment " +
+                                                 std::to_string(s))
+        .vertex(res.vertex)
+        .segment(s);
   std::vector<VertexId>& chain = segs_.chain[s];
-  chain.insert(chain.begin() + chain_position(s, b), res.vertex);
+  chain.insert(chain.begin() + segs_.chain_position(s, b), res.vertex);
   if (segs_.steiner_of.size() <= res.vertex) segs_.steiner_of.resize(res.vertex + 1, kNone);
   segs_.steiner_of[res.vertex] = static_cast<uint32_t>(segs_.steiner.size());
   const VertexId s0 = segs_.input[s][0], s1 = segs_.input[s][1];
@@ -882,7 +861,7 @@ Status DegeneracyRemoval::insert_facet_point(uint32_t facet, const double* xyz, 
 // boundary subsegment between the subface and x is split: x outside means the
 // subface's circle reaches across that subsegment).
 Status DegeneracyRemoval::protect(const std::vector<uint32_t>& encroached, const Found& deg,
-                                  const V3* plane, bool& did_something) {
+                                  const Vec3* plane, bool& did_something) {
   const TetId hint = deg.t;
   std::vector<std::array<uint32_t, 3>> splits;  // (segment, a, b)
   std::vector<uint32_t> hits;
@@ -894,13 +873,14 @@ Status DegeneracyRemoval::protect(const std::vector<uint32_t>& encroached, const
     }
     const uint32_t f = b.owner;
     if (b.version != facet_version_[f]) continue;  // already split in this call
-    const V3 a = at(mesh_.point(b.v[0])), bb = at(mesh_.point(b.v[1])), c = at(mesh_.point(b.v[2]));
-    const V3 e1 = bb - a, n = cross(e1, c - a);
+    const Vec3 a = to_vec(mesh_.point(b.v[0])), bb = to_vec(mesh_.point(b.v[1])),
+               c = to_vec(mesh_.point(b.v[2]));
+    const Vec3 e1 = bb - a, n = cross(e1, c - a);
     if (!(norm(n) > 0)) continue;
-    const V3 u = (1 / norm(e1)) * e1, w = (1 / norm(n)) * cross(n, e1);
-    const V3 centroid = (1.0 / 3) * (a + bb + c);
+    const Vec3 u = (1 / norm(e1)) * e1, w = (1 / norm(n)) * cross(n, e1);
+    const Vec3 centroid = (1.0 / 3) * (a + bb + c);
     const bool circum = finite(b.center) && std::isfinite(b.radius);
-    const V3 o = circum ? b.center : centroid;
+    const Vec3 o = circum ? b.center : centroid;
     const double scale =
         kRelativeJitter * (circum ? b.radius : std::min({norm(e1), norm(c - a), norm(c - bb)}));
     for (int attempt = 0; attempt < kMaxDraws; ++attempt) {
@@ -909,7 +889,7 @@ Status DegeneracyRemoval::protect(const std::vector<uint32_t>& encroached, const
       // facet_interior record, not its coordinates, makes it a vertex of the
       // facet for the later steps, and the insertion is exact on the
       // rounded point.
-      const V3 x = o + scale * uniform_in_plane(u, w);
+      const Vec3 x = o + scale * uniform_in_plane(u, w);
       double xyz[3] = {x.x, x.y, x.z};
       encroached_by(xyz, true, hits);
       if (!hits.empty()) {
@@ -945,10 +925,10 @@ Status DegeneracyRemoval::protect(const std::vector<uint32_t>& encroached, const
 // Whether the tets on both sides of face i of t form a local degeneracy (the
 // test of collect()).
 bool DegeneracyRemoval::face_degenerate(TetId t, int i) const {
-  const VertexId* w = &mesh_.tv[4 * size_t(t)];
+  const VertexId* w = mesh_.tet_vertices(t);
   const HalfFace hf = mesh_.adjacent(make_hf(t, i));
   const TetId n = hf_tet(hf);
-  const VertexId e = mesh_.tv[4 * size_t(n) + hf_face(hf)];
+  const VertexId e = mesh_.vertex(n, hf_face(hf));
   const bool ghost = w[3] == kInfinite, n_ghost = mesh_.is_ghost(n);
   if (!ghost && !n_ghost)
     return pred::insphere(mesh_.point(w[0]), mesh_.point(w[1]), mesh_.point(w[2]), mesh_.point(w[3]),
@@ -963,7 +943,7 @@ bool DegeneracyRemoval::face_degenerate(TetId t, int i) const {
 // The subsegments at vertex u, as (u, neighbour) pairs.
 void DegeneracyRemoval::subsegments_at(VertexId u, std::vector<std::array<VertexId, 2>>& out) {
   auto add = [&](uint32_t s) {
-    const long i = chain_position(s, u);
+    const long i = segs_.chain_position(s, u);
     if (i < 0) return;
     const auto& c = segs_.chain[s];
     if (i > 0) out.push_back({u, c[i - 1]});
@@ -999,7 +979,7 @@ bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
   for (TetId t : star_) {
     if (mesh_.is_ghost(t)) return false;
     const int iv = mesh_.index_in_tet(t, v);
-    const VertexId* w = &mesh_.tv[4 * size_t(t)];
+    const VertexId* w = mesh_.tet_vertices(t);
     faces.push_back({{0, 0, 0}, w[kFaceVertex[iv][0]], w[kFaceVertex[iv][1]], w[kFaceVertex[iv][2]],
                      mesh_.adjacent(make_hf(t, iv))});
     for (int j = 0; j < 4; ++j)
@@ -1036,7 +1016,7 @@ bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
     if (hf == kNone) return false;
     TetId t = kNone;
     for (HalfFace side : {hf, tmp.adjacent(hf)}) {
-      const VertexId d = tmp.tv[4 * size_t(hf_tet(side)) + hf_face(side)];
+      const VertexId d = tmp.opposite(side);
       if (d != kInfinite &&
           pred::orient3d(mesh_.point(f.a), mesh_.point(f.b), mesh_.point(f.c), mesh_.point(link_[d])) > 0)
         t = hf_tet(side);
@@ -1096,9 +1076,9 @@ bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
       std::sort(key.begin(), key.end());
       mesh_.glue(make_hf(id[t], i), find(key)->outside);
     }
-    for (int j = 0; j < 4; ++j) mesh_.vtet[mesh_.vertex(id[t], j)] = id[t];
+    for (int j = 0; j < 4; ++j) mesh_.set_vertex_tet(mesh_.vertex(id[t], j), id[t]);
   }
-  mesh_.vtet[v] = kNone;
+  mesh_.set_vertex_tet(v, kNone);
   mesh_.vkind[v] = kVertexNotInserted;
   return true;
 }
@@ -1198,29 +1178,30 @@ Status DegeneracyRemoval::try_perturb(const Found& f, bool& done) {
       double t = 0;
       if (sv) {
         const uint32_t s = sv->segment;
-        const long i = chain_position(s, v);
+        const long i = segs_.chain_position(s, v);
         if (i <= 0 || i + 1 >= static_cast<long>(segs_.chain[s].size())) break;
         const VertexId a = segs_.chain[s][i - 1], b = segs_.chain[s][i + 1];
-        const double ta = param(s, a), tb = param(s, b);
+        const double ta = segs_.param(s, a), tb = segs_.param(s, b);
         const double room = std::min(sv->t - ta, tb - sv->t);
         t = sv->t + kRelativeJitter * room * uniform();
         if (!(t > ta && t < tb)) continue;
-        const V3 p0 = at(mesh_.point(segs_.input[s][0])), p1 = at(mesh_.point(segs_.input[s][1]));
-        const V3 x = p0 + t * (p1 - p0), pa = at(mesh_.point(a)), pb = at(mesh_.point(b));
+        const Vec3 p0 = to_vec(mesh_.point(segs_.input[s][0])),
+                   p1 = to_vec(mesh_.point(segs_.input[s][1]));
+        const Vec3 x = p0 + t * (p1 - p0), pa = to_vec(mesh_.point(a)), pb = to_vec(mesh_.point(b));
         if (!(dot(x - pa, pb - pa) > 0 && dot(x - pb, pa - pb) > 0)) continue;
         to[0] = x.x, to[1] = x.y, to[2] = x.z;
       } else {
-        const V3 n = facet_normal_[facet];
+        const Vec3 n = facet_normal_[facet];
         if (!(norm(n) > 0)) break;
-        const V3 p = at(mesh_.point(v));
+        const Vec3 p = to_vec(mesh_.point(v));
         // Distance to the nearest neighbour sets the move's scale.
         mesh_.vertex_neighbors(v, nbrs_);
         double near = HUGE_VAL;
-        for (VertexId u : nbrs_) near = std::min(near, norm(at(mesh_.point(u)) - p));
+        for (VertexId u : nbrs_) near = std::min(near, norm(to_vec(mesh_.point(u)) - p));
         if (!std::isfinite(near)) break;
-        const V3 e1 = cross(n, std::fabs(n.x) < std::fabs(n.z) ? V3{1, 0, 0} : V3{0, 0, 1});
-        const V3 u1 = (1 / norm(e1)) * e1, u2 = (1 / norm(cross(n, u1))) * cross(n, u1);
-        const V3 x = p + (kRelativeJitter * near) * uniform_in_plane(u1, u2);
+        const Vec3 e1 = cross(n, std::fabs(n.x) < std::fabs(n.z) ? Vec3{1, 0, 0} : Vec3{0, 0, 1});
+        const Vec3 u1 = (1 / norm(e1)) * e1, u2 = (1 / norm(cross(n, u1))) * cross(n, u1);
+        const Vec3 x = p + (kRelativeJitter * near) * uniform_in_plane(u1, u2);
         to[0] = x.x, to[1] = x.y, to[2] = x.z;
         std::array<uint32_t, 3> hit;
         if (!std::isfinite(to[0]) || crossed_subsegment(facet, p, to, hit)) continue;
@@ -1234,7 +1215,7 @@ Status DegeneracyRemoval::try_perturb(const Found& f, bool& done) {
         segs_.steiner[segs_.steiner_of[v]].t = t;
         if (index_.built()) {
           const uint32_t s = sv->segment;
-          const long i = chain_position(s, v);
+          const long i = segs_.chain_position(s, v);
           index_.add(segment_ball(mesh_, segs_.chain[s][i - 1], v, s));
           index_.add(segment_ball(mesh_, v, segs_.chain[s][i + 1], s));
         }
@@ -1256,8 +1237,8 @@ Status DegeneracyRemoval::handle(const Found& f, bool force, Outcome& outcome) {
   outcome = Outcome::Skipped;
   const bool hull = f.ids[4] == kInfinite;
   const int np = hull ? 4 : 5;
-  V3 pts[5];
-  for (int k = 0; k < np; ++k) pts[k] = at(mesh_.point(f.ids[k]));
+  Vec3 pts[5];
+  for (int k = 0; k < np; ++k) pts[k] = to_vec(mesh_.point(f.ids[k]));
 
   // Four coplanar (hence co-circular) points? Then v_b goes in their plane.
   int skip = -1;
@@ -1272,23 +1253,23 @@ Status DegeneracyRemoval::handle(const Found& f, bool force, Outcome& outcome) {
       if (pred::orient3d(q[0], q[1], q[2], q[3]) == 0) skip = k;
     }
   }
-  V3 center = {0, 0, 0}, e1 = {0, 0, 0}, e2 = {0, 0, 0}, normal = {0, 0, 0}, centroid = {0, 0, 0};
+  Vec3 center = {0, 0, 0}, e1 = {0, 0, 0}, e2 = {0, 0, 0}, normal = {0, 0, 0}, centroid = {0, 0, 0};
   double diam = 0;
   for (int k = 0; k < np; ++k)
     for (int j = k + 1; j < np; ++j) diam = std::max(diam, norm(pts[k] - pts[j]));
   if (skip >= 0) {
-    V3 plane[4];
+    Vec3 plane[4];
     int m = 0;
     for (int k = 0; k < np; ++k)
       if (k != skip) plane[m++] = pts[k];
     // The circle through the non-collinear triple with the largest normal.
     double best = -1;
     for (int k = 0; k < 4; ++k) {
-      V3 tri[3];
+      Vec3 tri[3];
       int j3 = 0;
       for (int j = 0; j < 4; ++j)
         if (j != k) tri[j3++] = plane[j];
-      const V3 n = cross(tri[1] - tri[0], tri[2] - tri[0]);
+      const Vec3 n = cross(tri[1] - tri[0], tri[2] - tri[0]);
       if (norm(n) > best) {
         best = norm(n);
         normal = n;
@@ -1296,7 +1277,7 @@ Status DegeneracyRemoval::handle(const Found& f, bool force, Outcome& outcome) {
       }
     }
     for (int k = 0; k < 4; ++k) centroid = centroid + 0.25 * plane[k];
-    const V3 d = plane[1] - plane[0];
+    const Vec3 d = plane[1] - plane[0];
     e1 = (1 / norm(d)) * d;
     e2 = (1 / norm(normal)) * cross(normal, e1);
   } else {
@@ -1304,7 +1285,7 @@ Status DegeneracyRemoval::handle(const Found& f, bool force, Outcome& outcome) {
     if (!finite(center)) center = sphere_center(pts[1], pts[2], pts[3], pts[4]);
     for (int k = 0; k < 5; ++k) centroid = centroid + 0.2 * pts[k];
   }
-  const bool center_ok = finite(center) && norm(center - centroid) <= 1e3 * diam;
+  const bool center_ok = finite(center) && norm(center - centroid) <= kMaxCenterDistance * diam;
   // The index is brought up to date once per pass (run); here it is only
   // built on first need.
   Status st;
@@ -1316,11 +1297,11 @@ Status DegeneracyRemoval::handle(const Found& f, bool force, Outcome& outcome) {
     // The circumcenter first; the centroid (strictly inside the sphere) if
     // the circumcenter is far away or does not work out.
     const bool use_center = center_ok && attempt < kMaxDraws / 2;
-    const V3 base = use_center ? center : centroid;
+    const Vec3 base = use_center ? center : centroid;
     const double radius = use_center ? norm(center - pts[0]) : 0.25 * diam;
     const double scale = kRelativeJitter * radius / (1 << std::min(attempt % 12, 8));
-    V3 v = skip >= 0 ? base + scale * uniform_in_plane(e1, e2)
-                     : base + scale * V3{uniform(), uniform(), uniform()};
+    Vec3 v = skip >= 0 ? base + scale * uniform_in_plane(e1, e2)
+                       : base + scale * Vec3{uniform(), uniform(), uniform()};
     // Rounding: v is rounded to doubles. A point meant to be in the plane of
     // four co-circular points is then a rounding error off it; that is fine
     // because every decision below is exact on the rounded point: it must lie
@@ -1360,7 +1341,7 @@ Status DegeneracyRemoval::handle(const Found& f, bool force, Outcome& outcome) {
 
 Status DegeneracyRemoval::run(const volatile bool* cancel) {
   if (facet_interior_.size() < plc_.facets.size()) facet_interior_.resize(plc_.facets.size());
-  point_budget_ = 4 * mesh_.num_vertices() + 1000;
+  point_budget_ = kPointsPerVertex * mesh_.num_vertices() + kPointsBase;
   // A degeneracy whose break point asked for protection is tried again (§6:
   // "push Δ into Q") in the next pass of the same round, up to kRetries
   // times. From the kForceAfter-th try on, subfaces no longer stop its break
@@ -1374,7 +1355,7 @@ Status DegeneracyRemoval::run(const volatile bool* cancel) {
   // degeneracy and every subsegment present, nothing about subfaces.
   constexpr int kRetries = 16, kForceAfter = 8, kMaxPasses = 2 * kRetries + 8;
   auto cancelled = [&]() { return cancel && *cancel; };
-  const Status cancelled_status = make_status(ErrorCode::Cancelled, "degeneracy removal cancelled");
+  const Status cancelled_status = make_error(ErrorCode::Cancelled, "degeneracy removal cancelled");
 
   std::vector<Found> queue, pending, next;
   for (size_t round = 0;; ++round) {
@@ -1383,12 +1364,12 @@ Status DegeneracyRemoval::run(const volatile bool* cancel) {
     if (queue.empty()) return {};
     if (round >= kMaxRounds || added_ > point_budget_) {
       const VertexId v = queue.front().ids[0];
-      return make_status(ErrorCode::LimitReached,
-                         "degeneracy removal: " + std::to_string(queue.size()) +
-                             " local degeneracies remain after " + std::to_string(round) +
-                             " rounds and " + std::to_string(added_) +
-                             " added points (one at vertex " + std::to_string(v) + ")",
-                         v);
+      return make_error(ErrorCode::LimitReached,
+                        "degeneracy removal: " + std::to_string(queue.size()) +
+                            " local degeneracies remain after " + std::to_string(round) +
+                            " rounds and " + std::to_string(added_) +
+                            " added points (one at vertex " + std::to_string(v) + ")")
+          .vertex(v);
     }
     ++stats_.rounds;
     // Removable degeneracies first: a segment-safe perturbation.
@@ -1444,9 +1425,9 @@ void find_local_degeneracies(const TetMesh& mesh, std::vector<LocalDegeneracy>& 
   for (const Found& f : found) out.push_back(f.ids);
 }
 
-// Every degeneracy is removed by a break point (or by the boundary protection
-// its break point asks for); no vertex is moved. Moving a perturbable Steiner
-// vertex (§6) would need vertex removal, which the mesh does not offer.
+// §6 as published: each round perturbs what it can (a perturbable Steiner
+// vertex moved segment-safely), then removes the rest by break points, or by
+// the boundary protection a break point asks for (DegeneracyRemoval::run).
 Status remove_local_degeneracies(const Plc& plc, TetMesh& mesh, SegmentSet& segs,
                                  std::vector<std::vector<VertexId>>& facet_interior,
                                  std::vector<VertexId>& volume_points, DegeneracyStats* stats,

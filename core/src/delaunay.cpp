@@ -3,25 +3,18 @@
 // 2003), with ghost tets and SoS-perturbed conflict tests. See delaunay.hpp.
 #include "delaunay.hpp"
 
-#include "geometry.hpp"
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <new>
 #include <numeric>
 
+#include "geometry.hpp"
+#include "status.hpp"
+
 namespace cdt3d {
 
 namespace {
-
-Status make_error(ErrorCode code, std::string message, int64_t vertex = -1) {
-  Status s;
-  s.error.code = code;
-  s.error.message = std::move(message);
-  s.error.vertex = vertex;
-  return s;
-}
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -168,38 +161,16 @@ uint32_t PointInserter::local_id(VertexId x) {
   return l;
 }
 
-Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result) {
+// Cavity: breadth-first from the located tet t0 over tets in conflict with
+// p (Bowyer-Watson); fills cavity_ and boundary_. Two transient flag bits
+// mark "in the cavity" and "tested, not in conflict" (a byte per tet is
+// denser in cache than the epoch stamps).
+void PointInserter::grow_cavity(TetId t0, const double* p, VertexId v) {
   TetMesh& m = mesh_;
-  new_tets_.clear();
-  cavity_.clear();
-  if (v >= m.num_vertices())
-    return make_error(ErrorCode::InvalidArgument, "Vertex id out of range.");
-  if (m.vtet[v] != kNone)
-    return make_error(ErrorCode::InvalidArgument, "Vertex is already in the triangulation.", v);
-  if (m.live_tets == 0)
-    return make_error(ErrorCode::InvalidArgument, "The mesh has no tetrahedra to insert into.", v);
-
-  if (vlocal_.size() < m.num_vertices()) vlocal_.resize(m.num_vertices() + m.num_vertices() / 4, 0);
-  const double* p = m.point(v);
-  const Location loc = locate_point(m, p, hint, rng_);
-  walk_steps += loc.steps;
-  if (result) *result = InsertResult{v, false, loc.tet};
-  if (loc.kind == LocateKind::Failed)
-    return make_error(ErrorCode::Internal, "delaunay: point location made no progress.", v);
-  if (loc.kind == LocateKind::OnVertex) {
-    m.vkind[v] = kVertexDuplicate;
-    if (result) result->vertex = loc.vertex, result->duplicate = true;
-    return Status::success();
-  }
-
-  // Cavity: breadth-first from the located tet over tets in conflict. Two
-  // transient flag bits mark "in the cavity" and "tested, not in conflict"
-  // (a byte per tet is denser in cache than the epoch stamps).
   uint8_t* flag = m.tflag.data();
   // The located tet is in conflict without a test: p lies in its closure and
   // is not a vertex (strictly inside its circumsphere), or strictly beyond
   // the hull face of a ghost.
-  const TetId t0 = loc.tet;
   boundary_.clear();
   cavity_.push_back(t0);
   flag[t0] |= kTetInCavity;
@@ -232,13 +203,13 @@ Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result
     }
   }
   for (const BoundaryFace& f : boundary_) flag[hf_tet(f.outside)] &= uint8_t(~kTetTested);
-  if (reject_flat_ && cone_has_flat_tet(p)) {
-    abandon_cavity();
-    if (result) result->rejected = true;
-    return Status::success();
-  }
-  cavity_tets += cavity_.size();
+}
 
+// Replaces the cavity by the cone of its boundary faces to v and glues the
+// new tets to each other and to the outside.
+Status PointInserter::fill_cavity(VertexId v) {
+  TetMesh& m = mesh_;
+  uint8_t* flag = m.tflag.data();
   // Cone each boundary face (a, b, c) to v: (a, b, c, v) is positive because
   // v sees the face from inside the cavity. A ghost keeps kInfinite at
   // position 3 by an even permutation.
@@ -306,12 +277,17 @@ Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result
     });
     for (size_t q = 0; q + 1 < recs_.size(); q += 2) {
       if (recs_[q].lo != recs_[q + 1].lo || recs_[q].hi != recs_[q + 1].hi)
-        return make_error(ErrorCode::Internal, "delaunay: cavity boundary is not a closed surface.",
-                          v);
+        return make_error(ErrorCode::Internal, "delaunay: cavity boundary is not a closed surface.")
+            .vertex(v);
       m.glue(recs_[q].hf, recs_[q + 1].hf);
     }
   }
 
+  return Status::success();
+}
+
+void PointInserter::point_vertices_to_new_tets() {
+  TetMesh& m = mesh_;
   // Vertex-to-tet map: every vertex of the cavity lies on its boundary and
   // gets a new real tet (near the vertex the old tets it had are replaced by
   // new ones), so vtet always names a real tet.
@@ -321,6 +297,44 @@ Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result
     m.vtet[w[0]] = t, m.vtet[w[1]] = t, m.vtet[w[2]] = t, m.vtet[w[3]] = t;
     last_tet_ = t;
   }
+}
+
+Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result) {
+  TetMesh& m = mesh_;
+  new_tets_.clear();
+  cavity_.clear();
+  if (v >= m.num_vertices())
+    return make_error(ErrorCode::InvalidArgument, "Vertex id out of range.");
+  if (m.vtet[v] != kNone)
+    return make_error(ErrorCode::InvalidArgument, "Vertex is already in the triangulation.")
+        .vertex(v);
+  if (m.live_tets == 0)
+    return make_error(ErrorCode::InvalidArgument, "The mesh has no tetrahedra to insert into.")
+        .vertex(v);
+
+  if (vlocal_.size() < m.num_vertices()) vlocal_.resize(m.num_vertices() + m.num_vertices() / 4, 0);
+  const double* p = m.point(v);
+  const Location loc = locate_point(m, p, hint, rng_);
+  walk_steps += loc.steps;
+  if (result) *result = InsertResult{v, false, loc.tet};
+  if (loc.kind == LocateKind::Failed)
+    return make_error(ErrorCode::Internal, "delaunay: point location made no progress.").vertex(v);
+  if (loc.kind == LocateKind::OnVertex) {
+    m.vkind[v] = kVertexDuplicate;
+    if (result) result->vertex = loc.vertex, result->duplicate = true;
+    return Status::success();
+  }
+
+  grow_cavity(loc.tet, p, v);
+  if (reject_flat_ && cone_has_flat_tet(p)) {
+    abandon_cavity();
+    if (result) result->rejected = true;
+    return Status::success();
+  }
+  cavity_tets += cavity_.size();
+  Status st = fill_cavity(v);
+  if (!st.ok()) return st;
+  point_vertices_to_new_tets();
   if (m.vkind[v] == kVertexNotInserted || m.vkind[v] == kVertexDuplicate) m.vkind[v] = kVertexInput;
   return Status::success();
 }
@@ -475,6 +489,55 @@ void scatter_coords(std::vector<double>& a, const std::vector<VertexId>& order) 
 // mesh whose vertex k is vertices[order[k]] in BRIO order (so points inserted
 // close in time sit close in memory), perturbing by the caller's ids; then
 // the vertex ids are translated back.
+// The vertices to triangulate are mesh vertices, each listed once, with
+// finite coordinates in the supported range.
+Status check_vertices(const TetMesh& m, const std::vector<VertexId>& vertices) {
+  const size_t nv = m.num_vertices();
+  std::vector<bool> listed(nv, false);
+  for (VertexId v : vertices) {
+    if (v >= nv) return make_error(ErrorCode::IndexOutOfRange, "Vertex id out of range.").vertex(v);
+    if (listed[v]) return make_error(ErrorCode::InvalidArgument, "Vertex listed twice.").vertex(v);
+    listed[v] = true;
+    const double* p = m.point(v);
+    for (int k = 0; k < 3; ++k) {
+      if (!std::isfinite(p[k]))
+        return make_error(ErrorCode::NonFinite, "Point has a non-finite coordinate.").vertex(v);
+      if (std::fabs(p[k]) > kMaxCoordinate)
+        return make_error(ErrorCode::CoordinateRange,
+                          "Point coordinate exceeds the supported range.")
+            .vertex(v);
+    }
+  }
+  return Status::success();
+}
+
+// Moves the work mesh `w` (vertex k is order[k]) into `m`, translating its
+// vertex ids back to the caller's; returns the number of ghost tets (hull
+// faces), counted on the way.
+size_t adopt_work_mesh(TetMesh& m, TetMesh& w, const std::vector<VertexId>& order) {
+  const size_t n = order.size();
+  size_t ghosts = 0;
+  const size_t slots = w.num_tet_slots();
+  for (size_t t = 0; t < slots; ++t) {
+    VertexId* x = &w.tv[4 * t];
+    for (int i = 0; i < 4; ++i)
+      if (x[i] < n) x[i] = order[x[i]];
+    if (x[3] == kInfinite && !(w.tflag[t] & kTetDead)) ++ghosts;
+  }
+  m.tv = std::move(w.tv);
+  m.tadj = std::move(w.tadj);
+  m.tstamp = std::move(w.tstamp);
+  m.tflag = std::move(w.tflag);
+  m.free_tets = std::move(w.free_tets);
+  m.live_tets = w.live_tets;
+  m.epoch = w.epoch;
+  for (size_t k = 0; k < n; ++k) {
+    m.vtet[order[k]] = w.vtet[k];
+    m.vkind[order[k]] = w.vkind[k];
+  }
+  return ghosts;
+}
+
 Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<VertexId>* to_vertex,
              DelaunayStats* stats, const DelaunayOptions& options) {
   const auto t_start = std::chrono::steady_clock::now();
@@ -496,22 +559,8 @@ Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<Vert
   if (to_vertex) to_vertex->assign(vertices.begin(), vertices.end());
 
   if (n >= (size_t(1) << 30)) return make_error(ErrorCode::TooLarge, "Too many points.");
-  {
-    std::vector<bool> listed(nv, false);
-    for (VertexId v : vertices) {
-      if (v >= nv) return make_error(ErrorCode::IndexOutOfRange, "Vertex id out of range.", v);
-      if (listed[v]) return make_error(ErrorCode::InvalidArgument, "Vertex listed twice.", v);
-      listed[v] = true;
-      const double* p = m.point(v);
-      for (int k = 0; k < 3; ++k) {
-        if (!std::isfinite(p[k]))
-          return make_error(ErrorCode::NonFinite, "Point has a non-finite coordinate.", v);
-        if (std::fabs(p[k]) > kMaxCoordinate)
-          return make_error(ErrorCode::CoordinateRange,
-                            "Point coordinate exceeds the supported range.", v);
-      }
-    }
-  }
+  Status checked = check_vertices(m, vertices);
+  if (!checked.ok()) return checked;
   if (n < 4) return make_error(ErrorCode::TooFewPoints, "Fewer than 4 distinct points.");
 
   std::vector<VertexId> order;
@@ -567,27 +616,7 @@ Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<Vert
       hint = ins.last_tet();
   }
 
-  // Translate the work mesh back to the caller's vertex ids (and count the
-  // ghost tets on the way).
-  size_t ghosts = 0;
-  const size_t slots = w.num_tet_slots();
-  for (size_t t = 0; t < slots; ++t) {
-    VertexId* x = &w.tv[4 * t];
-    for (int i = 0; i < 4; ++i)
-      if (x[i] < n) x[i] = order[x[i]];
-    if (x[3] == kInfinite && !(w.tflag[t] & kTetDead)) ++ghosts;
-  }
-  m.tv = std::move(w.tv);
-  m.tadj = std::move(w.tadj);
-  m.tstamp = std::move(w.tstamp);
-  m.tflag = std::move(w.tflag);
-  m.free_tets = std::move(w.free_tets);
-  m.live_tets = w.live_tets;
-  m.epoch = w.epoch;
-  for (size_t k = 0; k < n; ++k) {
-    m.vtet[order[k]] = w.vtet[k];
-    m.vkind[order[k]] = w.vkind[k];
-  }
+  const size_t ghosts = adopt_work_mesh(m, w, order);
   if (to_vertex && !dups.empty()) {
     std::sort(dups.begin(), dups.end());
     for (size_t k = 0; k < n; ++k) {

@@ -172,6 +172,11 @@ class PointInserter {
   bool in_conflict(TetId t, const double* p, VertexId v) const;
   bool cone_has_flat_tet(const double* p) const;
   void abandon_cavity();
+  // The steps of insert_vertex: Bowyer-Watson's cavity of p from t0, the
+  // cone of its boundary to v, then vtet of the cavity's vertices.
+  void grow_cavity(TetId t0, const double* p, VertexId v);
+  Status fill_cavity(VertexId v);
+  void point_vertices_to_new_tets();
   uint32_t local_id(VertexId x);
   VertexId sos(VertexId v) const { return sos_id_ && v != kInfinite ? sos_id_[v] : v; }
 

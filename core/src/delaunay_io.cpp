@@ -14,19 +14,11 @@
 #endif
 
 #include "delaunay.hpp"
+#include "status.hpp"
 
 namespace cdt3d {
 
 namespace {
-
-Status fail(ErrorCode code, std::string message, const std::string& file, int64_t line = -1) {
-  Status s;
-  s.error.code = code;
-  s.error.message = std::move(message);
-  s.error.file = file;
-  s.error.line = line;
-  return s;
-}
 
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
 
@@ -173,24 +165,28 @@ Status parse_node_points(const char* text, size_t size, const std::string& file_
                          std::vector<double>& coords, int* first_index) {
   coords.clear();
   LineReader rd(text, size);
-  if (!rd.next()) return fail(ErrorCode::Empty, "The .node file has no header line.", file_name);
+  if (!rd.next())
+    return make_error(ErrorCode::Empty, "The .node file has no header line.").file(file_name);
   uint64_t n = 0, dim = 0;
   int64_t nattr = 0, nmark = 0;
   if (rd.ntok < 2 || !parse_uint(rd.toks[0].p, rd.toks[0].n, n) ||
       !parse_uint(rd.toks[1].p, rd.toks[1].n, dim) ||
       (rd.ntok > 2 && !parse_int(rd.toks[2].p, rd.toks[2].n, nattr)) ||
       (rd.ntok > 3 && !parse_int(rd.toks[3].p, rd.toks[3].n, nmark)))
-    return fail(ErrorCode::Parse, "Bad .node header: expected '<points> 3 <attributes> <markers>'.",
-                file_name, rd.line);
+    return make_error(ErrorCode::Parse,
+                      "Bad .node header: expected '<points> 3 <attributes> <markers>'.")
+        .file(file_name, rd.line);
   if (dim != 3)
-    return fail(ErrorCode::Parse, "Only 3-dimensional .node files are supported.", file_name,
-                rd.line);
+    return make_error(ErrorCode::Parse, "Only 3-dimensional .node files are supported.")
+        .file(file_name, rd.line);
   if (nattr < 0 || nmark < 0 || nmark > 1)
-    return fail(ErrorCode::Parse, "Bad attribute or marker count in the .node header.", file_name,
-                rd.line);
+    return make_error(ErrorCode::Parse, "Bad attribute or marker count in the .node header.")
+        .file(file_name, rd.line);
   if (n >= (uint64_t(1) << 30))
-    return fail(ErrorCode::TooLarge, "Too many points in the .node file.", file_name, rd.line);
-  if (n == 0) return fail(ErrorCode::Empty, "The .node file lists no points.", file_name, rd.line);
+    return make_error(ErrorCode::TooLarge, "Too many points in the .node file.")
+        .file(file_name, rd.line);
+  if (n == 0)
+    return make_error(ErrorCode::Empty, "The .node file lists no points.").file(file_name, rd.line);
   coords.reserve(3 * size_t(n));
   for (uint64_t i = 0; i < n; ++i) {
 #if defined(__cpp_lib_to_chars) && __cpp_lib_to_chars >= 201611L
@@ -204,29 +200,28 @@ Status parse_node_points(const char* text, size_t size, const std::string& file_
     }
 #endif
     if (!rd.next())
-      return fail(ErrorCode::Truncated,
-                  "The .node file ends after " + std::to_string(i) + " of " + std::to_string(n) +
-                      " points.",
-                  file_name, rd.line);
+      return make_error(ErrorCode::Truncated, "The .node file ends after " + std::to_string(i) +
+                                                  " of " + std::to_string(n) + " points.")
+          .file(file_name, rd.line);
     if (rd.ntok < 4)
-      return fail(ErrorCode::Parse, "Expected '<index> <x> <y> <z> [attributes] [marker]'.",
-                  file_name, rd.line);
+      return make_error(ErrorCode::Parse, "Expected '<index> <x> <y> <z> [attributes] [marker]'.")
+          .file(file_name, rd.line);
     int64_t index;
     if (!parse_int(rd.toks[0].p, rd.toks[0].n, index))
-      return fail(ErrorCode::Parse, "Bad point index.", file_name, rd.line);
+      return make_error(ErrorCode::Parse, "Bad point index.").file(file_name, rd.line);
     if (i == 0 && first_index) *first_index = int(index);
     for (int k = 1; k <= 3; ++k) {
       double x;
       const Num r = parse_double(rd.toks[k].p, rd.toks[k].n, x);
       if (r == Num::NonFinite)
-        return fail(ErrorCode::NonFinite, "Non-finite coordinate.", file_name, rd.line);
+        return make_error(ErrorCode::NonFinite, "Non-finite coordinate.").file(file_name, rd.line);
       if (r != Num::Ok)
-        return fail(ErrorCode::Parse,
-                    "Bad coordinate '" + std::string(rd.toks[k].p, rd.toks[k].n) + "'.", file_name,
-                    rd.line);
+        return make_error(ErrorCode::Parse,
+                          "Bad coordinate '" + std::string(rd.toks[k].p, rd.toks[k].n) + "'.")
+            .file(file_name, rd.line);
       if (std::fabs(x) > kMaxCoordinate)
-        return fail(ErrorCode::CoordinateRange, "Coordinate exceeds the supported range.",
-                    file_name, rd.line);
+        return make_error(ErrorCode::CoordinateRange, "Coordinate exceeds the supported range.")
+            .file(file_name, rd.line);
       coords.push_back(x);
     }
   }
@@ -236,7 +231,7 @@ Status parse_node_points(const char* text, size_t size, const std::string& file_
 Status read_node_points_file(const std::string& path, std::vector<double>& coords,
                              int* first_index) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) return fail(ErrorCode::IoError, "Cannot open the file.", path);
+  if (!f) return make_error(ErrorCode::IoError, "Cannot open the file.").file(path);
   std::string text;
   if (std::fseek(f, 0, SEEK_END) == 0) {
     const long size = std::ftell(f);
@@ -248,7 +243,7 @@ Status read_node_points_file(const std::string& path, std::vector<double>& coord
   while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) text.append(buf, got);
   const bool bad = std::ferror(f) != 0;
   std::fclose(f);
-  if (bad) return fail(ErrorCode::IoError, "Error while reading the file.", path);
+  if (bad) return make_error(ErrorCode::IoError, "Error while reading the file.").file(path);
   return parse_node_points(text.data(), text.size(), path, coords, first_index);
 }
 
@@ -270,7 +265,7 @@ char* put_uint(char* p, uint64_t v) {
 Status write_node_ele(const TetMesh& mesh, const std::string& prefix) {
   const std::string node_name = prefix + ".node", ele_name = prefix + ".ele";
   std::FILE* f = std::fopen(node_name.c_str(), "wb");
-  if (!f) return fail(ErrorCode::IoError, "Cannot create the output file.", node_name);
+  if (!f) return make_error(ErrorCode::IoError, "Cannot create the output file.").file(node_name);
   std::vector<char> buf(1 << 20);
   size_t used = 0;
   bool ok = true;
@@ -289,10 +284,10 @@ Status write_node_ele(const TetMesh& mesh, const std::string& prefix) {
   }
   flush(f);
   if (std::fclose(f) != 0) ok = false;
-  if (!ok) return fail(ErrorCode::IoError, "Error while writing the file.", node_name);
+  if (!ok) return make_error(ErrorCode::IoError, "Error while writing the file.").file(node_name);
 
   f = std::fopen(ele_name.c_str(), "wb");
-  if (!f) return fail(ErrorCode::IoError, "Cannot create the output file.", ele_name);
+  if (!f) return make_error(ErrorCode::IoError, "Cannot create the output file.").file(ele_name);
   const size_t real = mesh.live_tets - mesh.num_ghost_tets();
   used += size_t(std::snprintf(buf.data(), buf.size(),
                                "%zu 4 0\n# generated by cdt3d; numbering from 1\n", real));
@@ -315,7 +310,7 @@ Status write_node_ele(const TetMesh& mesh, const std::string& prefix) {
   }
   flush(f);
   if (std::fclose(f) != 0) ok = false;
-  if (!ok) return fail(ErrorCode::IoError, "Error while writing the file.", ele_name);
+  if (!ok) return make_error(ErrorCode::IoError, "Error while writing the file.").file(ele_name);
   return Status::success();
 }
 

@@ -10,26 +10,13 @@
 #include <string>
 
 #include "cavity.hpp"
+#include "geometry.hpp"
 #include "predicates.hpp"
+#include "status.hpp"
 
 namespace cdt3d {
 
 namespace {
-
-Status make_error(ErrorCode code, std::string message, int64_t facet = -1, int64_t vertex = -1) {
-  Status s;
-  s.error.code = code;
-  s.error.message = std::move(message);
-  s.error.facet = facet;
-  s.error.vertex = vertex;
-  return s;
-}
-
-Triangle sorted_tri(const Triangle& t) {
-  Triangle k = t;
-  std::sort(k.begin(), k.end());
-  return k;
-}
 
 // Face and edge lookups in the mesh through the star of a vertex, with
 // reusable buffers (TetMesh::find_face allocates on every call).
@@ -86,8 +73,7 @@ void subface_adjacency(const Subfaces& sf, std::vector<uint32_t>& nbr,
   for (uint32_t s = 0; s < n; ++s)
     for (int k = 0; k < 3; ++k) {
       const VertexId a = sf.tri[s][k], b = sf.tri[s][(k + 1) % 3];
-      es.push_back({uint64_t(std::min(a, b)) << 32 | std::max(a, b),
-                    uint64_t(sf.facet[s]) << 32 | (3 * s + k)});
+      es.push_back({edge_key(a, b), uint64_t(sf.facet[s]) << 32 | (3 * s + k)});
     }
   std::sort(es.begin(), es.end());
   nbr.assign(3 * n, kNone);
@@ -114,7 +100,7 @@ class SubfaceIndex {
   explicit SubfaceIndex(const Subfaces& sf) {
     const size_t n = sf.tri.size();
     by_key_.resize(n);
-    for (uint32_t s = 0; s < n; ++s) by_key_[s] = {sorted_tri(sf.tri[s]), s};
+    for (uint32_t s = 0; s < n; ++s) by_key_[s] = {sorted_triangle(sf.tri[s]), s};
     std::sort(by_key_.begin(), by_key_.end());
     size_t cap = 16;
     while (cap < 2 * n + 16) cap *= 2;
@@ -173,11 +159,11 @@ void find_missing(const TetMesh& mesh, const Subfaces& sf, std::vector<uint8_t>&
   const size_t slots = mesh.num_tet_slots();
   for (TetId t = 0; t < slots; ++t) {
     if (mesh.is_dead(t)) continue;
-    const VertexId* w = &mesh.tv[4 * size_t(t)];
+    const VertexId* w = mesh.tet_vertices(t);
     if (w[3] == kInfinite) continue;  // hull faces are seen from their real tet
     for (int i = 0; i < 4; ++i) {     // interior faces twice: cheaper than deciding
       const Triangle key =
-          sorted_tri({w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]});
+          sorted_triangle({w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]});
       for (uint32_t j = start[key[0]]; j < start[key[0] + 1]; ++j) {
         const Triangle& T = sf.tri[order[j]];
         const VertexId x = T[0] == key[0] ? T[1] : T[0];
@@ -186,16 +172,6 @@ void find_missing(const TetMesh& mesh, const Subfaces& sf, std::vector<uint8_t>&
       }
     }
   }
-}
-
-// Dominant axis of the normal of triangle (a, b, c) (0 = x), for exact 2D
-// orientation tests on the projection of a nearly planar facet.
-int dominant_axis(const double* a, const double* b, const double* c) {
-  const double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
-  const double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
-  const double n[3] = {std::fabs(uy * vz - uz * vy), std::fabs(uz * vx - ux * vz),
-                       std::fabs(ux * vy - uy * vx)};
-  return n[0] >= n[1] && n[0] >= n[2] ? 0 : n[1] >= n[2] ? 1 : 2;
 }
 
 // Diagonal flips of missing facet edges that make the facet triangulation
@@ -258,7 +234,7 @@ size_t flip_toward_mesh_impl(TetMesh& mesh, Subfaces& sf, MeshQuery& q, std::vec
           flip = top == a || top == b;
         }
         if (!flip) {
-          const int drop = dominant_axis(pa, pb, pc);
+          const int drop = projection_axis(pa, pb, pc);
           const int o = pred::orient2d_projected(pa, pb, pc, drop);
           const bool convex = o != 0 && pred::orient2d_projected(pa, pb, pd, drop) == -o &&
                               pred::orient2d_projected(pa, pd, pc, drop) == o &&
@@ -312,6 +288,54 @@ size_t flip_subfaces_toward_mesh(TetMesh& mesh, Subfaces& subfaces) {
   return flip_toward_mesh_impl(mesh, subfaces, q, nbr, fixed, missing);
 }
 
+namespace {
+
+// The subfaces are well formed: one facet each, vertices in the mesh, not
+// degenerate.
+Status check_subfaces(const TetMesh& mesh, const Subfaces& sf) {
+  const size_t n = sf.tri.size();
+  if (sf.facet.size() != n)
+    return make_error(ErrorCode::InvalidArgument,
+                      "Subfaces: facet list and triangle list differ in size.");
+  for (size_t s = 0; s < n; ++s) {
+    const Triangle& T = sf.tri[s];
+    for (int k = 0; k < 3; ++k)
+      if (T[k] >= mesh.num_vertices() || mesh.vtet[T[k]] == kNone)
+        return make_error(ErrorCode::InvalidArgument,
+                          "A subface uses a vertex that is not in the mesh.")
+            .facet(sf.facet[s])
+            .vertex(T[k]);
+    if (T[0] == T[1] || T[1] == T[2] || T[0] == T[2] ||
+        pred::collinear3d(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2])))
+      return make_error(ErrorCode::DegenerateFacet, "A subface is degenerate.").facet(sf.facet[s]);
+  }
+  return Status::success();
+}
+
+// The missing region of s0 (§7): the missing subfaces of its facet
+// connected to it across edges missing from the mesh (subface_adjacency's
+// nbr); a subface marked `single` is a region of its own. `mark` holds
+// visit stamps, `epoch` is fresh.
+void missing_region(uint32_t s0, const Subfaces& sf, MeshQuery& q, const std::vector<uint32_t>& nbr,
+                    const std::vector<uint8_t>& single, uint32_t epoch, std::vector<uint32_t>& mark,
+                    std::vector<uint32_t>& region) {
+  region.assign(1, s0);
+  mark[s0] = epoch;
+  if (single[s0]) return;
+  for (size_t k = 0; k < region.size(); ++k) {
+    const uint32_t s = region[k];
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t t = nbr[3 * s + e];
+      if (t == kNone || mark[t] == epoch || single[t]) continue;
+      if (q.has_edge(sf.tri[s][e], sf.tri[s][(e + 1) % 3])) continue;
+      mark[t] = epoch;
+      region.push_back(t);
+    }
+  }
+}
+
+}  // namespace
+
 Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* stats,
                       const volatile bool* cancel, bool force_failure) {
   FacetRecoveryStats st;
@@ -327,19 +351,8 @@ Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* sta
   Subfaces& sf = subfaces;
   const size_t n = sf.tri.size();
   st.subfaces = n;
-  if (sf.facet.size() != n)
-    return make_error(ErrorCode::InvalidArgument,
-                      "Subfaces: facet list and triangle list differ in size.");
-  for (size_t s = 0; s < n; ++s) {
-    const Triangle& T = sf.tri[s];
-    for (int k = 0; k < 3; ++k)
-      if (T[k] >= mesh.num_vertices() || mesh.vtet[T[k]] == kNone)
-        return make_error(ErrorCode::InvalidArgument,
-                          "A subface uses a vertex that is not in the mesh.", sf.facet[s], T[k]);
-    if (T[0] == T[1] || T[1] == T[2] || T[0] == T[2] ||
-        pred::collinear3d(mesh.point(T[0]), mesh.point(T[1]), mesh.point(T[2])))
-      return make_error(ErrorCode::DegenerateFacet, "A subface is degenerate.", sf.facet[s]);
-  }
+  Status checked = check_subfaces(mesh, sf);
+  if (!checked.ok()) return checked;
   MeshQuery q(mesh);
   auto present = [&](uint32_t s) { return q.has_face(sf.tri[s][0], sf.tri[s][1], sf.tri[s][2]); };
 
@@ -375,34 +388,18 @@ Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* sta
     queued[s0] = 0;
     if (present(s0)) continue;
     if (++attempts > max_attempts)
-      return make_error(ErrorCode::LimitReached,
-                        "Facet recovery did not finish within " + std::to_string(max_attempts) +
-                            " region attempts.",
-                        sf.facet[s0]);
-    // The missing region of s0 (§7): missing subfaces of its facet connected
-    // across edges missing from the mesh.
-    ++epoch;
-    region.assign(1, s0);
-    mark[s0] = epoch;
-    if (!single[s0]) {
-      for (size_t k = 0; k < region.size(); ++k) {
-        const uint32_t s = region[k];
-        for (int e = 0; e < 3; ++e) {
-          const uint32_t t = nbr[3 * s + e];
-          if (t == kNone || mark[t] == epoch || single[t]) continue;
-          if (q.has_edge(sf.tri[s][e], sf.tri[s][(e + 1) % 3])) continue;
-          mark[t] = epoch;
-          region.push_back(t);
-        }
-      }
-    }
+      return make_error(ErrorCode::LimitReached, "Facet recovery did not finish within " +
+                                                     std::to_string(max_attempts) +
+                                                     " region attempts.")
+          .facet(sf.facet[s0]);
+    missing_region(s0, sf, q, nbr, single, ++epoch, mark, region);
     tris.clear();
     for (uint32_t s : region) tris.push_back(sf.tri[s]);
     CavityReport rep;
     if (force_failure) {
       st.unrecovered = sf.tri[s0], st.unrecovered_facet = sf.facet[s0];
-      return make_error(ErrorCode::Internal, "Facet recovery failed (forced for a test).",
-                        sf.facet[s0]);
+      return make_error(ErrorCode::Internal, "Facet recovery failed (forced for a test).")
+          .facet(sf.facet[s0]);
     }
     const CavityOutcome out = cm.recover_region(tris, rep);
     if (out == CavityOutcome::Recovered) {
@@ -415,8 +412,8 @@ Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* sta
         retried |= failures[s] != 0;
         if (!present(s))
           return make_error(ErrorCode::Internal,
-                            "Facet recovery: a recovered region lacks one of its subfaces.",
-                            sf.facet[s]);
+                            "Facet recovery: a recovered region lacks one of its subfaces.")
+              .facet(sf.facet[s]);
       }
       if (retried || rep.gift_wraps > 0) ++st.fallbacks;
       // Subfaces that were faces of removed tets may be gone (Theorem 4).
@@ -433,8 +430,8 @@ Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* sta
       st.unrecovered = sf.tri[s0], st.unrecovered_facet = sf.facet[s0];
       return make_error(out == CavityOutcome::Limit ? ErrorCode::LimitReached : ErrorCode::Internal,
                         "Facet recovery failed for a missing region of " +
-                            std::to_string(region.size()) + " subface(s): " + rep.failure + ".",
-                        sf.facet[s0]);
+                            std::to_string(region.size()) + " subface(s): " + rep.failure + ".")
+          .facet(sf.facet[s0]);
     }
     for (uint32_t s : region) {
       if (failures[s] < 255) ++failures[s];
@@ -448,8 +445,8 @@ Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* sta
   for (uint32_t s = 0; s < n; ++s)
     if (ever[s] && !present(s)) {
       st.unrecovered = sf.tri[s], st.unrecovered_facet = sf.facet[s];
-      return make_error(ErrorCode::Internal, "Facet recovery ended with a subface missing.",
-                        sf.facet[s]);
+      return make_error(ErrorCode::Internal, "Facet recovery ended with a subface missing.")
+          .facet(sf.facet[s]);
     }
   return Status::success();
 }

@@ -43,11 +43,18 @@
 #include <string>
 #include <vector>
 
+#include "geometry.hpp"
 #include "predicates.hpp"
+#include "status.hpp"
 #include "subfaces.hpp"
 
 namespace cdt3d {
 namespace {
+
+// Lawson's flips (Cdt2::make_delaunay) reach the constrained Delaunay
+// triangulation of n points after O(n^2) flips; more than this bound means
+// rounding made them cycle, and the facet is reported instead of looping.
+constexpr size_t kFlipsPerPointPair = 4, kFlipsBase = 1000;
 
 // ---------------------------------------------------------------------------
 // 2D constrained Delaunay triangulation on local vertex ids 0..n-1
@@ -74,7 +81,7 @@ class Cdt2 {
   std::string make_delaunay();
 
   bool is_constrained(uint32_t a, uint32_t b) const {
-    return std::binary_search(constrained_.begin(), constrained_.end(), key(a, b));
+    return std::binary_search(constrained_.begin(), constrained_.end(), edge_key(a, b));
   }
   /// Triangle and position of the vertex opposite edge (a, b), or {-1, -1}.
   std::pair<int32_t, int> find_edge(uint32_t a, uint32_t b);
@@ -89,12 +96,8 @@ class Cdt2 {
   size_t flips = 0;
 
  private:
-  static uint64_t key(uint32_t a, uint32_t b) {
-    if (a > b) std::swap(a, b);
-    return (static_cast<uint64_t>(a) << 32) | b;
-  }
   void add_constrained(uint32_t a, uint32_t b) {
-    const uint64_t k = key(a, b);
+    const uint64_t k = edge_key(a, b);
     auto it = std::lower_bound(constrained_.begin(), constrained_.end(), k);
     if (it == constrained_.end() || *it != k) constrained_.insert(it, k);
   }
@@ -414,7 +417,7 @@ std::string Cdt2::make_delaunay() {
   for (size_t t = tris_.size(); t-- > 0;)
     for (int i = 2; i >= 0; --i) stack.push_back(static_cast<uint32_t>(3 * t + i));
   const size_t n = ids_.size();
-  const size_t limit = 1000 + 4 * n * n;
+  const size_t limit = kFlipsBase + kFlipsPerPointPair * n * n;
   size_t done = 0;
   while (!stack.empty()) {
     const uint32_t h = stack.back();
@@ -445,11 +448,8 @@ std::string Cdt2::make_delaunay() {
 // ---------------------------------------------------------------------------
 
 Status facet_error(size_t f, const std::string& what) {
-  Status s;
-  s.error.code = ErrorCode::Internal;
-  s.error.message = "Facet triangulation failed: " + what + ".";
-  s.error.facet = static_cast<int64_t>(f);
-  return s;
+  return make_error(ErrorCode::Internal, "Facet triangulation failed: " + what + ".")
+      .facet(static_cast<int64_t>(f));
 }
 
 // Projection dropping axis `drop`, the two others in cyclic order (as
@@ -551,6 +551,24 @@ class FacetTriangulator {
   Status run(size_t f, const std::vector<VertexId>* interior, Subfaces& out);
 
  private:
+  // The steps of run(), in order.
+  Status collect_loops(size_t f);
+  Status choose_projection(size_t f, int& drop);
+  bool plain_triangle(size_t f, const std::vector<VertexId>* interior, Subfaces& out) const;
+  Status collect_vertices(size_t f, const std::vector<VertexId>* interior, int drop);
+  Status outer_loop_orientation(size_t f, int& sign) const;
+  Status insert_constraints(size_t f, Cdt2& cdt);
+  void mark_outside(size_t f, const std::vector<Tri>& T, int drop,
+                    std::vector<uint8_t>& out_mark) const;
+
+  // Local id (index in verts_) of mesh vertex v, which must be in verts_.
+  uint32_t local(VertexId v) const {
+    return static_cast<uint32_t>(std::lower_bound(verts_.begin(), verts_.end(), v) -
+                                 verts_.begin());
+  }
+  bool is_loop_edge(uint32_t p, uint32_t q) const {
+    return std::binary_search(loop_keys_.begin(), loop_keys_.end(), edge_key(p, q));
+  }
   int64_t segment_index(VertexId a, VertexId b) const {
     const std::array<VertexId, 2> k = {std::min(a, b), std::max(a, b)};
     auto it = std::lower_bound(segs_.input.begin(), segs_.input.end(), k);
@@ -641,12 +659,9 @@ void FacetTriangulator::embedded(size_t f, const double* A, const double* B, con
   extra_segs_.erase(std::unique(extra_segs_.begin(), extra_segs_.end()), extra_segs_.end());
 }
 
-Status FacetTriangulator::run(size_t f, const std::vector<VertexId>* interior, Subfaces& out) {
+// Loop vertices and loop segments of facet f (sorted, each once).
+Status FacetTriangulator::collect_loops(size_t f) {
   const Facet& facet = plc_.facets[f];
-  const size_t nv = mesh_.num_vertices();
-  if (facet.loops.empty()) return facet_error(f, "the facet has no loop");
-
-  // Loop vertices and loop segments.
   loop_vertices_.clear();
   loop_segs_.clear();
   for (const auto& L : facet.loops) {
@@ -665,8 +680,14 @@ Status FacetTriangulator::run(size_t f, const std::vector<VertexId>* interior, S
                        loop_vertices_.end());
   std::sort(loop_segs_.begin(), loop_segs_.end());
   loop_segs_.erase(std::unique(loop_segs_.begin(), loop_segs_.end()), loop_segs_.end());
+  return Status::success();
+}
 
-  // Plane from three non-collinear input vertices.
+// The facet's plane from three non-collinear loop vertices and the axis its
+// projection drops (step 2 of the file header); then the PLC points and
+// segments embedded in the facet (embedded()).
+Status FacetTriangulator::choose_projection(size_t f, int& drop) {
+  const Facet& facet = plc_.facets[f];
   const VertexId a0 = facet.loops[0][0];
   VertexId b0 = kNone, c0 = kNone;
   for (const auto& L : facet.loops) {
@@ -685,88 +706,83 @@ Status FacetTriangulator::run(size_t f, const std::vector<VertexId>* interior, S
   const double* B = mesh_.point(b0);
   const double* C = mesh_.point(c0);
 
-  // Projection plane: drop the largest normal component (exactly nonzero).
-  const double u[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
-  const double w[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
-  const double nrm[3] = {std::fabs(u[1] * w[2] - u[2] * w[1]),
-                         std::fabs(u[2] * w[0] - u[0] * w[2]),
-                         std::fabs(u[0] * w[1] - u[1] * w[0])};
-  int drop = nrm[0] >= nrm[1] ? (nrm[0] >= nrm[2] ? 0 : 2) : (nrm[1] >= nrm[2] ? 1 : 2);
+  // Drop the largest normal component (exactly nonzero).
+  drop = projection_axis(A, B, C);
   if (pred::orient2d_projected(A, B, C, drop) == 0) {
     drop = -1;
     for (int k = 0; k < 3 && drop < 0; ++k)
       if (pred::orient2d_projected(A, B, C, k) != 0) drop = k;
     if (drop < 0) return facet_error(f, "no projection plane");
   }
-
   embedded(f, A, B, C, drop);
+  return Status::success();
+}
 
-  // Fast path: a triangle whose edges are unsplit and nothing inside.
-  if (facet.loops.size() == 1 && facet.loops[0].size() == 3 &&
-      (interior == nullptr || interior->empty()) && extra_points_.empty() &&
-      extra_segs_.empty()) {
-    bool plain = true;
-    for (uint32_t s : loop_segs_) plain = plain && segs_.chain[s].size() == 2;
-    if (plain) {
-      const auto& L = facet.loops[0];
-      out.tri.push_back({L[0], L[1], L[2]});
-      out.facet.push_back(static_cast<uint32_t>(f));
-      return Status::success();
-    }
-  }
+// Fast path: a triangle whose edges are unsplit and nothing inside is its
+// own triangulation.
+bool FacetTriangulator::plain_triangle(size_t f, const std::vector<VertexId>* interior,
+                                       Subfaces& out) const {
+  const Facet& facet = plc_.facets[f];
+  if (facet.loops.size() != 1 || facet.loops[0].size() != 3 ||
+      (interior != nullptr && !interior->empty()) || !extra_points_.empty() || !extra_segs_.empty())
+    return false;
+  for (uint32_t s : loop_segs_)
+    if (segs_.chain[s].size() != 2) return false;
+  const auto& L = facet.loops[0];
+  out.tri.push_back({L[0], L[1], L[2]});
+  out.facet.push_back(static_cast<uint32_t>(f));
+  return true;
+}
 
-  // Vertices: chain vertices of the loop edges and of the embedded segments,
-  // embedded points, interior vertices.
+// Vertices: chain vertices of the loop edges and of the embedded segments,
+// embedded points, interior vertices; and their projections.
+Status FacetTriangulator::collect_vertices(size_t f, const std::vector<VertexId>* interior,
+                                           int drop) {
   verts_.clear();
-  for (uint32_t s : loop_segs_) verts_.insert(verts_.end(), segs_.chain[s].begin(), segs_.chain[s].end());
+  for (uint32_t s : loop_segs_)
+    verts_.insert(verts_.end(), segs_.chain[s].begin(), segs_.chain[s].end());
   for (uint32_t s : extra_segs_)
     verts_.insert(verts_.end(), segs_.chain[s].begin(), segs_.chain[s].end());
   verts_.insert(verts_.end(), extra_points_.begin(), extra_points_.end());
   if (interior != nullptr) verts_.insert(verts_.end(), interior->begin(), interior->end());
   std::sort(verts_.begin(), verts_.end());
   verts_.erase(std::unique(verts_.begin(), verts_.end()), verts_.end());
-  if (!verts_.empty() && verts_.back() >= nv)
+  if (!verts_.empty() && verts_.back() >= mesh_.num_vertices())
     return facet_error(f, "vertex " + std::to_string(verts_.back()) + " is not in the mesh");
-  auto local = [this](VertexId v) {
-    return static_cast<uint32_t>(std::lower_bound(verts_.begin(), verts_.end(), v) -
-                                 verts_.begin());
-  };
-
   xy_.resize(2 * verts_.size());
   for (size_t i = 0; i < verts_.size(); ++i) project(mesh_.point(verts_[i]), drop, &xy_[2 * i]);
+  return Status::success();
+}
 
-  // Orientation of the outer loop: at its lexicographically smallest vertex.
-  int sign = 0;
-  {
-    size_t best_loop = 0, best_pos = 0;
-    double bx = 0, by = 0;
-    bool have = false;
-    for (size_t l = 0; l < facet.loops.size(); ++l) {
-      const auto& L = facet.loops[l];
-      for (size_t i = 0; i < L.size(); ++i) {
-        const uint32_t li = local(L[i]);
-        const double x = xy_[2 * li], y = xy_[2 * li + 1];
-        if (!have || x < bx || (x == bx && y < by)) {
-          have = true, bx = x, by = y, best_loop = l, best_pos = i;
-        }
+// Orientation of the outer loop in the projection, at its lexicographically
+// smallest vertex (a convex corner): +1 counterclockwise, -1 clockwise.
+Status FacetTriangulator::outer_loop_orientation(size_t f, int& sign) const {
+  const Facet& facet = plc_.facets[f];
+  size_t best_loop = 0, best_pos = 0;
+  double bx = 0, by = 0;
+  bool have = false;
+  for (size_t l = 0; l < facet.loops.size(); ++l) {
+    const auto& L = facet.loops[l];
+    for (size_t i = 0; i < L.size(); ++i) {
+      const uint32_t li = local(L[i]);
+      const double x = xy_[2 * li], y = xy_[2 * li + 1];
+      if (!have || x < bx || (x == bx && y < by)) {
+        have = true, bx = x, by = y, best_loop = l, best_pos = i;
       }
     }
-    const auto& L = facet.loops[best_loop];
-    const uint32_t lp = local(L[(best_pos + L.size() - 1) % L.size()]);
-    const uint32_t lv = local(L[best_pos]);
-    const uint32_t ln = local(L[(best_pos + 1) % L.size()]);
-    sign = pred::orient2d(&xy_[2 * lp], &xy_[2 * lv], &xy_[2 * ln]);
-    if (sign == 0) return facet_error(f, "the outer loop has no orientation in the projection");
   }
+  const auto& L = facet.loops[best_loop];
+  const uint32_t lp = local(L[(best_pos + L.size() - 1) % L.size()]);
+  const uint32_t lv = local(L[best_pos]);
+  const uint32_t ln = local(L[(best_pos + 1) % L.size()]);
+  sign = pred::orient2d(&xy_[2 * lp], &xy_[2 * lv], &xy_[2 * ln]);
+  if (sign == 0) return facet_error(f, "the outer loop has no orientation in the projection");
+  return Status::success();
+}
 
-  Cdt2 cdt(xy_, verts_);
-  std::string msg = cdt.build();
-  if (!msg.empty()) return facet_error(f, msg);
-  // Delaunay first: subsegments are then usually edges already or cross few.
-  msg = cdt.make_delaunay();
-  if (!msg.empty()) return facet_error(f, msg);
-
-  // Constraints: every subsegment of the loop chains and embedded segments.
+// Constraints: every subsegment of the loop chains and embedded segments;
+// the loop ones are also remembered (loop_keys_) for the region marking.
+Status FacetTriangulator::insert_constraints(size_t f, Cdt2& cdt) {
   constraints_.clear();
   loop_keys_.clear();
   for (int pass = 0; pass < 2; ++pass)
@@ -775,26 +791,22 @@ Status FacetTriangulator::run(size_t f, const std::vector<VertexId>* interior, S
       for (size_t k = 0; k + 1 < c.size(); ++k) {
         const uint32_t p = local(c[k]), q = local(c[k + 1]);
         constraints_.push_back({p, q});
-        if (pass == 0)
-          loop_keys_.push_back((static_cast<uint64_t>(std::min(p, q)) << 32) | std::max(p, q));
+        if (pass == 0) loop_keys_.push_back(edge_key(p, q));
       }
     }
   std::sort(loop_keys_.begin(), loop_keys_.end());
-  auto is_loop_edge = [this](uint32_t p, uint32_t q) {
-    const uint64_t k = (static_cast<uint64_t>(std::min(p, q)) << 32) | std::max(p, q);
-    return std::binary_search(loop_keys_.begin(), loop_keys_.end(), k);
-  };
   for (const auto& e : constraints_) {
-    msg = cdt.insert_constraint(e[0], e[1]);
+    const std::string msg = cdt.insert_constraint(e[0], e[1]);
     if (!msg.empty()) return facet_error(f, msg);
   }
-  msg = cdt.make_delaunay();
-  if (!msg.empty()) return facet_error(f, msg);
+  return Status::success();
+}
 
-  // Region: remove what the outside and the hole points reach without
-  // crossing a loop edge.
-  const std::vector<Tri>& T = cdt.tris();
-  std::vector<uint8_t> out_mark(T.size(), 0);
+// Region: marks what the outside and the hole points reach without crossing
+// a loop edge.
+void FacetTriangulator::mark_outside(size_t f, const std::vector<Tri>& T, int drop,
+                                     std::vector<uint8_t>& out_mark) const {
+  out_mark.assign(T.size(), 0);
   std::vector<int32_t> stack;
   auto flood = [&]() {
     while (!stack.empty()) {
@@ -818,7 +830,7 @@ Status FacetTriangulator::run(size_t f, const std::vector<VertexId>* interior, S
     }
   }
   flood();
-  for (const Vec3& hp : facet.holes) {
+  for (const Vec3& hp : plc_.facets[f].holes) {
     const double p3[3] = {hp.x, hp.y, hp.z};
     double p[2];
     project(p3, drop, p);
@@ -837,7 +849,35 @@ Status FacetTriangulator::run(size_t f, const std::vector<VertexId>* interior, S
       }
     }
   }
+}
 
+// Facet f's subfaces, appended to `out` oriented like its outer loop.
+Status FacetTriangulator::run(size_t f, const std::vector<VertexId>* interior, Subfaces& out) {
+  if (plc_.facets[f].loops.empty()) return facet_error(f, "the facet has no loop");
+  Status st = collect_loops(f);
+  int drop = 2;
+  if (st.ok()) st = choose_projection(f, drop);
+  if (!st.ok()) return st;
+  if (plain_triangle(f, interior, out)) return Status::success();
+  int sign = 0;
+  st = collect_vertices(f, interior, drop);
+  if (st.ok()) st = outer_loop_orientation(f, sign);
+  if (!st.ok()) return st;
+
+  Cdt2 cdt(xy_, verts_);
+  std::string msg = cdt.build();
+  if (!msg.empty()) return facet_error(f, msg);
+  // Delaunay first: subsegments are then usually edges already or cross few.
+  msg = cdt.make_delaunay();
+  if (!msg.empty()) return facet_error(f, msg);
+  st = insert_constraints(f, cdt);
+  if (!st.ok()) return st;
+  msg = cdt.make_delaunay();
+  if (!msg.empty()) return facet_error(f, msg);
+
+  const std::vector<Tri>& T = cdt.tris();
+  std::vector<uint8_t> out_mark;
+  mark_outside(f, T, drop, out_mark);
   size_t kept = 0;
   for (size_t t = 0; t < T.size(); ++t) {
     if (out_mark[t]) continue;

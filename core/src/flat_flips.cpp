@@ -25,21 +25,14 @@ constexpr size_t kMaxRing = 5;
 // another flat tet to a later pass.
 constexpr int kMaxPasses = 32;
 
-FaceKey face_key(VertexId a, VertexId b, VertexId c) {
-  FaceKey k = {a, b, c};
-  std::sort(k.begin(), k.end());
-  return k;
-}
-EdgeKey edge_key(VertexId a, VertexId b) { return a < b ? EdgeKey{a, b} : EdgeKey{b, a}; }
-
 class FlatFlipper {
  public:
   FlatFlipper(TetMesh& mesh, const Subfaces& sf, const SegmentSet& segs) : m_(mesh) {
-    for (const auto& t : sf.tri) subfaces_.push_back(face_key(t[0], t[1], t[2]));
+    for (const auto& t : sf.tri) subfaces_.push_back(sorted_triangle(t[0], t[1], t[2]));
     std::sort(subfaces_.begin(), subfaces_.end());
     std::vector<std::array<uint32_t, 3>> sub;
     segs.subsegments(sub);
-    for (const auto& e : sub) subsegments_.push_back(edge_key(e[0], e[1]));
+    for (const auto& e : sub) subsegments_.push_back(sorted_edge(e[0], e[1]));
     std::sort(subsegments_.begin(), subsegments_.end());
   }
 
@@ -47,15 +40,15 @@ class FlatFlipper {
 
  private:
   bool flat(TetId t) const {
-    const VertexId* w = &m_.tv[4 * size_t(t)];
+    const VertexId* w = m_.tet_vertices(t);
     return w[3] != kInfinite && numerically_flat(m_.point(w[0]), m_.point(w[1]), m_.point(w[2]),
                                                  m_.point(w[3]));
   }
   bool is_subface(VertexId a, VertexId b, VertexId c) const {
-    return std::binary_search(subfaces_.begin(), subfaces_.end(), face_key(a, b, c));
+    return std::binary_search(subfaces_.begin(), subfaces_.end(), sorted_triangle(a, b, c));
   }
   bool is_subsegment(VertexId a, VertexId b) const {
-    return std::binary_search(subsegments_.begin(), subsegments_.end(), edge_key(a, b));
+    return std::binary_search(subsegments_.begin(), subsegments_.end(), sorted_edge(a, b));
   }
   // Orients (a, b, c, d) positively; false when the four are coplanar.
   bool positive(VertexId a, VertexId b, VertexId c, VertexId d, Tet& out) const {
@@ -117,14 +110,14 @@ bool FlatFlipper::keeps_delaunay(const std::vector<TetId>& old,
       if (j == self) continue;
       for (int i = 0; i < 4; ++i) {
         const Tet& w = fresh[j];
-        if (face_key(w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]) == k)
+        if (sorted_triangle(w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]) == k)
           return w[i];
       }
     }
     for (TetId t : old)
       for (int i = 0; i < 4; ++i) {
-        const VertexId* w = &m_.tv[4 * size_t(t)];
-        if (face_key(w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]) != k)
+        const VertexId* w = m_.tet_vertices(t);
+        if (sorted_triangle(w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]) != k)
           continue;
         const HalfFace out = m_.adjacent(make_hf(t, i));
         if (std::find(old.begin(), old.end(), hf_tet(out)) != old.end()) continue;
@@ -135,7 +128,8 @@ bool FlatFlipper::keeps_delaunay(const std::vector<TetId>& old,
   for (size_t j = 0; j < fresh.size(); ++j) {
     const Tet& w = fresh[j];
     for (int i = 0; i < 4; ++i) {
-      const FaceKey k = face_key(w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]);
+      const FaceKey k =
+          sorted_triangle(w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]);
       if (std::binary_search(subfaces_.begin(), subfaces_.end(), k)) continue;
       const VertexId e = opposite(k, j);
       if (e == kNone || e == kInfinite) continue;
@@ -153,7 +147,7 @@ void FlatFlipper::try_face(TetId t, int i) {
   const HalfFace hf = make_hf(t, i);
   const TetId n = hf_tet(m_.adjacent(hf));
   if (m_.is_ghost(n)) return;
-  const VertexId* w = &m_.tv[4 * size_t(t)];
+  const VertexId* w = m_.tet_vertices(t);
   const VertexId a = w[kFaceVertex[i][0]], b = w[kFaceVertex[i][1]], c = w[kFaceVertex[i][2]];
   if (is_subface(a, b, c)) return;
   const VertexId d = w[i];

@@ -11,7 +11,7 @@
 // faces or by an edge removal (3-2, 4-4, 5-6) around one of its edges,
 // whichever leaves the fattest tets, never across a subface and never
 // removing a subsegment. validate() accepts the faces such flips leave
-// (see its check 8).
+// (see its check 9).
 #pragma once
 
 #include <cstddef>

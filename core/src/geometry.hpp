@@ -1,13 +1,111 @@
-// Small floating-point geometry shared by the steps (never used for a
-// topological decision: those go through predicates.hpp).
+// The small helpers every step shares, written once: the 3-vector
+// arithmetic on the public Vec3, edge and triangle keys, the projection axis
+// of a facet, and the flat-tet test. The floating-point ones place points,
+// rank candidates or report numbers; no topological decision rests on them
+// (those go through predicates.hpp). IEEE +, -, *, /, sqrt round identically
+// natively and in WebAssembly, and the build forbids contraction into FMA,
+// so each expression gives the same double on both.
 #pragma once
 
 #include <cdt3d/cdt3d.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 namespace cdt3d {
+
+/// A length far below any coordinate difference the core meets (the
+/// smallest normal double is 2.2e-308), added to a tolerance or padding
+/// that is relative to some size so that it stays positive when that size is
+/// 0 (a zero-radius ball, a zero-volume mesh).
+constexpr double kTinyLength = 1e-300;
+
+// --- 3-vectors: the public Vec3 is the one vector type of the core ---
+
+inline Vec3 to_vec(const double* p) { return {p[0], p[1], p[2]}; }
+inline Vec3 operator+(const Vec3& a, const Vec3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline Vec3 operator-(const Vec3& a, const Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline Vec3 operator*(double s, const Vec3& a) { return {s * a.x, s * a.y, s * a.z}; }
+inline double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+inline double dist(const Vec3& a, const Vec3& b) { return norm(a - b); }
+inline bool finite(const Vec3& a) {
+  return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
+}
+
+// --- keys: a vertex pair or triple in a canonical order, for sorting and lookup ---
+
+/// Edge {a, b} as one integer, smaller id in the high word: sorting such
+/// keys sorts edges lexicographically, and integers sort fast.
+inline uint64_t edge_key(uint32_t a, uint32_t b) {
+  return a < b ? (uint64_t{a} << 32) | b : (uint64_t{b} << 32) | a;
+}
+
+/// Edge {a, b} as (smaller, larger).
+inline std::array<VertexId, 2> sorted_edge(VertexId a, VertexId b) {
+  return a < b ? std::array<VertexId, 2>{a, b} : std::array<VertexId, 2>{b, a};
+}
+
+/// Triangle {a, b, c} with its ids ascending: the key of a face whatever its
+/// orientation.
+inline std::array<VertexId, 3> sorted_triangle(VertexId a, VertexId b, VertexId c) {
+  std::array<VertexId, 3> k{a, b, c};
+  if (k[0] > k[1]) std::swap(k[0], k[1]);
+  if (k[1] > k[2]) std::swap(k[1], k[2]);
+  if (k[0] > k[1]) std::swap(k[0], k[1]);
+  return k;
+}
+inline std::array<VertexId, 3> sorted_triangle(const std::array<VertexId, 3>& t) {
+  return sorted_triangle(t[0], t[1], t[2]);
+}
+
+// --- projection of a planar facet to a coordinate plane ---
+
+/// The axis of the largest |component| of normal n (0 = x), the lower axis on
+/// ties. Dropping it projects the facet to the coordinate plane where it is
+/// least foreshortened; exact 2D tests there (pred::orient2d_projected) then
+/// decide in-plane questions for coplanar points without constructing any.
+inline int largest_axis(double nx, double ny, double nz) {
+  const double ax = std::fabs(nx), ay = std::fabs(ny), az = std::fabs(nz);
+  return ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
+}
+
+/// Newell's normal of a polygon of PLC points (not unit): twice its
+/// vector area, for a planar loop of any shape, convex or not.
+inline Vec3 newell_normal(const Plc& plc, const std::vector<VertexId>& loop) {
+  Vec3 n{0, 0, 0};
+  for (size_t i = 0; i < loop.size(); ++i) {
+    const Vec3& p = plc.points[loop[i]];
+    const Vec3& q = plc.points[loop[(i + 1) % loop.size()]];
+    n.x += (p.y - q.y) * (p.z + q.z);
+    n.y += (p.z - q.z) * (p.x + q.x);
+    n.z += (p.x - q.x) * (p.y + q.y);
+  }
+  return n;
+}
+
+/// Cross product (b - a) x (c - a) in doubles: the (unnormalised) normal of
+/// triangle (a, b, c).
+inline Vec3 triangle_normal(const double* a, const double* b, const double* c) {
+  const double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+  const double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+  return {uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx};
+}
+
+/// The axis whose dropping projects triangle (a, b, c) best: the largest
+/// component of its normal. Rounding can make the projected triangle
+/// degenerate when the normal is tiny; callers that need a proper triangle
+/// check pred::orient2d_projected and fall back to another axis.
+inline int projection_axis(const double* a, const double* b, const double* c) {
+  const Vec3 n = triangle_normal(a, b, c);
+  return largest_axis(n.x, n.y, n.z);
+}
 
 /// 6V / l_max^3 of tet (a, b, c, d) in doubles: 6V = (a - d) . ((b - d) x
 /// (c - d)) evaluated in floating point, l_max its longest edge. Positive for
@@ -39,7 +137,7 @@ inline bool numerically_flat(const double* a, const double* b, const double* c, 
 /// Whether some four of the five points are numerically flat. A face between
 /// two tets whose five vertices pass this test may fail the exact insphere
 /// test: the Delaunay choice there would be a flat tet, which the pipeline
-/// flips away (flat_flips.hpp); validate() accepts such faces (its check 8).
+/// flips away (flat_flips.hpp); validate() accepts such faces (its check 9).
 inline bool has_flat_quadruple(const double* const p[5]) {
   for (int skip = 0; skip < 5; ++skip) {
     const double* q[4];

@@ -28,6 +28,7 @@
 #include "segment_recovery.hpp"
 #include "sos_order.hpp"
 #include "stats.hpp"
+#include "status.hpp"
 #include "subfaces.hpp"
 #include "tet_mesh.hpp"
 
@@ -108,7 +109,6 @@ class Pipeline {
   void mesh_to_result(const std::vector<TetId>& tets, const std::vector<double>* attributes,
                       const CarveResult* carved);
   Status check_open_facets(const CarveResult& carved) const;
-  size_t move_flat_tets_outside(const CarveResult& carved);
   bool mesh_steps(FacetRecoveryStats& fst);
   void add_facet_split(const FacetRecoveryStats& fst);
   Status insert_facet_splits();
@@ -173,107 +173,14 @@ Status Pipeline::check_open_facets(const CarveResult& carved) const {
     if (f < bounded.size()) bounded[f] = 1;
   for (uint32_t f = 0; f < plc_->facets.size(); ++f) {
     if (bounded[f]) continue;
-    Status st;
-    st.error.code = ErrorCode::OpenBoundary;
-    st.error.facet = f;
-    st.error.file = plc_->file;
-    st.error.line = plc_->facets[f].line;
-    st.error.record = plc_->facets[f].record;
-    st.error.message =
-        "The surface does not enclose a volume around facet " + std::to_string(f) +
-        ": no kept tetrahedron touches it (the surface is open or the facet lies outside the "
-        "domain). Use keep-hull to mesh open surfaces as constraints inside the convex hull.";
-    return st;
+    return make_error(ErrorCode::OpenBoundary,
+                      "The surface does not enclose a volume around facet " + std::to_string(f) +
+                          ": no kept tetrahedron touches it (the surface is open or the facet "
+                          "lies outside the domain). Use keep-hull to mesh open surfaces as "
+                          "constraints inside the convex hull.")
+        .facet_of(*plc_, f);
   }
   return Status::success();
-}
-
-// A flat tet: two of its faces are subfaces of one facet, so its four
-// vertices all lie in that facet, up to the rounding of Steiner points (§5
-// rounds them to doubles, so a facet is only nearly planar). Both diagonals
-// of the quadrilateral are then faces of the mesh. When the tet is kept but
-// the tets across its two subfaces are outside (a boundary facet), the facet
-// is triangulated with the tet's two other faces instead: they triangulate
-// the same quadrilateral, and the flat tet joins the exterior. Returns the
-// number of facets changed; the caller carves again.
-size_t Pipeline::move_flat_tets_outside(const CarveResult& carved) {
-  // Such a tet is numerically flat (its vertices are a few ulps from one
-  // plane); the others need no face lookups.
-  std::vector<TetId> flat;
-  for (TetId t : carved.tets) {
-    const VertexId* w = &mesh_.tv[4 * static_cast<size_t>(t)];
-    if (numerically_flat(mesh_.point(w[0]), mesh_.point(w[1]), mesh_.point(w[2]), mesh_.point(w[3])))
-      flat.push_back(t);
-  }
-  if (flat.empty()) return 0;
-  struct Key {
-    std::array<VertexId, 3> v;
-    uint32_t sub;
-    bool operator<(const Key& o) const { return v != o.v ? v < o.v : sub < o.sub; }
-  };
-  auto sorted = [](VertexId a, VertexId b, VertexId c) {
-    std::array<VertexId, 3> k = {a, b, c};
-    std::sort(k.begin(), k.end());
-    return k;
-  };
-  std::vector<Key> keys;
-  keys.reserve(subfaces_.tri.size());
-  for (uint32_t i = 0; i < subfaces_.tri.size(); ++i) {
-    const auto& t = subfaces_.tri[i];
-    keys.push_back({sorted(t[0], t[1], t[2]), i});
-  }
-  std::sort(keys.begin(), keys.end());
-  auto find = [&](const std::array<VertexId, 3>& k) -> uint32_t {
-    auto it = std::lower_bound(keys.begin(), keys.end(), Key{k, 0});
-    return it != keys.end() && it->v == k ? it->sub : kNone;
-  };
-  auto kept = [&](TetId t) { return (mesh_.tflag[t] & kTetInside) != 0; };
-  std::vector<std::array<uint32_t, 3>> sub;
-  segs_.subsegments(sub);
-  std::vector<std::array<VertexId, 2>> subsegs;
-  for (const auto& e : sub) subsegs.push_back({std::min(e[0], e[1]), std::max(e[0], e[1])});
-  std::sort(subsegs.begin(), subsegs.end());
-  std::vector<uint8_t> changed(subfaces_.tri.size(), 0);
-  size_t moved = 0;
-  for (TetId t : flat) {
-    int face[2], n = 0;
-    uint32_t sub[2];
-    for (int i = 0; i < 4 && n <= 2; ++i) {
-      const uint32_t s = find(sorted(mesh_.vertex(t, kFaceVertex[i][0]), mesh_.vertex(t, kFaceVertex[i][1]),
-                                     mesh_.vertex(t, kFaceVertex[i][2])));
-      if (s == kNone) continue;
-      if (n < 2) face[n] = i, sub[n] = s;
-      ++n;
-    }
-    if (n != 2 || subfaces_.facet[sub[0]] != subfaces_.facet[sub[1]]) continue;
-    if (changed[sub[0]] || changed[sub[1]]) continue;
-    if (kept(mesh_.neighbor(t, face[0])) || kept(mesh_.neighbor(t, face[1]))) continue;
-    // s1 = (u, v, p) with the shared edge u -> v; s2 runs v -> u to q. The
-    // quadrilateral is u -> q -> v -> p; the other diagonal gives (u, q, p)
-    // and (q, v, p), oriented like the old pair.
-    auto& s1 = subfaces_.tri[sub[0]];
-    auto& s2 = subfaces_.tri[sub[1]];
-    int r = 0;
-    while (r < 3 && std::find(s2.begin(), s2.end(), s1[(r + 2) % 3]) != s2.end()) ++r;
-    if (r == 3) continue;
-    const VertexId u = s1[r], v = s1[(r + 1) % 3], p = s1[(r + 2) % 3];
-    // Never across a subsegment: the other diagonal would drop it.
-    if (std::binary_search(subsegs.begin(), subsegs.end(),
-                           std::array<VertexId, 2>{std::min(u, v), std::max(u, v)}))
-      continue;
-    VertexId q = kNone;
-    bool consistent = false;
-    for (int k = 0; k < 3; ++k) {
-      if (s2[k] != u && s2[k] != v) q = s2[k];
-      if (s2[k] == v && s2[(k + 1) % 3] == u) consistent = true;
-    }
-    if (q == kNone || !consistent) continue;
-    s1 = {u, q, p};
-    s2 = {q, v, p};
-    changed[sub[0]] = changed[sub[1]] = 1;
-    ++moved;
-  }
-  return moved;
 }
 
 // The phases number points, facets and segments of the PLC they mesh: after
@@ -546,7 +453,7 @@ void Pipeline::run() {
     s.flat_flips = ff.flips;
     CarveResult carved;
     st = carve(*plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved);
-    if (st.ok() && move_flat_tets_outside(carved) > 0) {
+    if (st.ok() && move_flat_tets_outside(mesh_, segs_, carved, subfaces_) > 0) {
       carved = CarveResult();
       st = carve(*plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved);
     }
@@ -585,14 +492,10 @@ Status delaunay_tetrahedralization(const std::vector<double>& xyz, std::vector<u
                                    double* ms) {
   const auto t0 = Clock::now();
   tets.clear();
-  Status st;
-  if (xyz.size() % 3 != 0) {
-    st.error.code = ErrorCode::InvalidArgument;
-    st.error.message = "Points need 3 coordinates each.";
-    return st;
-  }
+  if (xyz.size() % 3 != 0)
+    return make_error(ErrorCode::InvalidArgument, "Points need 3 coordinates each.");
   TetMesh mesh;
-  st = delaunay_tetrahedralize(mesh, xyz.data(), xyz.size() / 3);
+  Status st = delaunay_tetrahedralize(mesh, xyz.data(), xyz.size() / 3);
   if (!st.ok()) return st;
   tets.reserve(4 * mesh.num_real_tets());
   for (TetId t = 0; t < mesh.num_tet_slots(); ++t)

@@ -6,6 +6,7 @@
 #include <exception>
 #include <new>
 
+#include "geometry.hpp"
 #include "io/read_common.hpp"
 
 namespace cdt3d {
@@ -163,7 +164,7 @@ std::vector<uint64_t> packed_edges(const Plc& plc) {
   edges.reserve(n);
   auto add = [&edges](VertexId a, VertexId b) {
     if (a == b) return;
-    edges.push_back(a < b ? (uint64_t{a} << 32) | b : (uint64_t{b} << 32) | a);
+    edges.push_back(edge_key(a, b));
   };
   for (const auto& s : plc.segments) add(s[0], s[1]);
   for (const Facet& f : plc.facets) {

@@ -11,25 +11,10 @@
 #include <vector>
 
 #include "predicates.hpp"
+#include "status.hpp"
 
 namespace cdt3d {
 namespace {
-
-Status error(const Plc& plc, ErrorCode code, std::string message) {
-  Status s;
-  s.error.code = code;
-  s.error.message = std::move(message);
-  s.error.file = plc.file;
-  return s;
-}
-
-Status facet_error(const Plc& plc, size_t fi, ErrorCode code, std::string message) {
-  Status s = error(plc, code, std::move(message));
-  s.error.facet = static_cast<int64_t>(fi);
-  s.error.line = plc.facets[fi].line;
-  s.error.record = plc.facets[fi].record;
-  return s;
-}
 
 bool bad_coord(double c) { return !std::isfinite(c) || std::fabs(c) > kMaxCoordinate; }
 
@@ -39,25 +24,22 @@ Status check_point(const Plc& plc, const Vec3& p, const char* kind, size_t index
   for (int k = 0; k < 3; ++k) {
     if (!bad_coord(c[k])) continue;
     const bool nan = !std::isfinite(c[k]);
-    Status s = error(
-        plc, nan ? ErrorCode::NonFinite : ErrorCode::CoordinateRange,
-        std::string(kind) + " " + std::to_string(index) + (nan ? " has a non-finite " : " has a ") +
-            std::string(1, static_cast<char>('x' + k)) +
-            (nan ? " coordinate." : " coordinate beyond the supported magnitude 1e50."));
+    Status s =
+        make_error(nan ? ErrorCode::NonFinite : ErrorCode::CoordinateRange,
+                   std::string(kind) + " " + std::to_string(index) +
+                       (nan ? " has a non-finite " : " has a ") +
+                       std::string(1, static_cast<char>('x' + k)) +
+                       (nan ? " coordinate." : " coordinate beyond the supported magnitude 1e50."))
+            .file(plc.file);
     s.error.vertex = vertex;
     return s;
   }
   return Status::success();
 }
 
-struct P3 {
-  double c[3];
-};
-
-P3 at(const Plc& plc, VertexId v) {
-  const Vec3& p = plc.points[v];
-  return P3{{p.x, p.y, p.z}};
-}
+// Point v's coordinates as the predicates take them (Vec3 stores x, y, z
+// contiguously).
+const double* at(const Plc& plc, VertexId v) { return &plc.points[v].x; }
 
 // Distinct points: identical coordinates must have been welded. Sorts copies
 // (coordinates + id) rather than ids, for locality.
@@ -81,9 +63,10 @@ Status check_distinct_points(const Plc& plc) {
     const Item& a = items[i - 1];
     const Item& b = items[i];
     if (a.x == b.x && a.y == b.y && a.z == b.z) {
-      Status s = error(plc, ErrorCode::InvalidArgument,
-                       "Points " + std::to_string(a.id) + " and " + std::to_string(b.id) +
-                           " have identical coordinates.");
+      Status s = make_error(ErrorCode::InvalidArgument, "Points " + std::to_string(a.id) + " and " +
+                                                            std::to_string(b.id) +
+                                                            " have identical coordinates.")
+                     .file(plc.file);
       s.error.vertex = b.id;
       return s;
     }
@@ -110,14 +93,15 @@ Status check_facet_holes(const Plc& plc, size_t fi) {
 // Two edges of a facet's loops, in the facet's projection (exact): true when
 // they meet anywhere except at a vertex they share. Sharing a vertex, they
 // meet elsewhere only when collinear and pointing the same way (overlap).
-bool edges_meet(const P3& p1, const P3& p2, const P3& q1, const P3& q2, int drop, int shared) {
-  auto orient = [drop](const P3& a, const P3& b, const P3& c) {
-    return pred::orient2d_projected(a.c, b.c, c.c, drop);
+bool edges_meet(const double* p1, const double* p2, const double* q1, const double* q2, int drop,
+                int shared) {
+  auto orient = [drop](const double* a, const double* b, const double* c) {
+    return pred::orient2d_projected(a, b, c, drop);
   };
   // Coordinate-wise betweenness of c on the segment ab, given collinearity.
-  auto within = [](const P3& a, const P3& b, const P3& c) {
+  auto within = [](const double* a, const double* b, const double* c) {
     for (int k = 0; k < 3; ++k)
-      if (c.c[k] < std::min(a.c[k], b.c[k]) || c.c[k] > std::max(a.c[k], b.c[k])) return false;
+      if (c[k] < std::min(a[k], b[k]) || c[k] > std::max(a[k], b[k])) return false;
     return true;
   };
   if (shared) {
@@ -138,14 +122,15 @@ bool edges_meet(const P3& p1, const P3& p2, const P3& q1, const P3& q2, int drop
 // orientation tests in the coordinate plane that drops an axis along which
 // the facet's normal has a nonzero component. O(edges^2) per facet, with a
 // bounding-box test first; triangles need no check.
-Status check_simple_loops(const Plc& plc, size_t fi, const P3& a, const P3& b, const P3& c) {
+Status check_simple_loops(const Plc& plc, size_t fi, const double* a, const double* b,
+                          const double* c) {
   const Facet& f = plc.facets[fi];
   int drop = 0;
-  while (drop < 3 && pred::orient2d_projected(a.c, b.c, c.c, drop) == 0) ++drop;
+  while (drop < 3 && pred::orient2d_projected(a, b, c, drop) == 0) ++drop;
   if (drop == 3) return Status::success();  // collinear: reported elsewhere
   struct E {
     VertexId u, v;
-    P3 pu, pv;
+    const double *pu, *pv;
   };
   std::vector<E> edges;
   for (const auto& L : f.loops)
@@ -157,8 +142,8 @@ Status check_simple_loops(const Plc& plc, size_t fi, const P3& a, const P3& b, c
       const E& y = edges[j];
       bool apart = false;
       for (int k = 0; k < 3 && !apart; ++k)
-        apart = std::max(x.pu.c[k], x.pv.c[k]) < std::min(y.pu.c[k], y.pv.c[k]) ||
-                std::max(y.pu.c[k], y.pv.c[k]) < std::min(x.pu.c[k], x.pv.c[k]);
+        apart = std::max(x.pu[k], x.pv[k]) < std::min(y.pu[k], y.pv[k]) ||
+                std::max(y.pu[k], y.pv[k]) < std::min(x.pu[k], x.pv[k]);
       // The same edge in two polygons of one facet (TetGen allows a facet
       // made of polygons that share edges).
       if (apart || (x.u == y.v && x.v == y.u) || (x.u == y.u && x.v == y.v)) continue;
@@ -169,10 +154,12 @@ Status check_simple_loops(const Plc& plc, size_t fi, const P3& a, const P3& b, c
       else if (x.v == y.v) meet = edges_meet(x.pv, x.pu, y.pv, y.pu, drop, 1);
       else meet = edges_meet(x.pu, x.pv, y.pu, y.pv, drop, 0);
       if (meet) {
-        Status s = facet_error(plc, fi, ErrorCode::DegenerateFacet,
-                               "Facet " + std::to_string(fi) + " is not a simple polygon: its edges (" +
-                                   std::to_string(x.u) + ", " + std::to_string(x.v) + ") and (" +
-                                   std::to_string(y.u) + ", " + std::to_string(y.v) + ") meet.");
+        Status s =
+            make_error(ErrorCode::DegenerateFacet,
+                       "Facet " + std::to_string(fi) + " is not a simple polygon: its edges (" +
+                           std::to_string(x.u) + ", " + std::to_string(x.v) + ") and (" +
+                           std::to_string(y.u) + ", " + std::to_string(y.v) + ") meet.")
+                .facet_of(plc, fi);
         s.error.vertex = x.u;
         return s;
       }
@@ -185,8 +172,9 @@ Status check_facet(const Plc& plc, size_t fi, std::vector<VertexId>& scratch) {
   const Facet& f = plc.facets[fi];
   const size_t n_points = plc.points.size();
   if (f.loops.empty()) {
-    return facet_error(plc, fi, ErrorCode::DegenerateFacet,
-                       "Facet " + std::to_string(fi) + " has no polygon.");
+    return make_error(ErrorCode::DegenerateFacet,
+                      "Facet " + std::to_string(fi) + " has no polygon.")
+        .facet_of(plc, fi);
   }
   for (size_t li = 0; li < f.loops.size(); ++li) {
     const auto& loop = f.loops[li];
@@ -195,16 +183,18 @@ Status check_facet(const Plc& plc, size_t fi, std::vector<VertexId>& scratch) {
     };
     for (VertexId v : loop) {
       if (v >= n_points) {
-        return facet_error(plc, fi, ErrorCode::IndexOutOfRange,
-                           name() + " uses vertex " + std::to_string(v) + " but there are " +
-                               std::to_string(n_points) + " points.");
+        return make_error(ErrorCode::IndexOutOfRange, name() + " uses vertex " + std::to_string(v) +
+                                                          " but there are " +
+                                                          std::to_string(n_points) + " points.")
+            .facet_of(plc, fi);
       }
     }
     if (loop.size() < 3) {
-      return facet_error(plc, fi, ErrorCode::DegenerateFacet,
-                         name() + " has " + std::to_string(loop.size()) +
-                             (loop.size() == 1 ? " vertex" : " vertices") +
-                             "; at least 3 are needed.");
+      return make_error(ErrorCode::DegenerateFacet,
+                        name() + " has " + std::to_string(loop.size()) +
+                            (loop.size() == 1 ? " vertex" : " vertices") +
+                            "; at least 3 are needed.")
+          .facet_of(plc, fi);
     }
     VertexId repeated = kNone;
     if (loop.size() == 3) {
@@ -221,42 +211,45 @@ Status check_facet(const Plc& plc, size_t fi, std::vector<VertexId>& scratch) {
       }
     }
     if (repeated != kNone) {
-      Status s = facet_error(plc, fi, ErrorCode::DegenerateFacet,
-                             name() + " repeats vertex " + std::to_string(repeated) + ".");
+      Status s = make_error(ErrorCode::DegenerateFacet,
+                            name() + " repeats vertex " + std::to_string(repeated) + ".")
+                     .facet_of(plc, fi);
       s.error.vertex = repeated;
       return s;
     }
     // Zero area: every vertex on the line through the first two.
-    const P3 a = at(plc, loop[0]);
-    const P3 b = at(plc, loop[1]);
+    const double* a = at(plc, loop[0]);
+    const double* b = at(plc, loop[1]);
     bool flat = true;
     for (size_t i = 2; i < loop.size() && flat; ++i) {
-      const P3 c = at(plc, loop[i]);
-      if (!pred::collinear3d(a.c, b.c, c.c)) flat = false;
+      const double* c = at(plc, loop[i]);
+      if (!pred::collinear3d(a, b, c)) flat = false;
     }
     if (flat) {
-      return facet_error(plc, fi, ErrorCode::DegenerateFacet,
-                         name() + " has zero area: its vertices are collinear.");
+      return make_error(ErrorCode::DegenerateFacet,
+                        name() + " has zero area: its vertices are collinear.")
+          .facet_of(plc, fi);
     }
   }
   // Planarity: a non-collinear triple of the first loop spans the plane; every
   // vertex of every loop must lie in it exactly. A lone triangle is planar.
   const auto& first = f.loops[0];
   if (f.loops.size() == 1 && first.size() == 3) return check_facet_holes(plc, fi);
-  const P3 a = at(plc, first[0]);
-  const P3 b = at(plc, first[1]);
-  P3 c = a;
+  const double* a = at(plc, first[0]);
+  const double* b = at(plc, first[1]);
+  const double* c = a;
   for (size_t i = 2; i < first.size(); ++i) {
     c = at(plc, first[i]);
-    if (!pred::collinear3d(a.c, b.c, c.c)) break;
+    if (!pred::collinear3d(a, b, c)) break;
   }
   for (size_t li = 0; li < f.loops.size(); ++li) {
     for (VertexId v : f.loops[li]) {
-      const P3 d = at(plc, v);
-      if (pred::orient3d(a.c, b.c, c.c, d.c) != 0) {
-        Status s = facet_error(plc, fi, ErrorCode::NonPlanarFacet,
-                               "Facet " + std::to_string(fi) + " is not planar: vertex " +
-                                   std::to_string(v) + " lies off the plane of its first polygon.");
+      const double* d = at(plc, v);
+      if (pred::orient3d(a, b, c, d) != 0) {
+        Status s = make_error(ErrorCode::NonPlanarFacet,
+                              "Facet " + std::to_string(fi) + " is not planar: vertex " +
+                                  std::to_string(v) + " lies off the plane of its first polygon.")
+                       .facet_of(plc, fi);
         s.error.vertex = v;
         return s;
       }
@@ -348,9 +341,10 @@ Status check_duplicates(const Plc& plc) {
     }
   }
   if (best_dup == nf) return Status::success();
-  Status s = facet_error(plc, best_dup, ErrorCode::DuplicateFacet,
-                         "Facet " + std::to_string(best_dup) + " repeats facet " +
-                             std::to_string(best_first) + " (the same vertices).");
+  Status s = make_error(ErrorCode::DuplicateFacet,
+                        "Facet " + std::to_string(best_dup) + " repeats facet " +
+                            std::to_string(best_first) + " (the same vertices).")
+                 .facet_of(plc, best_dup);
   s.error.other_facet = static_cast<int64_t>(best_first);
   return s;
 }
@@ -363,7 +357,7 @@ Status check_plc(const Plc& plc) {
     if (!s.ok()) return s;
   }
   if (plc.points.size() > 0xfffffffeull) {
-    return error(plc, ErrorCode::TooLarge, "More points than 32-bit ids allow.");
+    return make_error(ErrorCode::TooLarge, "More points than 32-bit ids allow.").file(plc.file);
   }
   Status s = check_distinct_points(plc);
   if (!s.ok()) return s;
@@ -375,13 +369,15 @@ Status check_plc(const Plc& plc) {
   for (size_t i = 0; i < plc.segments.size(); ++i) {
     const auto& seg = plc.segments[i];
     if (seg[0] >= plc.points.size() || seg[1] >= plc.points.size()) {
-      return error(plc, ErrorCode::IndexOutOfRange,
-                   "Segment " + std::to_string(i) + " uses a vertex beyond the " +
-                       std::to_string(plc.points.size()) + " points.");
+      return make_error(ErrorCode::IndexOutOfRange,
+                        "Segment " + std::to_string(i) + " uses a vertex beyond the " +
+                            std::to_string(plc.points.size()) + " points.")
+          .file(plc.file);
     }
     if (seg[0] == seg[1]) {
-      Status e = error(plc, ErrorCode::DegenerateFacet,
-                       "Segment " + std::to_string(i) + " has identical endpoints.");
+      Status e = make_error(ErrorCode::DegenerateFacet,
+                            "Segment " + std::to_string(i) + " has identical endpoints.")
+                     .file(plc.file);
       e.error.vertex = seg[0];
       return e;
     }
@@ -394,8 +390,9 @@ Status check_plc(const Plc& plc) {
     s = check_point(plc, plc.regions[i].point, "Region point", i, -1);
     if (!s.ok()) return s;
     if (!std::isfinite(plc.regions[i].attribute) || !std::isfinite(plc.regions[i].max_volume)) {
-      return error(plc, ErrorCode::NonFinite,
-                   "Region " + std::to_string(i) + " has a non-finite attribute or volume.");
+      return make_error(ErrorCode::NonFinite,
+                        "Region " + std::to_string(i) + " has a non-finite attribute or volume.")
+          .file(plc.file);
     }
   }
   return check_duplicates(plc);

@@ -8,7 +8,9 @@
 #include <string>
 
 #include "delaunay.hpp"
+#include "geometry.hpp"
 #include "predicates.hpp"
+#include "status.hpp"
 
 namespace cdt3d {
 
@@ -33,28 +35,19 @@ constexpr size_t kNumFlatShifts = sizeof(kFlatShifts) / sizeof(kFlatShifts[0]);
 constexpr int kExactLineBits = 24;
 constexpr int kExactLineMinBits = 20;
 
-struct Vec {
-  double x, y, z;
-};
-Vec at(const TetMesh& m, VertexId v) {
-  const double* p = m.point(v);
-  return {p[0], p[1], p[2]};
-}
-Vec sub(Vec a, Vec b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-double dot(Vec a, Vec b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-double dist(Vec a, Vec b) { return std::sqrt(dot(sub(a, b), sub(a, b))); }
-Vec cross(Vec a, Vec b) {
-  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
+// Padding of the reference point search's boxes and distance bound, relative
+// to the segment's length: far above the rounding of the few operations that
+// build them, so the search only ever looks at too many tets, never too few.
+constexpr double kSearchPad = 1e-9;
 
 // Radius of the smallest sphere through a, b and p (the circumcircle of the
 // triangle), used only to rank encroaching vertices (§5, reference point);
 // infinite when p is on the line ab. Floating point is fine here: it picks a
 // point, it decides no topology, and IEEE +,-,*,/,sqrt give the same result
 // natively and in WASM.
-double circumradius(Vec a, Vec b, Vec p) {
+double circumradius(Vec3 a, Vec3 b, Vec3 p) {
   const double la = dist(b, p), lb = dist(a, p), lc = dist(a, b);
-  const Vec n = cross(sub(b, a), sub(p, a));
+  const Vec3 n = cross(b - a, p - a);
   const double twice_area = std::sqrt(dot(n, n));
   if (twice_area == 0) return HUGE_VAL;
   return la * lb * lc / (2 * twice_area);
@@ -63,7 +56,7 @@ double circumradius(Vec a, Vec b, Vec p) {
 // Rule 1 of §5 as a fraction of e_i e_j from e_i: the split point lies on the
 // sphere around the end nearer to the reference point p through p when that
 // sphere cuts the segment's first or second half, else at the midpoint.
-double rule1_fraction(Vec a, Vec b, Vec p) {
+double rule1_fraction(Vec3 a, Vec3 b, Vec3 p) {
   const double len = dist(a, b), dap = dist(a, p), dbp = dist(b, p);
   if (dap < 0.5 * len) return dap / len;
   if (dbp < 0.5 * len) return (len - dbp) / len;
@@ -71,14 +64,11 @@ double rule1_fraction(Vec a, Vec b, Vec p) {
 }
 
 Status segment_error(ErrorCode code, const SegmentSet& segs, uint32_t s, const std::string& what) {
-  Status st;
-  st.error.code = code;
-  st.error.segment = s;
-  st.error.vertex = segs.input[s][0];
-  st.error.message = "segment recovery: segment " + std::to_string(s) + " (vertices " +
-                     std::to_string(segs.input[s][0]) + ", " + std::to_string(segs.input[s][1]) +
-                     "): " + what;
-  return st;
+  return make_error(code, "segment recovery: segment " + std::to_string(s) + " (vertices " +
+                              std::to_string(segs.input[s][0]) + ", " +
+                              std::to_string(segs.input[s][1]) + "): " + what)
+      .segment(s)
+      .vertex(segs.input[s][0]);
 }
 
 class SegmentRecovery {
@@ -93,11 +83,9 @@ class SegmentRecovery {
   VertexId reference_point(VertexId a, VertexId b);
   double pick_fraction(uint32_t s, VertexId a, VertexId b, VertexId p);
   int split_cost(uint32_t s, VertexId a, VertexId b, const double* q);
-  Status insert_on_segment(uint32_t s, VertexId u, VertexId w, Vec point, double t,
+  Status insert_on_segment(uint32_t s, VertexId u, VertexId w, Vec3 point, double t,
                            VertexId origin, SplitRule rule);
-  double param(uint32_t s, VertexId v) const;
-  long chain_position(uint32_t s, VertexId v) const;
-  bool exact_point_on_line(VertexId u, VertexId w, double f, Vec& q, double& tf) const;
+  bool exact_point_on_line(VertexId u, VertexId w, double f, Vec3& q, double& tf) const;
   void queue_destroyed(VertexId v, std::vector<std::array<uint32_t, 3>>& queue);
 
   TetMesh& mesh_;
@@ -138,15 +126,6 @@ class SegmentRecovery {
   std::vector<std::array<VertexId, 3>> probe_faces_;
 };
 
-// Parameter of v along input segment s (0 at its first endpoint, 1 at the
-// second): the recorded intended value for Steiner vertices.
-double SegmentRecovery::param(uint32_t s, VertexId v) const {
-  if (v == segs_.input[s][0]) return 0;
-  if (v == segs_.input[s][1]) return 1;
-  const SegmentVertex* sv = segs_.on_segment(v);
-  return sv ? sv->t : 0.5;  // chains hold only endpoints and recorded vertices
-}
-
 // The reference point of missing segment ab (§5): among the vertices that
 // encroach upon ab (inside or on its diametral sphere, exact test), the one
 // whose smallest circumsphere with a and b is largest; ties go to the smaller
@@ -163,14 +142,14 @@ double SegmentRecovery::param(uint32_t s, VertexId v) const {
 // only shrinks. The boxes are padded, so rounding only keeps too much; the
 // encroachment test itself is exact.
 VertexId SegmentRecovery::reference_point(VertexId a, VertexId b) {
-  const Vec pa = at(mesh_, a), pb = at(mesh_, b);
+  const Vec3 pa = to_vec(mesh_.point(a)), pb = to_vec(mesh_.point(b));
   const double len = dist(pa, pb);
   const double mid[3] = {0.5 * (pa.x + pb.x), 0.5 * (pa.y + pb.y), 0.5 * (pa.z + pb.z)};
   const double seg_lo[3] = {std::min(pa.x, pb.x), std::min(pa.y, pb.y), std::min(pa.z, pb.z)};
   const double seg_hi[3] = {std::max(pa.x, pb.x), std::max(pa.y, pb.y), std::max(pa.z, pb.z)};
   double lo[3], hi[3];
   auto set_box = [&](double reach) {
-    const double pad = 1e-9 * len + 1e-300;
+    const double pad = kSearchPad * len + kTinyLength;
     for (int d = 0; d < 3; ++d) {
       lo[d] = std::max(mid[d] - 0.5 * len, seg_lo[d] - reach) - pad;
       hi[d] = std::min(mid[d] + 0.5 * len, seg_hi[d] + reach) + pad;
@@ -184,10 +163,10 @@ VertexId SegmentRecovery::reference_point(VertexId a, VertexId b) {
   // Conservative test "tet t may meet the spindle": its bounding box meets
   // the search box, and its bounding sphere (centroid, farthest vertex) comes
   // within reach of the segment.
-  const Vec ab = sub(pb, pa);
+  const Vec3 ab = pb - pa;
   const double len2 = dot(ab, ab);
   auto may_meet = [&](TetId t) {
-    const VertexId* w = &mesh_.tv[4 * static_cast<size_t>(t)];
+    const VertexId* w = mesh_.tet_vertices(t);
     if (w[3] == kInfinite) return false;
     const double* q[4] = {mesh_.point(w[0]), mesh_.point(w[1]), mesh_.point(w[2]), mesh_.point(w[3])};
     for (int d = 0; d < 3; ++d) {
@@ -195,19 +174,20 @@ VertexId SegmentRecovery::reference_point(VertexId a, VertexId b) {
       const double thi = std::max(std::max(q[0][d], q[1][d]), std::max(q[2][d], q[3][d]));
       if (tlo > hi[d] || thi < lo[d]) return false;
     }
-    const Vec c = {0.25 * (q[0][0] + q[1][0] + q[2][0] + q[3][0]),
-                   0.25 * (q[0][1] + q[1][1] + q[2][1] + q[3][1]),
-                   0.25 * (q[0][2] + q[1][2] + q[2][2] + q[3][2])};
+    const Vec3 c = {0.25 * (q[0][0] + q[1][0] + q[2][0] + q[3][0]),
+                    0.25 * (q[0][1] + q[1][1] + q[2][1] + q[3][1]),
+                    0.25 * (q[0][2] + q[1][2] + q[2][2] + q[3][2])};
     double rad2 = 0;
     for (int i = 0; i < 4; ++i) {
-      const Vec e = {q[i][0] - c.x, q[i][1] - c.y, q[i][2] - c.z};
+      const Vec3 e = {q[i][0] - c.x, q[i][1] - c.y, q[i][2] - c.z};
       rad2 = std::max(rad2, dot(e, e));
     }
     // Squared distance from the centroid to the segment.
-    const Vec ac = sub(c, pa);
+    const Vec3 ac = c - pa;
     const double f = len2 > 0 ? std::min(1.0, std::max(0.0, dot(ac, ab) / len2)) : 0;
-    const Vec e = {ac.x - f * ab.x, ac.y - f * ab.y, ac.z - f * ab.z};
-    const double limit = std::sqrt(rad2) + reach * (1 + 1e-9) + 1e-9 * len + 1e-300;
+    const Vec3 e = {ac.x - f * ab.x, ac.y - f * ab.y, ac.z - f * ab.z};
+    const double limit =
+        std::sqrt(rad2) + reach * (1 + kSearchPad) + kSearchPad * len + kTinyLength;
     return dot(e, e) <= limit * limit;
   };
   mesh_.vertex_star(a, star_);
@@ -229,7 +209,7 @@ VertexId SegmentRecovery::reference_point(VertexId a, VertexId b) {
         vertex_mark_[v] = seen;
         // Encroaches: the angle avb is not acute, i.e. (a-v).(b-v) <= 0.
         if (pred::dot_sign(mesh_.point(a), mesh_.point(v), mesh_.point(b)) <= 0) {
-          const double rv = circumradius(pa, pb, at(mesh_, v));
+          const double rv = circumradius(pa, pb, to_vec(mesh_.point(v)));
           if (rv > best_r || (rv == best_r && v < best)) {
             best = v, best_r = rv;
             reach = std::isinf(rv) ? 0 : rv - std::sqrt(std::max(0.0, rv * rv - 0.25 * len * len));
@@ -261,7 +241,7 @@ int SegmentRecovery::split_cost(uint32_t s, VertexId a, VertexId b, const double
   for (const auto& f : probe_faces_) add_ring_face(f);
   int cost = 4 * (!in_ring(a) + !in_ring(b));
   auto count = [&](uint32_t t, VertexId x) {
-    const long i = chain_position(t, x);
+    const long i = segs_.chain_position(t, x);
     if (i < 0) return;
     const std::vector<VertexId>& chain = segs_.chain[t];
     for (long j : {i - 1, i + 1}) {
@@ -289,10 +269,10 @@ int SegmentRecovery::split_cost(uint32_t s, VertexId a, VertexId b, const double
 // only decides how many more splits follow. (Measured on tests/data: adding
 // the midpoint or quarter points as candidates made the CAD models worse.)
 double SegmentRecovery::pick_fraction(uint32_t s, VertexId a, VertexId b, VertexId p) {
-  const Vec pa = at(mesh_, a), pb = at(mesh_, b), pp = at(mesh_, p);
+  const Vec3 pa = to_vec(mesh_.point(a)), pb = to_vec(mesh_.point(b)), pp = to_vec(mesh_.point(p));
   const double f1 = rule1_fraction(pa, pb, pp);
-  const Vec ab = sub(pb, pa);
-  const double proj = std::min(0.9, std::max(0.1, dot(sub(pp, pa), ab) / dot(ab, ab)));
+  const Vec3 ab = pb - pa;
+  const double proj = std::min(0.9, std::max(0.1, dot(pp - pa, ab) / dot(ab, ab)));
   double best = f1;
   int best_cost = INT32_MAX;
   for (double f : {f1, proj}) {
@@ -317,12 +297,12 @@ Status SegmentRecovery::split(uint32_t s, VertexId u, VertexId w) {
   // insert_on_segment).
   if (acute0 && acute1 && segs_.midpoint[s] == kNone) {
     VertexId ei = u, ej = w;
-    if (param(s, ei) > param(s, ej)) std::swap(ei, ej);
+    if (segs_.param(s, ei) > segs_.param(s, ej)) std::swap(ei, ej);
     const VertexId p = reference_point(ei, ej);
     const double f = p == kNone ? 0.5 : pick_fraction(s, ei, ej, p);
-    const Vec a = at(mesh_, ei), b = at(mesh_, ej);
-    const Vec v = {a.x + f * (b.x - a.x), a.y + f * (b.y - a.y), a.z + f * (b.z - a.z)};
-    const double ti = param(s, ei), tj = param(s, ej);
+    const Vec3 a = to_vec(mesh_.point(ei)), b = to_vec(mesh_.point(ej));
+    const Vec3 v = {a.x + f * (b.x - a.x), a.y + f * (b.y - a.y), a.z + f * (b.z - a.z)};
+    const double ti = segs_.param(s, ei), tj = segs_.param(s, ej);
     return insert_on_segment(s, ei, ej, v, ti + f * (tj - ti), kNone, SplitRule::AcuteBoth);
   }
 
@@ -330,41 +310,41 @@ Status SegmentRecovery::split(uint32_t s, VertexId u, VertexId w) {
   VertexId origin = kNone;
   if (acute0 && acute1) {
     // Which side of the split vertex between the two acute ends.
-    const double tm = segs_.midpoint[s] != kNone ? param(s, segs_.midpoint[s]) : 0.5;
-    origin = param(s, u) + param(s, w) < 2 * tm ? s0 : s1;
+    const double tm = segs_.midpoint[s] != kNone ? segs_.param(s, segs_.midpoint[s]) : 0.5;
+    origin = segs_.param(s, u) + segs_.param(s, w) < 2 * tm ? s0 : s1;
   } else if (acute0) {
     origin = s0;
   } else if (acute1) {
     origin = s1;
   }
   VertexId ei = u, ej = w;
-  if (param(s, ei) > param(s, ej)) std::swap(ei, ej);  // now ei is nearer to s0
+  if (segs_.param(s, ei) > segs_.param(s, ej)) std::swap(ei, ej);  // now ei is nearer to s0
   if (origin == s1) std::swap(ei, ej);
 
   const VertexId p = reference_point(ei, ej);
   if (p == kNone)
     return segment_error(ErrorCode::Internal, segs_, s,
                          "a missing subsegment has no encroaching vertex");
-  const Vec a = at(mesh_, ei), b = at(mesh_, ej), pp = at(mesh_, p);
+  const Vec3 a = to_vec(mesh_.point(ei)), b = to_vec(mesh_.point(ej)), pp = to_vec(mesh_.point(p));
 
   if (origin == kNone) {
     // Rule 1 (type-1): v = e_i e_j ∩ S(c, r).
     const double f = pick_fraction(s, ei, ej, p);
-    const Vec v = {a.x + f * (b.x - a.x), a.y + f * (b.y - a.y), a.z + f * (b.z - a.z)};
-    const double ti = param(s, ei), tj = param(s, ej);
+    const Vec3 v = {a.x + f * (b.x - a.x), a.y + f * (b.y - a.y), a.z + f * (b.z - a.z)};
+    const double ti = segs_.param(s, ei), tj = segs_.param(s, ej);
     return insert_on_segment(s, ei, ej, v, ti + f * (tj - ti), kNone, SplitRule::Rule1);
   }
 
   // Rules 2 and 3 (type-2): v on the ray from e_k = O(e_i) through e_j.
-  const Vec k = at(mesh_, origin);
+  const Vec3 k = to_vec(mesh_.point(origin));
   const double lkj = dist(k, b);
-  const double tk = param(s, origin), tj = param(s, ej);
+  const double tk = segs_.param(s, origin), tj = segs_.param(s, ej);
   auto point_at = [&](double r) {
     const double f = r / lkj;
-    return Vec{k.x + f * (b.x - k.x), k.y + f * (b.y - k.y), k.z + f * (b.z - k.z)};
+    return Vec3{k.x + f * (b.x - k.x), k.y + f * (b.y - k.y), k.z + f * (b.z - k.z)};
   };
   const double r2 = dist(k, pp);
-  const Vec v2 = point_at(r2);
+  const Vec3 v2 = point_at(r2);
   if (!(dist(v2, b) < dist(v2, pp))) {
     return insert_on_segment(s, ei, ej, v2, tk + (r2 / lkj) * (tj - tk), origin, SplitRule::Rule2);
   }
@@ -379,7 +359,7 @@ Status SegmentRecovery::split(uint32_t s, VertexId u, VertexId w) {
 // the exact test) at a dyadic fraction g = k / 2^n near f, for n from
 // kExactLineBits down to kExactLineMinBits (|g - f| <= 2^-(n+1)); the point
 // is evaluated in doubles and kept only if that evaluation was exact.
-bool SegmentRecovery::exact_point_on_line(VertexId u, VertexId w, double f, Vec& q, double& tf) const {
+bool SegmentRecovery::exact_point_on_line(VertexId u, VertexId w, double f, Vec3& q, double& tf) const {
   const double* pu = mesh_.point(u);
   const double* pw = mesh_.point(w);
   for (int n = kExactLineBits; n >= kExactLineMinBits; --n) {
@@ -415,20 +395,20 @@ bool SegmentRecovery::exact_point_on_line(VertexId u, VertexId w, double f, Vec&
 // that fails to land strictly between u and w (possible only for subsegments
 // a few ulps long) is replaced by the midpoint, and if that too coincides with
 // an end we stop with an error.
-Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Vec point,
-                                          double t, VertexId origin, SplitRule rule) {
+Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Vec3 point, double t,
+                                          VertexId origin, SplitRule rule) {
   std::vector<VertexId>& chain = segs_.chain[s];
   if (chain.size() - 2 >= kMaxSplitsPerSegment)
     return segment_error(ErrorCode::LimitReached, segs_, s,
                          "more than " + std::to_string(kMaxSplitsPerSegment) +
                              " splits; recovery does not terminate");
-  const Vec a = at(mesh_, u), b = at(mesh_, w);
-  auto strictly_between = [&](Vec v) {
-    return dot(sub(v, a), sub(b, a)) > 0 && dot(sub(v, b), sub(a, b)) > 0;
+  const Vec3 a = to_vec(mesh_.point(u)), b = to_vec(mesh_.point(w));
+  auto strictly_between = [&](Vec3 v) {
+    return dot((v - a), (b - a)) > 0 && dot((v - b), (a - b)) > 0;
   };
   if (!strictly_between(point)) {
     point = {0.5 * (a.x + b.x), 0.5 * (a.y + b.y), 0.5 * (a.z + b.z)};
-    t = 0.5 * (param(s, u) + param(s, w));
+    t = 0.5 * (segs_.param(s, u) + segs_.param(s, w));
     if (!strictly_between(point))
       return segment_error(ErrorCode::LimitReached, segs_, s,
                            "a subsegment is too short to split in double precision");
@@ -440,7 +420,7 @@ Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Ve
   // the point moves along the subsegment; the rule's exact position matters
   // for the bound on splits, not for correctness (any vertex strictly inside
   // the subsegment splits it). After all tries it is inserted as planned.
-  const double tu = param(s, u), tw = param(s, w);
+  const double tu = segs_.param(s, u), tw = segs_.param(s, w);
   double f0 = tw != tu ? (t - tu) / (tw - tu) : 0.5;
   // Prefer a point exactly on the segment's line, moved by at most
   // 2^-kExactLineMinBits of the subsegment: it lies exactly in every plane
@@ -450,7 +430,7 @@ Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Ve
   // kept). Such a point exists when the coordinates are short (integer, CAD
   // and float32 grids); otherwise the rounded point stays.
   {
-    Vec q;
+    Vec3 q;
     double tf;
     if (exact_point_on_line(u, w, f0, q, tf)) point = q, t = tu + tf * (tw - tu), f0 = tf;
   }
@@ -459,7 +439,8 @@ Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Ve
   for (size_t k = 0; k < kNumFlatShifts; ++k) {
     const double shift = kFlatShifts[k];
     const double f = std::min(0.95, std::max(0.05, f0 + shift));
-    Vec q = shift == 0 ? point : Vec{a.x + f * (b.x - a.x), a.y + f * (b.y - a.y), a.z + f * (b.z - a.z)};
+    Vec3 q = shift == 0 ? point
+                        : Vec3{a.x + f * (b.x - a.x), a.y + f * (b.y - a.y), a.z + f * (b.z - a.z)};
     if (shift != 0 && !strictly_between(q)) continue;
     const double xyz[3] = {q.x, q.y, q.z};
     inserter_.set_reject_flat(k + 1 < kNumFlatShifts);
@@ -478,7 +459,7 @@ Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Ve
                          "vertex " + std::to_string(res.vertex) + " lies on the segment");
 
   // Keep the chain ordered from the segment's first to its second endpoint.
-  const long iu = chain_position(s, u), iw = chain_position(s, w);
+  const long iu = segs_.chain_position(s, u), iw = segs_.chain_position(s, w);
   chain.insert(chain.begin() + std::max(iu, iw), res.vertex);
 
   if (segs_.steiner_of.size() <= res.vertex) segs_.steiner_of.resize(res.vertex + 1, kNone);
@@ -494,23 +475,6 @@ Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Ve
   }
   stats_.max_splits = std::max(stats_.max_splits, chain.size() - 2);
   return {};
-}
-
-// Position of v in the chain of segment s, or -1. Chains are ordered by
-// parameter, so a binary search finds the spot; equal parameters (possible
-// only after rounding on extremely short subsegments) fall back to a scan.
-long SegmentRecovery::chain_position(uint32_t s, VertexId v) const {
-  const std::vector<VertexId>& chain = segs_.chain[s];
-  const double t = param(s, v);
-  size_t lo = 0, hi = chain.size();
-  while (lo < hi) {
-    const size_t m = (lo + hi) / 2;
-    if (param(s, chain[m]) < t) lo = m + 1; else hi = m;
-  }
-  for (size_t i = lo; i < chain.size() && param(s, chain[i]) == t; ++i)
-    if (chain[i] == v) return static_cast<long>(i);
-  auto it = std::find(chain.begin(), chain.end(), v);
-  return it == chain.end() ? -1 : static_cast<long>(it - chain.begin());
 }
 
 // After inserting v, pushes every subsegment the insertion destroyed. The
@@ -535,7 +499,7 @@ void SegmentRecovery::queue_destroyed(VertexId v, std::vector<std::array<uint32_
   std::sort(ring_.begin(), ring_.end());
   for (VertexId u : ring_) {
     auto check = [&](uint32_t s) {
-      const long i = chain_position(s, u);
+      const long i = segs_.chain_position(s, u);
       if (i < 0) return;
       const std::vector<VertexId>& chain = segs_.chain[s];
       for (long j : {i - 1, i + 1}) {
@@ -577,13 +541,10 @@ Status SegmentRecovery::run(const volatile bool* cancel) {
     ++stats_.rounds;
     for (size_t k = 0; k < queue.size(); ++k) {
       if (cancel && *cancel) {
-        Status st;
-        st.error.code = ErrorCode::Cancelled;
-        st.error.message = "segment recovery cancelled";
-        return st;
+        return make_error(ErrorCode::Cancelled, "segment recovery cancelled");
       }
       const auto [u, w, s] = queue[k];
-      const long iu = chain_position(s, u), iw = chain_position(s, w);
+      const long iu = segs_.chain_position(s, u), iw = segs_.chain_position(s, w);
       if (iu < 0 || iw < 0 || (iu + 1 != iw && iw + 1 != iu)) continue;  // already split
       Status st = split(s, u, w);
       if (!st.ok()) return st;
@@ -598,6 +559,26 @@ Status SegmentRecovery::run(const volatile bool* cancel) {
 }
 
 }  // namespace
+
+// Position of v in the chain of segment s, or -1. Chains are ordered by
+// parameter, so a binary search finds the spot; equal parameters (possible
+// only after rounding on extremely short subsegments) fall back to a scan.
+long SegmentSet::chain_position(uint32_t s, VertexId v) const {
+  const std::vector<VertexId>& c = chain[s];
+  const double t = param(s, v);
+  size_t lo = 0, hi = c.size();
+  while (lo < hi) {
+    const size_t m = (lo + hi) / 2;
+    if (param(s, c[m]) < t)
+      lo = m + 1;
+    else
+      hi = m;
+  }
+  for (size_t i = lo; i < c.size() && param(s, c[i]) == t; ++i)
+    if (c[i] == v) return static_cast<long>(i);
+  auto it = std::find(c.begin(), c.end(), v);
+  return it == c.end() ? -1 : static_cast<long>(it - c.begin());
+}
 
 size_t SegmentSet::num_subsegments() const {
   size_t n = 0;

@@ -50,6 +50,18 @@ struct SegmentSet {
     return v < steiner_of.size() && steiner_of[v] != kNone ? &steiner[steiner_of[v]] : nullptr;
   }
 
+  /// Parameter of v along input segment s (0 at its first endpoint, 1 at
+  /// the second): the recorded intended value for Steiner vertices, never
+  /// one computed from their rounded coordinates.
+  double param(uint32_t s, VertexId v) const {
+    if (v == input[s][0]) return 0;
+    if (v == input[s][1]) return 1;
+    const SegmentVertex* sv = on_segment(v);
+    return sv ? sv->t : 0.5;  // chains hold only endpoints and recorded vertices
+  }
+  /// Position of v in the chain of segment s, or -1.
+  long chain_position(uint32_t s, VertexId v) const;
+
   /// Number of current subsegments.
   size_t num_subsegments() const;
   /// All current subsegments as (a, b, input segment).

@@ -6,17 +6,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geometry.hpp"
+
 namespace cdt3d {
 
 namespace {
-
-struct V3 {
-  double x, y, z;
-};
-V3 sub(V3 a, V3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-V3 cross(V3 a, V3 b) { return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x}; }
-double dot(V3 a, V3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-double norm(V3 a) { return std::sqrt(dot(a, a)); }
 
 // Upper bounds of the radius-edge histogram bins (the last bin is open).
 constexpr double kRatioBins[9] = {1, 1.5, 2, 3, 5, 10, 20, 50, 100};
@@ -30,19 +24,19 @@ void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
   stats.flat_tets = 0;
   const size_t n = mesh.tets.size() / 4;
   for (size_t t = 0; t < n; ++t) {
-    V3 p[4];
+    Vec3 p[4];
     for (int i = 0; i < 4; ++i) {
       const double* c = &mesh.points[3 * static_cast<size_t>(mesh.tets[4 * t + i])];
-      p[i] = {c[0], c[1], c[2]};
+      p[i] = to_vec(c);
     }
     // Face normals (face i opposite vertex i), all pointing outward or all
     // inward: the dihedral angle at the edge shared by faces i and j is
     // pi minus the angle between their normals.
-    V3 nrm[4];
+    Vec3 nrm[4];
     for (int i = 0; i < 4; ++i) {
-      const V3 a = p[(i + 1) % 4], b = p[(i + 2) % 4], c = p[(i + 3) % 4];
-      V3 m = cross(sub(b, a), sub(c, a));
-      if (dot(m, sub(p[i], a)) > 0) m = {-m.x, -m.y, -m.z};  // outward
+      const Vec3 a = p[(i + 1) % 4], b = p[(i + 2) % 4], c = p[(i + 3) % 4];
+      Vec3 m = cross(b - a, c - a);
+      if (dot(m, p[i] - a) > 0) m = {-m.x, -m.y, -m.z};  // outward
       nrm[i] = m;
     }
     for (int i = 0; i < 4; ++i)
@@ -55,12 +49,12 @@ void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
         max_dihedral = std::max(max_dihedral, angle);
       }
     // Radius-edge ratio: circumradius over the shortest edge.
-    const V3 a = sub(p[0], p[3]), b = sub(p[1], p[3]), c = sub(p[2], p[3]);
+    const Vec3 a = p[0] - p[3], b = p[1] - p[3], c = p[2] - p[3];
     const double det = dot(a, cross(b, c));
     double shortest = HUGE_VAL, longest = 0;
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j) {
-        const double l = norm(sub(p[i], p[j]));
+        const double l = norm(p[i] - p[j]);
         shortest = std::min(shortest, l), longest = std::max(longest, l);
       }
     // Numerically flat (or inverted) in doubles: the exact orientation of the
@@ -69,10 +63,10 @@ void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
     if (!(det > kFlatTetRatio * longest * longest * longest)) ++stats.flat_tets;
     double ratio = HUGE_VAL;
     if (det != 0 && shortest > 0) {
-      const V3 bc = cross(b, c), ca = cross(c, a), ab = cross(a, b);
+      const Vec3 bc = cross(b, c), ca = cross(c, a), ab = cross(a, b);
       const double la = dot(a, a), lb = dot(b, b), lc = dot(c, c);
-      const V3 num = {la * bc.x + lb * ca.x + lc * ab.x, la * bc.y + lb * ca.y + lc * ab.y,
-                      la * bc.z + lb * ca.z + lc * ab.z};
+      const Vec3 num = {la * bc.x + lb * ca.x + lc * ab.x, la * bc.y + lb * ca.y + lc * ab.y,
+                        la * bc.z + lb * ca.z + lc * ab.z};
       ratio = norm(num) / (2 * std::fabs(det)) / shortest;
     }
     size_t bin = 0;

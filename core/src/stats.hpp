@@ -1,9 +1,67 @@
-// Mesh quality statistics of a result (floating point; reporting only).
+// Mesh quality statistics of a result (floating point; reporting only), and
+// the one list of the Statistics fields with the names the outside sees.
 #pragma once
 
 #include <cdt3d/cdt3d.hpp>
 
+#include <array>
+#include <cstddef>
+
 namespace cdt3d {
+
+/// A field of Statistics and its camelCase name in the CLI's `mesh --json`,
+/// the WASM bindings' `stats` object and wasm/cdt3d.d.ts (MeshStatistics).
+/// Exactly one of the member pointers is set.
+struct StatisticsField {
+  const char* name;
+  size_t Statistics::*count;
+  double Statistics::*real;
+  std::array<size_t, 10> Statistics::*histogram;
+};
+
+/// Every field of Statistics, in declaration order. Adding a field to
+/// Statistics means adding it here; tests/unit/test_statistics_fields.cpp
+/// then fails until the CLI JSON, the bindings and the d.ts carry it too.
+inline constexpr StatisticsField kStatisticsFields[] = {
+    {"inputPoints", &Statistics::input_points, nullptr, nullptr},
+    {"inputFacets", &Statistics::input_facets, nullptr, nullptr},
+    {"inputSegments", &Statistics::input_segments, nullptr, nullptr},
+    {"points", &Statistics::points, nullptr, nullptr},
+    {"tets", &Statistics::tets, nullptr, nullptr},
+    {"faces", &Statistics::faces, nullptr, nullptr},
+    {"steinerSegment", &Statistics::steiner_segment, nullptr, nullptr},
+    {"steinerFacet", &Statistics::steiner_facet, nullptr, nullptr},
+    {"steinerVolume", &Statistics::steiner_volume, nullptr, nullptr},
+    {"missingSegments", &Statistics::missing_segments, nullptr, nullptr},
+    {"rule1", &Statistics::rule1, nullptr, nullptr},
+    {"rule2", &Statistics::rule2, nullptr, nullptr},
+    {"rule3", &Statistics::rule3, nullptr, nullptr},
+    {"acuteBoth", &Statistics::acute_both, nullptr, nullptr},
+    {"maxSplits", &Statistics::max_splits, nullptr, nullptr},
+    {"perturbations", &Statistics::perturbations, nullptr, nullptr},
+    {"breakPoints", &Statistics::break_points, nullptr, nullptr},
+    {"protectSegment", &Statistics::protect_segment, nullptr, nullptr},
+    {"protectFacet", &Statistics::protect_facet, nullptr, nullptr},
+    {"mergedFacets", &Statistics::merged_facets, nullptr, nullptr},
+    {"missingSubfaces", &Statistics::missing_subfaces, nullptr, nullptr},
+    {"regions", &Statistics::regions, nullptr, nullptr},
+    {"cavities", &Statistics::cavities, nullptr, nullptr},
+    {"largestCavity", &Statistics::largest_cavity, nullptr, nullptr},
+    {"fallbacks", &Statistics::fallbacks, nullptr, nullptr},
+    {"facetSplits", &Statistics::facet_splits, nullptr, nullptr},
+    {"flatFlips", &Statistics::flat_flips, nullptr, nullptr},
+    {"msRead", nullptr, &Statistics::ms_read, nullptr},
+    {"msDelaunay", nullptr, &Statistics::ms_delaunay, nullptr},
+    {"msSegments", nullptr, &Statistics::ms_segments, nullptr},
+    {"msDegeneracy", nullptr, &Statistics::ms_degeneracy, nullptr},
+    {"msFacets", nullptr, &Statistics::ms_facets, nullptr},
+    {"msCarve", nullptr, &Statistics::ms_carve, nullptr},
+    {"msTotal", nullptr, &Statistics::ms_total, nullptr},
+    {"minDihedral", nullptr, &Statistics::min_dihedral, nullptr},
+    {"maxDihedral", nullptr, &Statistics::max_dihedral, nullptr},
+    {"flatTets", &Statistics::flat_tets, nullptr, nullptr},
+    {"radiusEdgeHistogram", nullptr, nullptr, &Statistics::radius_edge_histogram},
+};
 
 /// Fills min_dihedral, max_dihedral (degrees) and radius_edge_histogram of
 /// `stats` from the tets of `mesh`.

@@ -204,6 +204,41 @@ void TetMesh::vertex_neighbors(VertexId v, std::vector<VertexId>& out) {
   out.erase(std::unique(out.begin(), out.end()), out.end());
 }
 
+const char* TetMesh::ring_around_edge(TetId t0, VertexId p, VertexId q, size_t max_len,
+                                      std::vector<TetId>& ring,
+                                      std::vector<VertexId>& arrive) const {
+  ring.clear(), arrive.clear();
+  VertexId x = kNone;
+  for (int i = 0; i < 4; ++i) {
+    const VertexId w = vertex(t0, i);
+    if (w != p && w != q) {
+      x = w;
+      break;
+    }
+  }
+  TetId cur = t0;
+  VertexId u = x;
+  for (;;) {
+    ring.push_back(cur);
+    arrive.push_back(u);
+    // Leave cur across the face through pq that does not hold u: the one
+    // opposite u, whose far tet is entered across the face holding w.
+    VertexId w = kNone;
+    for (int i = 0; i < 4; ++i) {
+      const VertexId z = vertex(cur, i);
+      if (z != p && z != q && z != u) w = z;
+    }
+    const int iu = index_in_tet(cur, u);
+    if (w == kNone || iu < 0) return "broken ring of tets around a cavity edge";
+    cur = neighbor(cur, iu);
+    u = w;
+    if (cur == t0) break;
+    if (ring.size() > max_len) return "ring of tets around a cavity edge too long";
+  }
+  if (u != x) return "ring of tets around a cavity edge does not close";
+  return nullptr;
+}
+
 TetId TetMesh::find_edge(VertexId a, VertexId b) {
   if (a == kInfinite) std::swap(a, b);
   if (a >= num_vertices() || vtet[a] == kNone || a == b) return kNone;

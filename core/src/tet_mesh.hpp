@@ -1,6 +1,13 @@
 // Index-based tetrahedral mesh with half-face adjacency and ghost tets
-// (STYLE.md §8). Every algorithm step works on this structure; only the
-// Delaunay insertion (delaunay.cpp), the flips and this file rewire adjacency.
+// (STYLE.md §8). Every algorithm step works on this structure. Adjacency
+// (tadj) and the vertex-to-tet map (vtet) are written only by this file's
+// methods (glue, link_one_way, set_vertex_tet, replace_tets, compact) and by
+// the point inserter (delaunay.cpp, whose cavity filling writes tadj in bulk
+// for speed); cavity commits (cavity.cpp), vertex removal (degeneracy.cpp)
+// and the flips (flat_flips.cpp) go through those methods. A step that needs
+// a new mesh operation adds it here. The steps read the mesh through the
+// accessors (vertex, tet_vertices, opposite, adjacent, neighbor,
+// ring_around_edge), whose preconditions are debug asserts.
 //
 // Invariants (checked by check_mesh):
 //  * Vertex v has coordinates coords[3v..3v+2].
@@ -24,8 +31,10 @@
 #pragma once
 
 #include <cdt3d/cdt3d.hpp>
-#include <cstddef>
+
 #include <array>
+#include <cassert>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -88,10 +97,34 @@ struct TetMesh {
   size_t num_ghost_tets() const;  ///< == number of hull faces
 
   // --- access ------------------------------------------------------------
-  const double* point(VertexId v) const { return &coords[3 * static_cast<size_t>(v)]; }
-  VertexId vertex(TetId t, int i) const { return tv[4 * static_cast<size_t>(t) + i]; }
-  HalfFace adjacent(HalfFace hf) const { return tadj[hf]; }
-  TetId neighbor(TetId t, int i) const { return hf_tet(tadj[4 * static_cast<size_t>(t) + i]); }
+  // The preconditions are checked by assert(), compiled in Debug builds only
+  // (these accessors sit in the inner loops of every step).
+  const double* point(VertexId v) const {
+    assert(v < num_vertices());
+    return &coords[3 * static_cast<size_t>(v)];
+  }
+  VertexId vertex(TetId t, int i) const {
+    assert(t < num_tet_slots() && i >= 0 && i < 4);
+    return tv[4 * static_cast<size_t>(t) + i];
+  }
+  /// The four vertex ids of tet t, contiguous.
+  const VertexId* tet_vertices(TetId t) const {
+    assert(t < num_tet_slots());
+    return &tv[4 * static_cast<size_t>(t)];
+  }
+  /// The vertex of hf's tet opposite its face hf.
+  VertexId opposite(HalfFace hf) const {
+    assert(hf < tv.size());
+    return tv[hf];
+  }
+  HalfFace adjacent(HalfFace hf) const {
+    assert(hf < tadj.size());
+    return tadj[hf];
+  }
+  TetId neighbor(TetId t, int i) const {
+    assert(t < num_tet_slots() && i >= 0 && i < 4);
+    return hf_tet(tadj[4 * static_cast<size_t>(t) + i]);
+  }
   bool is_dead(TetId t) const { return (tflag[t] & kTetDead) != 0; }
   bool is_ghost(TetId t) const { return tv[4 * static_cast<size_t>(t) + 3] == kInfinite; }
   /// Position (0..3) of v in t, or -1.
@@ -117,7 +150,23 @@ struct TetMesh {
     p[0] = a, p[1] = b, p[2] = c, p[3] = d;
   }
   /// Makes a and b mirror half-faces of each other.
-  void glue(HalfFace a, HalfFace b) { tadj[a] = b, tadj[b] = a; }
+  void glue(HalfFace a, HalfFace b) {
+    assert(a < tadj.size() && b < tadj.size() && hf_tet(a) != hf_tet(b));
+    tadj[a] = b, tadj[b] = a;
+  }
+  /// Points half-face a at b without the mirror link: only for scratch
+  /// meshes whose open faces all lead to one placeholder tet (a cavity's
+  /// own triangulation, cavity.cpp); check_mesh rejects it elsewhere.
+  void link_one_way(HalfFace a, HalfFace b) {
+    assert(a < tadj.size() && b < tadj.size());
+    tadj[a] = b;
+  }
+  /// Records t as the incident tet of vertex v (kNone: v left the mesh).
+  void set_vertex_tet(VertexId v, TetId t) {
+    assert(v < vtet.size());
+    assert(t == kNone || (t < num_tet_slots() && !is_dead(t) && index_in_tet(t, v) >= 0));
+    vtet[v] = t;
+  }
   /// Replaces the live tets `old` (n_old of them) by real tets `fresh`
   /// (n_fresh, each positively oriented) that fill the same region: every
   /// face on the boundary of `old` must be a face of exactly one fresh tet,
@@ -146,6 +195,16 @@ struct TetMesh {
   /// A live tet having face {a, b, c} and the position of the fourth vertex
   /// as half-face, or kNone.
   HalfFace find_face(VertexId a, VertexId b, VertexId c);
+
+  /// The tets around edge pq, which tet t0 contains, in the order of a walk
+  /// across the faces through pq: ring[k] is entered across its face that
+  /// holds arrive[k] (besides p and q); ring[0] = t0, and arrive[0] is the
+  /// first vertex of t0 other than p and q. Ghost tets are part of the ring
+  /// (arrive may be kInfinite). Returns nullptr, or why the walk failed: the
+  /// ring broke (an invariant is violated), grew past max_len tets, or did
+  /// not close.
+  const char* ring_around_edge(TetId t0, VertexId p, VertexId q, size_t max_len,
+                               std::vector<TetId>& ring, std::vector<VertexId>& arrive) const;
 
   /// Removes dead slots, renumbering tets (order of survivors kept) and
   /// fixing tadj and vtet. Empties the free list.

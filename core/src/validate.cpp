@@ -2,19 +2,27 @@
 // combinatorial and geometric decision; floating-point sums with tolerances
 // only for the area and volume comparisons, which are checks, never decisions.
 //
-// Checks, in order (the first violation is returned as ErrorCode::Internal):
-//  1. Sizes and indices; the first input_points points are the PLC's points.
+// Checks, in the order run() makes them (the first violation is returned as
+// ErrorCode::Internal):
+//  1. Sizes and indices; the first input_points points are the PLC's points
+//     (sizes).
 //  2. Every tet is positively oriented: orient3d(v0, v1, v2, v3) > 0, the
 //     convention of tet_mesh.hpp (v3 below the plane of v0 v1 v2 seen
 //     counterclockwise from above; insphere(v0..v3, p) > 0 means p inside).
 //  3. Every triangle is a face of at most two tets, which lie on opposite
-//     sides of it.
+//     sides of it (2 and 3: tets_and_faces).
 //  4. Constrained faces: listed once, each a face of a tet. A face of exactly
 //     one tet (the boundary of the kept domain) must be constrained, unless
 //     the result kept the convex hull (detected: some boundary face is not
 //     constrained); then the boundary must be locally convex at every edge
-//     (a closed, connected, locally convex surface bounds a convex set).
-//  5. Facets: the faces of facet f use only vertices of f (its input vertices
+//     (a closed, connected, locally convex surface bounds a convex set)
+//     (constrained_faces).
+//  5. Segments: the ends and the Segment Steiner points of each segment,
+//     sorted along it, are consecutive mesh edges. Checked for segments whose
+//     vertices all belong to kept tets, and a missing piece is an error only
+//     when its midpoint lies in a kept tet (the others lie outside the
+//     domain) (segments; it builds the chains check 6 uses).
+//  6. Facets: the faces of facet f use only vertices of f (its input vertices
 //     and the PLC points and segments lying in it, found by triangulating the
 //     input facet without Steiner points; Steiner points on those segments;
 //     Facet Steiner points of f), are consistently oriented, and the edges of
@@ -23,28 +31,31 @@
 //     edge is on a loop, the area must equal the facet's area; when the patch
 //     ends on a segment inside the facet (the facet leaves the domain there),
 //     the area may only be smaller. A facet without faces must lie outside
-//     the kept tets (a point of it is strictly inside none).
-//  6. Segments: the ends and the Segment Steiner points of each segment,
-//     sorted along it, are consecutive mesh edges (checked for segments whose
-//     vertices all belong to kept tets; the others lie outside the domain).
-//  7. Volume: for closed results (no hull kept, every facet with faces either
+//     the kept tets (a point of it is strictly inside none) (facets).
+//  7. No unconstrained face lies in a facet: its projection overlaps no
+//     triangle of the facet, up to the slivers rounded Steiner points make
+//     beside a subsegment (unconstrained_in_facets).
+//  8. Volume: for closed results (no hull kept, every facet with faces either
 //     entirely on the boundary with the domain on one side, or entirely
 //     inside, single-loop facets), the tets' volume equals the volume the
-//     boundary facets enclose (divergence theorem on the input loops).
-//  8. Constrained Delaunay: every face shared by two tets that is not
+//     boundary facets enclose (divergence theorem on the input loops)
+//     (volume).
+//  9. Constrained Delaunay: every face shared by two tets that is not
 //     constrained is locally Delaunay: insphere of the opposite vertex <= 0
 //     (exact, unperturbed; co-spherical allowed), unless four of its five
-//     points are numerically flat (a flat tet flipped away, flat_flips.hpp).
+//     points are numerically flat (a flat tet flipped away, flat_flips.hpp)
+//     (delaunay).
 #include <algorithm>
 #include <array>
-#include <iterator>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <string>
 #include <vector>
 
 #include "geometry.hpp"
 #include "predicates.hpp"
+#include "status.hpp"
 #include "tet_mesh.hpp"
 
 namespace cdt3d {
@@ -52,30 +63,27 @@ namespace {
 
 using Tri3 = std::array<uint32_t, 3>;
 
-Status fail(const std::string& message, int64_t facet = -1, int64_t vertex = -1,
-            int64_t segment = -1) {
-  Status s;
-  s.error.code = ErrorCode::Internal;
-  s.error.message = "Validation: " + message;
-  s.error.facet = facet;
-  s.error.vertex = vertex;
-  s.error.segment = segment;
-  return s;
+// Area check (6): the faces' area sums and the input facet's differ by
+// rounding in the sums (relative kAreaSumTolerance) and by Steiner points
+// rounded to doubles, each at most a few ulps (kRoundingUlps ulps of the
+// coordinate scale) off the facet, along the patch's perimeter.
+constexpr double kAreaSumTolerance = 1e-9;
+constexpr double kRoundingUlps = 64;
+constexpr double kUlp = 2.2e-16;  // DBL_EPSILON (2.22e-16), to two digits
+// Volume check (8): the tets' volume and the one the facets enclose are both
+// sums of signed terms; they may differ by this much relative to the sum of
+// the terms' magnitudes.
+constexpr double kVolumeSumTolerance = 1e-8;
+
+// A violated property: an internal error, since a valid run cannot produce
+// one. The caller names the element with the builder's setters.
+ErrorBuilder fail(const std::string& message) {
+  return make_error(ErrorCode::Internal, "Validation: " + message);
 }
 
 std::string tri_name(const Tri3& t) {
   return "(" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) +
          ")";
-}
-
-Tri3 sorted(Tri3 t) {
-  std::sort(t.begin(), t.end());
-  return t;
-}
-
-uint64_t edge_key(uint32_t a, uint32_t b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<uint64_t>(a) << 32) | b;
 }
 
 struct FaceRec {
@@ -109,6 +117,21 @@ class Validator {
   Status tets_and_faces();
   Status constrained_faces();
   Status facets();
+  // The parts of facets(): facet f's input vertices and segments, its loop
+  // and allowed edges, the faces' check, and the test of faceless facets.
+  double facet_input(size_t f, const std::vector<uint32_t>& tris,
+                     const std::vector<size_t>& input_tris);
+  void facet_edges(size_t f, std::vector<uint64_t>& allowed_edges,
+                   std::vector<uint64_t>& loop_edges) const;
+  bool vertex_in_facet(uint32_t v, size_t f) const;
+  Status facet_faces(size_t f, const std::vector<size_t>& faces, double area_in,
+                     const std::vector<uint64_t>& allowed_edges,
+                     const std::vector<uint64_t>& loop_edges);
+  struct Probe {
+    double p[3] = {0, 0, 0};
+    uint32_t facet = 0;
+  };
+  Status probes_outside(std::vector<Probe>& probes) const;
   Status unconstrained_in_facets();
   Status segments();
   Status volume();
@@ -161,8 +184,8 @@ Status Validator::sizes() {
     const Vec3& p = plc_.points[i];
     if (pt(static_cast<uint32_t>(i))[0] != p.x || pt(static_cast<uint32_t>(i))[1] != p.y ||
         pt(static_cast<uint32_t>(i))[2] != p.z)
-      return fail("point " + std::to_string(i) + " differs from the PLC's point.", -1,
-                  static_cast<int64_t>(i));
+      return fail("point " + std::to_string(i) + " differs from the PLC's point.")
+          .vertex(static_cast<int64_t>(i));
   }
   const size_t ns = np_ - r_.input_points;
   if (r_.steiner_kind.size() != ns || r_.steiner_parent.size() != ns)
@@ -172,12 +195,12 @@ Status Validator::sizes() {
     const int64_t p = r_.steiner_parent[i];
     const int64_t v = static_cast<int64_t>(r_.input_points + i);
     if (k != SteinerKind::Segment && k != SteinerKind::Facet && k != SteinerKind::Volume)
-      return fail("Steiner point " + std::to_string(v) + " has an unknown kind.", -1, v);
+      return fail("Steiner point " + std::to_string(v) + " has an unknown kind.").vertex(v);
     if (k == SteinerKind::Volume && p != -1)
-      return fail("volume Steiner point " + std::to_string(v) + " has a parent.", -1, v);
+      return fail("volume Steiner point " + std::to_string(v) + " has a parent.").vertex(v);
     if (k == SteinerKind::Facet && (p < 0 || static_cast<size_t>(p) >= plc_.facets.size()))
-      return fail("facet Steiner point " + std::to_string(v) + " has no valid parent facet.", -1,
-                  v);
+      return fail("facet Steiner point " + std::to_string(v) + " has no valid parent facet.")
+          .vertex(v);
   }
   if (r_.face_facet.size() != nf_) return fail("face_facet needs one entry per face.");
   if (!m_.face_markers.empty() && m_.face_markers.size() != nf_)
@@ -194,8 +217,8 @@ Status Validator::sizes() {
       return fail("face " + std::to_string(i) + " names facet " +
                   std::to_string(r_.face_facet[i]) + ", which does not exist.");
     if (!m_.face_markers.empty() && m_.face_markers[i] != plc_.facets[r_.face_facet[i]].marker)
-      return fail("face " + std::to_string(i) + " has a marker other than its facet's.",
-                  r_.face_facet[i]);
+      return fail("face " + std::to_string(i) + " has a marker other than its facet's.")
+          .facet(r_.face_facet[i]);
   }
   for (double x : m_.points) scale_ = std::max(scale_, std::fabs(x));
   return Status::success();
@@ -211,12 +234,12 @@ Status Validator::tets_and_faces() {
     const uint32_t* w = &m_.tets[4 * static_cast<size_t>(t)];
     if (pred::orient3d(pt(w[0]), pt(w[1]), pt(w[2]), pt(w[3])) <= 0)
       return fail("tet " + std::to_string(t) + " (" + std::to_string(w[0]) + ", " +
-                      std::to_string(w[1]) + ", " + std::to_string(w[2]) + ", " +
-                      std::to_string(w[3]) + ") is not positively oriented.",
-                  -1, w[0]);
+                  std::to_string(w[1]) + ", " + std::to_string(w[2]) + ", " + std::to_string(w[3]) +
+                  ") is not positively oriented.")
+          .vertex(w[0]);
     for (int i = 0; i < 4; ++i) {
       in_tet_[w[i]] = 1;
-      faces_.push_back({sorted(tet_face(t, i)), t, i});
+      faces_.push_back({sorted_triangle(tet_face(t, i)), t, i});
       for (int j = i + 1; j < 4; ++j) edges_.push_back(edge_key(w[i], w[j]));
     }
   }
@@ -231,8 +254,8 @@ Status Validator::tets_and_faces() {
     while (j < faces_.size() && faces_[j].key == faces_[i].key) ++j;
     if (j - i > 2)
       return fail("face " + tri_name(faces_[i].key) + " belongs to " + std::to_string(j - i) +
-                      " tets.",
-                  -1, faces_[i].key[0]);
+                  " tets.")
+          .vertex(faces_[i].key[0]);
     if (j - i == 2) {
       const FaceRec& a = faces_[i];
       const FaceRec& b = faces_[i + 1];
@@ -240,8 +263,8 @@ Status Validator::tets_and_faces() {
       const uint32_t d = m_.tets[4 * static_cast<size_t>(b.tet) + b.face];
       if (pred::orient3d(pt(f[0]), pt(f[1]), pt(f[2]), pt(d)) >= 0)
         return fail("tets " + std::to_string(a.tet) + " and " + std::to_string(b.tet) +
-                        " overlap at face " + tri_name(a.key) + ".",
-                    -1, a.key[0]);
+                    " overlap at face " + tri_name(a.key) + ".")
+            .vertex(a.key[0]);
     } else {
       boundary_.push_back(static_cast<uint32_t>(i));
     }
@@ -253,12 +276,12 @@ Status Validator::tets_and_faces() {
 Status Validator::constrained_faces() {
   constrained_.resize(nf_);
   for (size_t i = 0; i < nf_; ++i)
-    constrained_[i] = sorted({m_.faces[3 * i], m_.faces[3 * i + 1], m_.faces[3 * i + 2]});
+    constrained_[i] = sorted_triangle({m_.faces[3 * i], m_.faces[3 * i + 1], m_.faces[3 * i + 2]});
   std::vector<Tri3> keys = constrained_;
   std::sort(keys.begin(), keys.end());
   for (size_t i = 0; i + 1 < keys.size(); ++i)
     if (keys[i] == keys[i + 1])
-      return fail("constrained face " + tri_name(keys[i]) + " is listed twice.", -1, keys[i][0]);
+      return fail("constrained face " + tri_name(keys[i]) + " is listed twice.").vertex(keys[i][0]);
   face_tet_.assign(nf_, 0);
   face_two_.assign(nf_, 0);
   auto lower = [this](const Tri3& k) {
@@ -268,8 +291,9 @@ Status Validator::constrained_faces() {
   for (size_t i = 0; i < nf_; ++i) {
     auto it = lower(constrained_[i]);
     if (it == faces_.end() || it->key != constrained_[i])
-      return fail("constrained face " + tri_name(constrained_[i]) + " is not a face of a tet.",
-                  r_.face_facet[i], constrained_[i][0]);
+      return fail("constrained face " + tri_name(constrained_[i]) + " is not a face of a tet.")
+          .facet(r_.face_facet[i])
+          .vertex(constrained_[i][0]);
     face_tet_[i] = static_cast<uint32_t>(it - faces_.begin());
     face_two_[i] = (it + 1) != faces_.end() && (it + 1)->key == it->key;
   }
@@ -315,8 +339,8 @@ Status Validator::constrained_faces() {
         if (pred::orient3d(pt(f[0]), pt(f[1]), pt(f[2]), pt(e)) < 0 &&
             std::fabs(volume_ratio(pt(f[0]), pt(f[1]), pt(f[2]), pt(e))) > kFlatTetRatio)
           return fail("the boundary of the kept tets is not convex at face " + tri_name(F.key) +
-                          " (with the convex hull kept, as some boundary face is not constrained).",
-                      -1, F.key[0]);
+                      " (with the convex hull kept, as some boundary face is not constrained).")
+              .vertex(F.key[0]);
       }
     }
     i = j;
@@ -352,8 +376,8 @@ Status Validator::segments() {
     const int64_t p = r_.steiner_parent[i];
     const uint32_t v = static_cast<uint32_t>(r_.input_points + i);
     if (p < 0 || static_cast<size_t>(p) >= segments_.size())
-      return fail("segment Steiner point " + std::to_string(v) + " has no valid parent segment.",
-                  -1, v);
+      return fail("segment Steiner point " + std::to_string(v) + " has no valid parent segment.")
+          .vertex(v);
     chains_[static_cast<size_t>(p)].push_back(v);
   }
   for (size_t s = 0; s < segments_.size(); ++s) {
@@ -380,187 +404,159 @@ Status Validator::segments() {
     for (size_t k = 0; k + 1 < c.size(); ++k)
       if (!is_edge(c[k], c[k + 1]) && in_some_tet(c[k], c[k + 1]))
         return fail("segment (" + std::to_string(c.front()) + ", " + std::to_string(c.back()) +
-                        ") is not a chain of mesh edges: (" + std::to_string(c[k]) + ", " +
-                        std::to_string(c[k + 1]) + ") is missing.",
-                    -1, c[k], static_cast<int64_t>(s));
+                    ") is not a chain of mesh edges: (" + std::to_string(c[k]) + ", " +
+                    std::to_string(c[k + 1]) + ") is missing.")
+            .vertex(c[k])
+            .segment(static_cast<int64_t>(s));
   }
   return Status::success();
 }
 
-Status Validator::facets() {
-  // The input facets triangulated without Steiner points: their vertices
-  // (loop vertices, PLC points and segments lying in them) and areas.
-  std::vector<uint32_t> tris, tri_facet;
-  Status st = triangulate_surface(plc_, tris, tri_facet);
-  if (!st.ok()) {
-    st.error.code = ErrorCode::Internal;
-    st.error.message = "Validation: the input facet cannot be triangulated: " + st.error.message;
-    return st;
-  }
-  auto input_tri = [&](size_t i) { return Tri3{tris[3 * i], tris[3 * i + 1], tris[3 * i + 2]}; };
-  const size_t nfacets = plc_.facets.size();
-  std::vector<std::vector<size_t>> sub_of(nfacets), faces_of(nfacets);
-  for (size_t i = 0; i < tri_facet.size(); ++i) sub_of[tri_facet[i]].push_back(i);
-  for (size_t i = 0; i < nf_; ++i) faces_of[r_.face_facet[i]].push_back(i);
-
-  struct Probe {
-    double p[3] = {0, 0, 0};
-    uint32_t facet = 0;
-  };
-  std::vector<Probe> probes;
-  fverts_.assign(nfacets, {});
-  fsegs_.assign(nfacets, {});
-  ftris_.assign(nfacets, {});
-  fdrop_.assign(nfacets, 2);
-  std::vector<uint64_t> allowed_edges, loop_edges;
-  for (size_t f = 0; f < nfacets; ++f) {
-    const int64_t F = static_cast<int64_t>(f);
-    std::vector<uint32_t>& verts = fverts_[f];
-    std::vector<uint32_t>& segs_in = fsegs_[f];
-    double area_in = 0;
-    for (size_t i : sub_of[f]) {
-      const Tri3 t = input_tri(i);
-      ftris_[f].push_back(t);
-      area_in += tri_area(t);
-      for (int k = 0; k < 3; ++k) {
-        verts.push_back(t[k]);
-        const int64_t s = segment_index(t[k], t[(k + 1) % 3]);
-        if (s >= 0) segs_in.push_back(static_cast<uint32_t>(s));
-      }
+// Facet f's input vertices, the segments lying in it and its input
+// triangles (fverts_, fsegs_, ftris_), the axis its projection drops (the
+// largest component of Newell's normal of its first loop); returns its area.
+double Validator::facet_input(size_t f, const std::vector<uint32_t>& tris,
+                              const std::vector<size_t>& input_tris) {
+  std::vector<uint32_t>& verts = fverts_[f];
+  std::vector<uint32_t>& segs_in = fsegs_[f];
+  double area_in = 0;
+  for (size_t i : input_tris) {
+    const Tri3 t = {tris[3 * i], tris[3 * i + 1], tris[3 * i + 2]};
+    ftris_[f].push_back(t);
+    area_in += tri_area(t);
+    for (int k = 0; k < 3; ++k) {
+      verts.push_back(t[k]);
+      const int64_t s = segment_index(t[k], t[(k + 1) % 3]);
+      if (s >= 0) segs_in.push_back(static_cast<uint32_t>(s));
     }
-    std::sort(verts.begin(), verts.end());
-    verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
-    std::sort(segs_in.begin(), segs_in.end());
-    segs_in.erase(std::unique(segs_in.begin(), segs_in.end()), segs_in.end());
-    allowed_edges.clear();
-    for (uint32_t s : segs_in)
+  }
+  std::sort(verts.begin(), verts.end());
+  verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+  std::sort(segs_in.begin(), segs_in.end());
+  segs_in.erase(std::unique(segs_in.begin(), segs_in.end()), segs_in.end());
+  const Vec3 n = newell_normal(plc_, plc_.facets[f].loops[0]);
+  fdrop_[f] = largest_axis(n.x, n.y, n.z);
+  return area_in;
+}
+
+// The subsegments of the segments lying in facet f (the edges where its
+// patch may end) and those of its loops, as sorted edge keys.
+void Validator::facet_edges(size_t f, std::vector<uint64_t>& allowed_edges,
+                            std::vector<uint64_t>& loop_edges) const {
+  allowed_edges.clear();
+  for (uint32_t s : fsegs_[f])
+    for (size_t k = 0; k + 1 < chains_[s].size(); ++k)
+      allowed_edges.push_back(edge_key(chains_[s][k], chains_[s][k + 1]));
+  std::sort(allowed_edges.begin(), allowed_edges.end());
+  loop_edges.clear();
+  for (const auto& L : plc_.facets[f].loops)
+    for (size_t i = 0; i < L.size(); ++i) {
+      const int64_t s = segment_index(L[i], L[(i + 1) % L.size()]);
+      if (s < 0) continue;
       for (size_t k = 0; k + 1 < chains_[s].size(); ++k)
-        allowed_edges.push_back(edge_key(chains_[s][k], chains_[s][k + 1]));
-    std::sort(allowed_edges.begin(), allowed_edges.end());
-    loop_edges.clear();
-    for (const auto& L : plc_.facets[f].loops)
-      for (size_t i = 0; i < L.size(); ++i) {
-        const int64_t s = segment_index(L[i], L[(i + 1) % L.size()]);
-        if (s < 0) continue;
-        for (size_t k = 0; k + 1 < chains_[s].size(); ++k)
-          loop_edges.push_back(edge_key(chains_[s][k], chains_[s][k + 1]));
-      }
-    std::sort(loop_edges.begin(), loop_edges.end());
-    loop_edges.erase(std::unique(loop_edges.begin(), loop_edges.end()), loop_edges.end());
+        loop_edges.push_back(edge_key(chains_[s][k], chains_[s][k + 1]));
+    }
+  std::sort(loop_edges.begin(), loop_edges.end());
+  loop_edges.erase(std::unique(loop_edges.begin(), loop_edges.end()), loop_edges.end());
+}
 
-    {
-      double n[3] = {0, 0, 0};
-      const auto& L = plc_.facets[f].loops[0];
-      for (size_t i = 0; i < L.size(); ++i) {
-        const Vec3& p = plc_.points[L[i]];
-        const Vec3& q = plc_.points[L[(i + 1) % L.size()]];
-        n[0] += (p.y - q.y) * (p.z + q.z);
-        n[1] += (p.z - q.z) * (p.x + q.x);
-        n[2] += (p.x - q.x) * (p.y + q.y);
-      }
-      fdrop_[f] = std::fabs(n[0]) >= std::fabs(n[1])
-                      ? (std::fabs(n[0]) >= std::fabs(n[2]) ? 0 : 2)
-                      : (std::fabs(n[1]) >= std::fabs(n[2]) ? 1 : 2);
-    }
-    auto vertex_ok = [&](uint32_t v) {
-      if (v < r_.input_points) return std::binary_search(verts.begin(), verts.end(), v);
-      const size_t i = v - r_.input_points;
-      const int64_t p = r_.steiner_parent[i];
-      switch (r_.steiner_kind[i]) {
-        case SteinerKind::Facet: return p == F;
-        case SteinerKind::Segment:
-          return std::binary_search(segs_in.begin(), segs_in.end(), static_cast<uint32_t>(p));
-        default: return false;
-      }
-    };
-
-    if (faces_of[f].empty()) {
-      // Must lie outside the kept tets: the centroid of its largest input
-      // triangle is strictly inside no tet (checked below for all facets).
-      size_t best = 0;
-      double best_area = -1;
-      for (size_t i : sub_of[f]) {
-        const double a = tri_area(input_tri(i));
-        if (a > best_area) best_area = a, best = i;
-      }
-      if (best_area < 0) continue;
-      Probe q;
-      q.facet = static_cast<uint32_t>(f);
-      for (int k = 0; k < 3; ++k) {
-        const Vec3& v = plc_.points[tris[3 * best + k]];
-        q.p[0] += v.x / 3, q.p[1] += v.y / 3, q.p[2] += v.z / 3;
-      }
-      probes.push_back(q);
-      continue;
-    }
-
-    // Vertices, orientation in the facet's plane, edges.
-    const Facet& facet = plc_.facets[f];
-    const int drop = fdrop_[f];
-    int side = 0;
-    double area_out = 0, perimeter = 0;
-    std::vector<uint64_t> fedges;
-    for (size_t i : faces_of[f]) {
-      const Tri3 t = {m_.faces[3 * i], m_.faces[3 * i + 1], m_.faces[3 * i + 2]};
-      for (uint32_t v : t)
-        if (!vertex_ok(v))
-          return fail("face " + tri_name(t) + " of facet " + std::to_string(f) + " uses vertex " +
-                          std::to_string(v) + ", which does not belong to the facet.",
-                      F, v);
-      const int o = pred::orient2d_projected(pt(t[0]), pt(t[1]), pt(t[2]), drop);
-      if (o == 0)
-        return fail("face " + tri_name(t) + " of facet " + std::to_string(f) +
-                        " is degenerate in the facet's plane.",
-                    F, t[0]);
-      if (side == 0) side = o;
-      if (o != side)
-        return fail("the faces of facet " + std::to_string(f) +
-                        " overlap or are not consistently oriented (face " + tri_name(t) + ").",
-                    F, t[0]);
-      area_out += tri_area(t);
-      for (int k = 0; k < 3; ++k) {
-        fedges.push_back(edge_key(t[k], t[(k + 1) % 3]));
-        const double* a = pt(t[k]);
-        const double* b = pt(t[(k + 1) % 3]);
-        perimeter += std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                               (a[2] - b[2]) * (a[2] - b[2]));
-      }
-    }
-    std::sort(fedges.begin(), fedges.end());
-    bool partial = false;
-    for (size_t i = 0; i < fedges.size();) {
-      size_t j = i;
-      while (j < fedges.size() && fedges[j] == fedges[i]) ++j;
-      const uint32_t a = static_cast<uint32_t>(fedges[i] >> 32), b = static_cast<uint32_t>(fedges[i]);
-      if (j - i > 2)
-        return fail("edge (" + std::to_string(a) + ", " + std::to_string(b) + ") is in " +
-                        std::to_string(j - i) + " faces of facet " + std::to_string(f) + ".",
-                    F, a);
-      if (j - i == 1) {
-        if (!std::binary_search(allowed_edges.begin(), allowed_edges.end(), fedges[i]))
-          return fail("the faces of facet " + std::to_string(f) + " end at edge (" +
-                          std::to_string(a) + ", " + std::to_string(b) +
-                          "), which is on none of its segments.",
-                      F, a);
-        if (!std::binary_search(loop_edges.begin(), loop_edges.end(), fedges[i])) partial = true;
-      }
-      i = j;
-    }
-    for (uint64_t e : loop_edges)
-      if (!partial && !std::binary_search(fedges.begin(), fedges.end(), e))
-        return fail("loop subsegment (" + std::to_string(e >> 32) + ", " +
-                        std::to_string(static_cast<uint32_t>(e)) + ") of facet " +
-                        std::to_string(f) + " is no edge of its faces.",
-                    F, static_cast<int64_t>(e >> 32));
-    const double tol = 1e-9 * area_in + 64 * 2.2e-16 * scale_ * perimeter;
-    if (partial ? area_out > area_in + tol : std::fabs(area_out - area_in) > tol)
-      return fail("the faces of facet " + std::to_string(f) + " cover an area of " +
-                      std::to_string(area_out) + " instead of " + std::to_string(area_in) + ".",
-                  F);
-    if (partial || facet.loops.size() != 1) facets_closed_ = false;
+// Output vertex v may be a vertex of a face of facet f: an input vertex of
+// f, a Steiner point on one of its segments, or a Facet Steiner point of f.
+bool Validator::vertex_in_facet(uint32_t v, size_t f) const {
+  if (v < r_.input_points) return std::binary_search(fverts_[f].begin(), fverts_[f].end(), v);
+  const size_t i = v - r_.input_points;
+  const int64_t p = r_.steiner_parent[i];
+  switch (r_.steiner_kind[i]) {
+    case SteinerKind::Facet:
+      return p == static_cast<int64_t>(f);
+    case SteinerKind::Segment:
+      return std::binary_search(fsegs_[f].begin(), fsegs_[f].end(), static_cast<uint32_t>(p));
+    default:
+      return false;
   }
-  // Probes of the facets without faces, sorted by x; each tet tests those in
-  // its bounding box.
+}
+
+// Check 6 on the faces of facet f: their vertices, orientation in the
+// facet's plane, the patch's boundary edges, its area.
+Status Validator::facet_faces(size_t f, const std::vector<size_t>& faces, double area_in,
+                              const std::vector<uint64_t>& allowed_edges,
+                              const std::vector<uint64_t>& loop_edges) {
+  const int64_t F = static_cast<int64_t>(f);
+  const int drop = fdrop_[f];
+  int side = 0;
+  double area_out = 0, perimeter = 0;
+  std::vector<uint64_t> fedges;
+  for (size_t i : faces) {
+    const Tri3 t = {m_.faces[3 * i], m_.faces[3 * i + 1], m_.faces[3 * i + 2]};
+    for (uint32_t v : t)
+      if (!vertex_in_facet(v, f))
+        return fail("face " + tri_name(t) + " of facet " + std::to_string(f) + " uses vertex " +
+                    std::to_string(v) + ", which does not belong to the facet.")
+            .facet(F)
+            .vertex(v);
+    const int o = pred::orient2d_projected(pt(t[0]), pt(t[1]), pt(t[2]), drop);
+    if (o == 0)
+      return fail("face " + tri_name(t) + " of facet " + std::to_string(f) +
+                  " is degenerate in the facet's plane.")
+          .facet(F)
+          .vertex(t[0]);
+    if (side == 0) side = o;
+    if (o != side)
+      return fail("the faces of facet " + std::to_string(f) +
+                  " overlap or are not consistently oriented (face " + tri_name(t) + ").")
+          .facet(F)
+          .vertex(t[0]);
+    area_out += tri_area(t);
+    for (int k = 0; k < 3; ++k) {
+      fedges.push_back(edge_key(t[k], t[(k + 1) % 3]));
+      const double* a = pt(t[k]);
+      const double* b = pt(t[(k + 1) % 3]);
+      perimeter += std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                             (a[2] - b[2]) * (a[2] - b[2]));
+    }
+  }
+  std::sort(fedges.begin(), fedges.end());
+  bool partial = false;
+  for (size_t i = 0; i < fedges.size();) {
+    size_t j = i;
+    while (j < fedges.size() && fedges[j] == fedges[i]) ++j;
+    const uint32_t a = static_cast<uint32_t>(fedges[i] >> 32), b = static_cast<uint32_t>(fedges[i]);
+    if (j - i > 2)
+      return fail("edge (" + std::to_string(a) + ", " + std::to_string(b) + ") is in " +
+                  std::to_string(j - i) + " faces of facet " + std::to_string(f) + ".")
+          .facet(F)
+          .vertex(a);
+    if (j - i == 1) {
+      if (!std::binary_search(allowed_edges.begin(), allowed_edges.end(), fedges[i]))
+        return fail("the faces of facet " + std::to_string(f) + " end at edge (" +
+                    std::to_string(a) + ", " + std::to_string(b) +
+                    "), which is on none of its segments.")
+            .facet(F)
+            .vertex(a);
+      if (!std::binary_search(loop_edges.begin(), loop_edges.end(), fedges[i])) partial = true;
+    }
+    i = j;
+  }
+  for (uint64_t e : loop_edges)
+    if (!partial && !std::binary_search(fedges.begin(), fedges.end(), e))
+      return fail("loop subsegment (" + std::to_string(e >> 32) + ", " +
+                  std::to_string(static_cast<uint32_t>(e)) + ") of facet " + std::to_string(f) +
+                  " is no edge of its faces.")
+          .facet(F)
+          .vertex(static_cast<int64_t>(e >> 32));
+  const double tol = kAreaSumTolerance * area_in + kRoundingUlps * kUlp * scale_ * perimeter;
+  if (partial ? area_out > area_in + tol : std::fabs(area_out - area_in) > tol)
+    return fail("the faces of facet " + std::to_string(f) + " cover an area of " +
+                std::to_string(area_out) + " instead of " + std::to_string(area_in) + ".")
+        .facet(F);
+  if (partial || plc_.facets[f].loops.size() != 1) facets_closed_ = false;
+  return Status::success();
+}
+
+// The facets without faces must lie outside the kept tets: their probe
+// points (sorted here by x) are strictly inside no tet; each tet tests those
+// in its bounding box.
+Status Validator::probes_outside(std::vector<Probe>& probes) const {
   std::sort(probes.begin(), probes.end(), [](const Probe& a, const Probe& b) {
     return a.p[0] != b.p[0] ? a.p[0] < b.p[0] : a.facet < b.facet;
   });
@@ -569,7 +565,8 @@ Status Validator::facets() {
     double lo[3], hi[3];
     for (int x = 0; x < 3; ++x) {
       lo[x] = hi[x] = pt(w[0])[x];
-      for (int k = 1; k < 4; ++k) lo[x] = std::min(lo[x], pt(w[k])[x]), hi[x] = std::max(hi[x], pt(w[k])[x]);
+      for (int k = 1; k < 4; ++k)
+        lo[x] = std::min(lo[x], pt(w[k])[x]), hi[x] = std::max(hi[x], pt(w[k])[x]);
     }
     auto it = std::lower_bound(probes.begin(), probes.end(), lo[0],
                                [](const Probe& a, double x) { return a.p[0] < x; });
@@ -582,12 +579,61 @@ Status Validator::facets() {
       }
       if (strictly)
         return fail("facet " + std::to_string(it->facet) +
-                        " has no constrained faces but passes through tet " + std::to_string(t) +
-                        ".",
-                    it->facet);
+                    " has no constrained faces but passes through tet " + std::to_string(t) + ".")
+            .facet(it->facet);
     }
   }
   return Status::success();
+}
+
+// Check 6 (file header).
+Status Validator::facets() {
+  // The input facets triangulated without Steiner points: their vertices
+  // (loop vertices, PLC points and segments lying in them) and areas.
+  std::vector<uint32_t> tris, tri_facet;
+  Status st = triangulate_surface(plc_, tris, tri_facet);
+  if (!st.ok()) {
+    st.error.code = ErrorCode::Internal;
+    st.error.message = "Validation: the input facet cannot be triangulated: " + st.error.message;
+    return st;
+  }
+  const size_t nfacets = plc_.facets.size();
+  std::vector<std::vector<size_t>> sub_of(nfacets), faces_of(nfacets);
+  for (size_t i = 0; i < tri_facet.size(); ++i) sub_of[tri_facet[i]].push_back(i);
+  for (size_t i = 0; i < nf_; ++i) faces_of[r_.face_facet[i]].push_back(i);
+
+  std::vector<Probe> probes;
+  fverts_.assign(nfacets, {});
+  fsegs_.assign(nfacets, {});
+  ftris_.assign(nfacets, {});
+  fdrop_.assign(nfacets, 2);
+  std::vector<uint64_t> allowed_edges, loop_edges;
+  for (size_t f = 0; f < nfacets; ++f) {
+    const double area_in = facet_input(f, tris, sub_of[f]);
+    facet_edges(f, allowed_edges, loop_edges);
+    if (faces_of[f].empty()) {
+      // Must lie outside the kept tets: the centroid of its largest input
+      // triangle is strictly inside no tet (probes_outside).
+      size_t best = 0;
+      double best_area = -1;
+      for (size_t i : sub_of[f]) {
+        const double a = tri_area({tris[3 * i], tris[3 * i + 1], tris[3 * i + 2]});
+        if (a > best_area) best_area = a, best = i;
+      }
+      if (best_area < 0) continue;
+      Probe q;
+      q.facet = static_cast<uint32_t>(f);
+      for (int k = 0; k < 3; ++k) {
+        const Vec3& v = plc_.points[tris[3 * best + k]];
+        q.p[0] += v.x / 3, q.p[1] += v.y / 3, q.p[2] += v.z / 3;
+      }
+      probes.push_back(q);
+      continue;
+    }
+    st = facet_faces(f, faces_of[f], area_in, allowed_edges, loop_edges);
+    if (!st.ok()) return st;
+  }
+  return probes_outside(probes);
 }
 
 // A face that is not constrained must not lie in a facet: when its three
@@ -759,8 +805,9 @@ Status Validator::unconstrained_in_facets() {
         if (!separates(g, h) && !separates(h, g) && !flat_in_facet(i, f) &&
             !along_one_segment(k) && !beyond_subsegment(k, f, drop))
           return fail("face " + tri_name(k) + " lies in facet " + std::to_string(f) +
-                          " but is not constrained.",
-                      f, k[0]);
+                      " but is not constrained.")
+              .facet(f)
+              .vertex(k[0]);
       }
     }
   }
@@ -814,14 +861,8 @@ Status Validator::volume() {
     const Tri3 g = tet_face(R.tet, R.face);  // counterclockwise from outside the domain
     const auto& L = plc_.facets[f].loops[0];
     // Outward normal of g against the loop's Newell normal.
-    double n[3] = {0, 0, 0};
-    for (size_t k = 0; k < L.size(); ++k) {
-      const Vec3& p = plc_.points[L[k]];
-      const Vec3& q = plc_.points[L[(k + 1) % L.size()]];
-      n[0] += (p.y - q.y) * (p.z + q.z);
-      n[1] += (p.z - q.z) * (p.x + q.x);
-      n[2] += (p.x - q.x) * (p.y + q.y);
-    }
+    const Vec3 nv = newell_normal(plc_, L);
+    const double n[3] = {nv.x, nv.y, nv.z};
     const double* a = pt(g[0]);
     const double* b = pt(g[1]);
     const double* d = pt(g[2]);
@@ -843,7 +884,7 @@ Status Validator::volume() {
       vf += out_sign[f] * det(&plc_.points[L[0]].x, &plc_.points[L[k]].x,
                               &plc_.points[L[k + 1]].x) / 6;
   }
-  if (std::fabs(vt - vf) > 1e-8 * vabs + 1e-300)
+  if (std::fabs(vt - vf) > kVolumeSumTolerance * vabs + kTinyLength)
     return fail("the tets' volume " + std::to_string(vt) + " differs from the volume " +
                 std::to_string(vf) + " enclosed by the facets.");
   return Status::success();
@@ -870,14 +911,17 @@ Status Validator::delaunay() {
     const uint32_t e = m_.tets[4 * static_cast<size_t>(b.tet) + b.face];
     if (pred::insphere(pt(w[0]), pt(w[1]), pt(w[2]), pt(w[3]), pt(e)) > 0 &&
         !flipped_for_flat_tet(w, e))
-      return fail("face " + tri_name(a.key) + " is not constrained and not locally Delaunay: "
-                      "vertex " + std::to_string(e) + " is inside the circumsphere of tet " +
-                      std::to_string(a.tet) + ".",
-                  -1, e);
+      return fail("face " + tri_name(a.key) +
+                  " is not constrained and not locally Delaunay: "
+                  "vertex " +
+                  std::to_string(e) + " is inside the circumsphere of tet " +
+                  std::to_string(a.tet) + ".")
+          .vertex(e);
   }
   return Status::success();
 }
 
+// The checks of the file header, numbered as there.
 Status Validator::run() {
   Status st = sizes();
   if (st.ok()) st = tets_and_faces();

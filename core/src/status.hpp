@@ -1,0 +1,54 @@
+// The one builder of the failure Status the core returns (it never throws,
+// STYLE.md): the code, the message, then the input element it names, by name
+// rather than by position, so no call site can put a facet where a vertex
+// belongs:
+//
+//   return make_error(ErrorCode::Internal, "what went wrong").facet(f).vertex(v);
+#pragma once
+
+#include <cdt3d/cdt3d.hpp>
+
+#include <string>
+#include <utility>
+
+namespace cdt3d {
+
+class ErrorBuilder {
+ public:
+  ErrorBuilder(ErrorCode code, std::string message) {
+    status_.error.code = code;
+    status_.error.message = std::move(message);
+  }
+  ErrorBuilder& facet(int64_t f) { return set(status_.error.facet, f); }
+  ErrorBuilder& other_facet(int64_t f) { return set(status_.error.other_facet, f); }
+  ErrorBuilder& vertex(int64_t v) { return set(status_.error.vertex, v); }
+  ErrorBuilder& segment(int64_t s) { return set(status_.error.segment, s); }
+  ErrorBuilder& file(const std::string& name, int64_t line = -1) {
+    status_.error.file = name;
+    return set(status_.error.line, line);
+  }
+  /// Facet f of `plc` with its source position (file, line or record).
+  ErrorBuilder& facet_of(const Plc& plc, size_t f) {
+    status_.error.file = plc.file;
+    status_.error.facet = static_cast<int64_t>(f);
+    status_.error.line = plc.facets[f].line;
+    status_.error.record = plc.facets[f].record;
+    return *this;
+  }
+  operator Status() const { return status_; }
+
+ private:
+  ErrorBuilder& set(int64_t& field, int64_t value) {
+    field = value;
+    return *this;
+  }
+  Status status_;
+};
+
+/// A failure Status with `code` and `message`; name the element with the
+/// builder's setters.
+inline ErrorBuilder make_error(ErrorCode code, std::string message) {
+  return ErrorBuilder(code, std::move(message));
+}
+
+}  // namespace cdt3d
