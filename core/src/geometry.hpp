@@ -148,4 +148,14 @@ inline bool has_flat_quadruple(const double* const p[5]) {
   return false;
 }
 
+/// Renames every vertex reference of the PLC's facets and segments through
+/// `id` (old id -> new id); the points themselves are the caller's to move.
+inline void renumber_vertices(Plc& plc, const std::vector<VertexId>& id) {
+  for (Facet& f : plc.facets)
+    for (auto& loop : f.loops)
+      for (VertexId& v : loop) v = id[v];
+  for (auto& s : plc.segments)
+    for (VertexId& v : s) v = id[v];
+}
+
 }  // namespace cdt3d

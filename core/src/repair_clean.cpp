@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <numeric>
 
+#include "geometry.hpp"
 #include "predicates.hpp"
 #include "repair.hpp"
 
@@ -228,11 +229,7 @@ void drop_orphaned_points(Work& w, const Plc& input) {
     kept.push_back(plc.points[v]);
   }
   plc.points = std::move(kept);
-  for (Facet& f : plc.facets)
-    for (auto& l : f.loops)
-      for (VertexId& v : l) v = id[v];
-  for (auto& s : plc.segments)
-    for (VertexId& v : s) v = id[v];
+  renumber_vertices(plc, id);
 }
 
 }  // namespace repair_steps

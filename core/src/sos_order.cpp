@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "delaunay.hpp"
+#include "geometry.hpp"
 #include "predicates.hpp"
 #include "tet_mesh.hpp"
 
@@ -126,11 +127,7 @@ void permute_plc(const Plc& plc, const std::vector<VertexId>& order, Plc& out) {
     out.points[k] = plc.points[order[k]];
     id_of[order[k]] = static_cast<VertexId>(k);
   }
-  for (Facet& f : out.facets)
-    for (auto& loop : f.loops)
-      for (VertexId& v : loop) v = id_of[v];
-  for (auto& s : out.segments)
-    for (VertexId& v : s) v = id_of[v];
+  renumber_vertices(out, id_of);
 }
 
 }  // namespace cdt3d

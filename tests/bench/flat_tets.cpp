@@ -67,22 +67,11 @@ int main(int argc, char** argv) {
   const char* node_path = argv[1];
   const char* ele_path = argv[2];
 
-  std::vector<std::string> lines;
-  if (!read_lines(node_path, lines)) return fail(node_path, "cannot open");
-  if (lines.empty()) return fail(node_path, "empty");
-  long long n = -1, dim = -1;
-  std::istringstream(lines[0]) >> n >> dim;
-  if (n < 0 || dim != 3) return fail(node_path, "bad header (want '<points> 3 ...')");
-  if (static_cast<long long>(lines.size()) - 1 < n) return fail(node_path, "fewer points than the header says");
-  std::vector<double> xyz(3 * static_cast<size_t>(n));
+  std::vector<double> xyz;
   long long first = 0;
-  for (long long i = 0; i < n; ++i) {
-    std::istringstream s(lines[1 + i]);
-    long long id;
-    if (!(s >> id >> xyz[3 * i] >> xyz[3 * i + 1] >> xyz[3 * i + 2]))
-      return fail(node_path, "bad point line " + std::to_string(i + 1));
-    if (i == 0) first = id;
-  }
+  if (const std::string bad = bench::read_nodes(node_path, xyz, first); !bad.empty()) return fail(node_path, bad);
+  const long long n = static_cast<long long>(xyz.size() / 3);
+  std::vector<std::string> lines;
 
   lines.clear();
   if (!read_lines(ele_path, lines)) return fail(ele_path, "cannot open");

@@ -10,8 +10,8 @@
 //
 // usage: local_delaunay MESH.node MESH.ele MESH.face
 // Build (bench_corpus.sh does this; needs the library for the predicates):
-//   c++ -O2 -std=c++17 -Icore/include -Icore/src tests/bench/local_delaunay.cpp \
-//       .build/bench/core/libcdt3d.a -o .build/bench/bench/local_delaunay
+//   c++ -O2 -std=c++17 -Icore/include -Icore/src tests/bench/local_delaunay.cpp
+//       .build/bench/core/libcdt3d.a -o .build/bench/bench/local_delaunay   (one line)
 //
 // Output, one line: "<violations> <unconstrained interior faces> <constrained faces>".
 // Co-spherical ties (insphere = 0) count as locally Delaunay.
@@ -57,21 +57,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: local_delaunay MESH.node MESH.ele MESH.face\n");
     return 2;
   }
-  std::vector<std::string> lines;
-  if (!read_lines(argv[1], lines) || lines.empty()) return fail(argv[1], "cannot read");
-  long long n = -1, dim = -1;
-  std::istringstream(lines[0]) >> n >> dim;
-  if (n < 0 || dim != 3 || static_cast<long long>(lines.size()) - 1 < n)
-    return fail(argv[1], "bad header or too few points");
-  std::vector<double> xyz(3 * static_cast<size_t>(n));
+  std::vector<double> xyz;
   long long first = 0;
-  for (long long i = 0; i < n; ++i) {
-    std::istringstream s(lines[1 + i]);
-    long long id;
-    if (!(s >> id >> xyz[3 * i] >> xyz[3 * i + 1] >> xyz[3 * i + 2]))
-      return fail(argv[1], "bad point line " + std::to_string(i + 1));
-    if (i == 0) first = id;
-  }
+  if (const std::string bad = bench::read_nodes(argv[1], xyz, first); !bad.empty()) return fail(argv[1], bad);
+  const long long n = static_cast<long long>(xyz.size() / 3);
+  std::vector<std::string> lines;
 
   lines.clear();
   if (!read_lines(argv[2], lines) || lines.empty()) return fail(argv[2], "cannot read");
@@ -102,10 +92,10 @@ int main(int argc, char** argv) {
     constrained[key_of(a - first, b - first, c - first)] = 1;
   }
 
-  // Face -> (tet, apex) of its first tet; the second tet's apex is tested
-  // against the first tet's circumsphere.
+  // Face -> its first tet; the second tet's apex is tested against the
+  // first tet's circumsphere.
   auto pt = [&](long long i) { return &xyz[3 * static_cast<size_t>(i)]; };
-  std::unordered_map<FaceKey, std::pair<long long, long long>, FaceHash> open;
+  std::unordered_map<FaceKey, long long, FaceHash> open;
   open.reserve(static_cast<size_t>(2 * m));
   size_t violations = 0, interior = 0;
   for (long long t = 0; t < m; ++t) {
@@ -114,10 +104,10 @@ int main(int argc, char** argv) {
       const FaceKey k = key_of(v[(i + 1) % 4], v[(i + 2) % 4], v[(i + 3) % 4]);
       auto it = open.find(k);
       if (it == open.end()) {
-        open.emplace(k, std::make_pair(t, v[i]));
+        open.emplace(k, t);
         continue;
       }
-      const auto [u, apex] = it->second;
+      const long long u = it->second;
       open.erase(it);
       if (constrained.count(k)) continue;
       ++interior;
@@ -125,7 +115,6 @@ int main(int argc, char** argv) {
       const int o = cdt3d::pred::orient3d(pt(w[0]), pt(w[1]), pt(w[2]), pt(w[3]));
       const int s = cdt3d::pred::insphere(pt(w[0]), pt(w[1]), pt(w[2]), pt(w[3]), pt(v[i]));
       if (o * s > 0) ++violations;
-      (void)apex;
     }
   }
   std::printf("%zu %zu %zu\n", violations, interior, constrained.size());

@@ -1,9 +1,11 @@
 // Shared by the bench tools that read TetGen's .node/.ele/.face output
-// (flat_tets.cpp, local_delaunay.cpp): the file's lines and error reports.
+// (flat_tets.cpp, local_delaunay.cpp): the file's lines, the points of a
+// .node file, and error reports.
 #pragma once
 
 #include <cstdio>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -28,6 +30,29 @@ inline bool read_lines(const char* path, std::vector<std::string>& lines) {
 inline int fail(const char* tool, const char* path, const std::string& what) {
   std::fprintf(stderr, "%s: %s: %s\n", tool, path, what.c_str());
   return 1;
+}
+
+// Reads a .node file: xyz gets 3 coordinates per point, first the index of
+// the first point (0 or 1, as TetGen allows); extra columns are ignored.
+// Returns "" or what is wrong.
+inline std::string read_nodes(const char* path, std::vector<double>& xyz, long long& first) {
+  std::vector<std::string> lines;
+  if (!read_lines(path, lines)) return "cannot open";
+  if (lines.empty()) return "empty";
+  long long n = -1, dim = -1;
+  std::istringstream(lines[0]) >> n >> dim;
+  if (n < 0 || dim != 3) return "bad header (want '<points> 3 ...')";
+  if (static_cast<long long>(lines.size()) - 1 < n) return "fewer points than the header says";
+  xyz.assign(3 * static_cast<size_t>(n), 0.0);
+  first = 0;
+  for (long long i = 0; i < n; ++i) {
+    std::istringstream s(lines[1 + i]);
+    long long id;
+    if (!(s >> id >> xyz[3 * i] >> xyz[3 * i + 1] >> xyz[3 * i + 2]))
+      return "bad point line " + std::to_string(i + 1);
+    if (i == 0) first = id;
+  }
+  return "";
 }
 
 }  // namespace bench
