@@ -6,6 +6,7 @@
 //   3. local degeneracy removal D1 -> D2 (§6, degeneracy.cpp)
 //   4. facet recovery D2 -> CDT (§7, facet_triangulate.cpp + facet_recovery.cpp)
 //   5. exterior and hole removal, region attributes (carve.cpp)
+//   6. optional quality refinement of the carved CDT (refine.cpp)
 //
 // Each phase returns a Status naming the element it failed on; this file only
 // sequences them, times them, reports progress, and converts the mesh.
@@ -25,6 +26,7 @@
 #include "flat_flips.hpp"
 #include "geometry.hpp"
 #include "plc_intersect.hpp"
+#include "refine.hpp"
 #include "segment_recovery.hpp"
 #include "sos_order.hpp"
 #include "stats.hpp"
@@ -42,6 +44,7 @@ const char* phase_name(Phase phase) {
     case Phase::Degeneracy: return "degeneracy";
     case Phase::Facets: return "facets";
     case Phase::Carve: return "carve";
+    case Phase::Refine: return "refine";
     case Phase::Done: return "done";
   }
   return "done";
@@ -49,7 +52,7 @@ const char* phase_name(Phase phase) {
 
 bool phase_from_name(const std::string& name, Phase& out) {
   for (Phase p : {Phase::Read, Phase::Delaunay, Phase::Segments, Phase::Degeneracy, Phase::Facets,
-                  Phase::Carve, Phase::Done}) {
+                  Phase::Carve, Phase::Refine, Phase::Done}) {
     if (name == phase_name(p)) {
       out = p;
       return true;
@@ -67,8 +70,10 @@ double ms_since(Clock::time_point t0) {
 }
 
 // Share of the total run time a phase usually takes (measured on the corpus);
-// only used to turn per-phase progress into one overall fraction.
-constexpr double kPhaseStart[] = {0.0, 0.02, 0.45, 0.6, 0.7, 0.95, 1.0};
+// only used to turn per-phase progress into one overall fraction. With
+// quality refinement the phases before it share the first third.
+constexpr double kPhaseStart[] = {0.0, 0.02, 0.45, 0.6, 0.7, 0.95, 1.0, 1.0};
+constexpr double kRefineStart = 0.33;
 
 // Facet Steiner points (one per failed region) before giving up: each run
 // of steps 1-4 costs a full meshing, and a valid PLC needs few.
@@ -90,12 +95,18 @@ class Pipeline {
 
  private:
   bool cancelled() const { return opt_.cancel != nullptr && *opt_.cancel; }
+  bool refining() const { return opt_.quality.enabled && opt_.stop_after >= Phase::Refine; }
+  static void refine_progress(void* self, double fraction) {
+    static_cast<Pipeline*>(self)->progress(Phase::Refine, fraction);
+  }
   void progress(Phase phase, double fraction) {
     if (!opt_.progress) return;
     const int i = static_cast<int>(phase);
-    const double f = phase == Phase::Done
-                         ? 1.0
-                         : kPhaseStart[i] + (kPhaseStart[i + 1] - kPhaseStart[i]) * fraction;
+    double f = phase == Phase::Done
+                   ? 1.0
+                   : kPhaseStart[i] + (kPhaseStart[i + 1] - kPhaseStart[i]) * fraction;
+    if (refining() && phase != Phase::Done)
+      f = phase == Phase::Refine ? kRefineStart + (1 - kRefineStart) * fraction : kRefineStart * f;
     opt_.progress(opt_.progress_user, phase, std::min(1.0, std::max(0.0, f)));
   }
   // Starts `phase`; false when the run was cancelled.
@@ -151,7 +162,7 @@ bool Pipeline::begin(Phase phase) {
 bool Pipeline::end(Phase phase, const Status& st, double* ms) {
   *ms = ms_since(t_phase_);
   if (!st.ok()) return fail(st);
-  if (opt_.validate && phase != Phase::Read && phase != Phase::Carve) {
+  if (opt_.validate && phase < Phase::Carve && phase != Phase::Read) {
     // Cheap invariants after each phase: adjacency, orientation, ghosts.
     Status mc = check_mesh(mesh_);
     if (!mc.ok()) {
@@ -393,6 +404,7 @@ void Pipeline::run() {
   // exist, and the later steps would fail far from the cause).
   if (!begin(Phase::Read)) return;
   Status st = check_plc(*plc_);
+  if (st.ok() && opt_.quality.enabled) st = check_quality_options(opt_.quality);
   if (st.ok() && opt_.check_intersections) {
     std::vector<Intersection> found;
     find_self_intersections(*plc_, found);
@@ -462,6 +474,15 @@ void Pipeline::run() {
     if (!end(Phase::Carve, st, &s.ms_carve)) return;
   }
   quality_statistics(out_.mesh, s);
+  s.min_dihedral_before = s.min_dihedral;
+  s.radius_edge_histogram_before = s.radius_edge_histogram;
+  s.dihedral_histogram_before = s.dihedral_histogram;
+  if (refining()) {
+    if (!begin(Phase::Refine)) return;
+    st = refine_quality(*plc_, opt_.quality, opt_.cancel, {&Pipeline::refine_progress, this}, out_);
+    if (!end(Phase::Refine, st, &s.ms_refine)) return;
+    quality_statistics(out_.mesh, s);
+  }
   s.ms_total = ms_since(t_total);
 
   // Validation names vertices in its messages, so with a renumbered PLC it

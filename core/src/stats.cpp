@@ -14,6 +14,8 @@ namespace {
 
 // Upper bounds of the radius-edge histogram bins (the last bin is open).
 constexpr double kRatioBins[9] = {1, 1.5, 2, 3, 5, 10, 20, 50, 100};
+// Upper bounds (degrees) of the per-tet smallest dihedral angle bins.
+constexpr double kDihedralBins[9] = {1, 5, 10, 15, 20, 30, 40, 50, 60};
 
 }  // namespace
 
@@ -21,6 +23,7 @@ void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
   const double pi = 3.14159265358979323846;
   double min_dihedral = 180, max_dihedral = 0;
   stats.radius_edge_histogram.fill(0);
+  stats.dihedral_histogram.fill(0);
   stats.flat_tets = 0;
   const size_t n = mesh.tets.size() / 4;
   for (size_t t = 0; t < n; ++t) {
@@ -39,15 +42,23 @@ void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
       if (dot(m, p[i] - a) > 0) m = {-m.x, -m.y, -m.z};  // outward
       nrm[i] = m;
     }
+    double tet_min = 180;
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j) {
         const double d = norm(nrm[i]) * norm(nrm[j]);
-        if (d == 0) continue;
+        if (d == 0) {
+          tet_min = 0;
+          continue;
+        }
         const double c = std::max(-1.0, std::min(1.0, dot(nrm[i], nrm[j]) / d));
         const double angle = 180 - std::acos(c) * 180 / pi;
+        tet_min = std::min(tet_min, angle);
         min_dihedral = std::min(min_dihedral, angle);
         max_dihedral = std::max(max_dihedral, angle);
       }
+    size_t dbin = 0;
+    while (dbin < 9 && tet_min >= kDihedralBins[dbin]) ++dbin;
+    ++stats.dihedral_histogram[dbin];
     // Radius-edge ratio: circumradius over the shortest edge.
     const Vec3 a = p[0] - p[3], b = p[1] - p[3], c = p[2] - p[3];
     const double det = dot(a, cross(b, c));

@@ -50,20 +50,33 @@ inline constexpr StatisticsField kStatisticsFields[] = {
     {"fallbacks", &Statistics::fallbacks, nullptr, nullptr},
     {"facetSplits", &Statistics::facet_splits, nullptr, nullptr},
     {"flatFlips", &Statistics::flat_flips, nullptr, nullptr},
+    {"refineSegment", &Statistics::refine_segment, nullptr, nullptr},
+    {"refineFacet", &Statistics::refine_facet, nullptr, nullptr},
+    {"refineVolume", &Statistics::refine_volume, nullptr, nullptr},
+    {"refineSkipped", &Statistics::refine_skipped, nullptr, nullptr},
+    {"refineCapped", &Statistics::refine_capped, nullptr, nullptr},
+    {"improveFlips", &Statistics::improve_flips, nullptr, nullptr},
+    {"improveSmooths", &Statistics::improve_smooths, nullptr, nullptr},
     {"msRead", nullptr, &Statistics::ms_read, nullptr},
     {"msDelaunay", nullptr, &Statistics::ms_delaunay, nullptr},
     {"msSegments", nullptr, &Statistics::ms_segments, nullptr},
     {"msDegeneracy", nullptr, &Statistics::ms_degeneracy, nullptr},
     {"msFacets", nullptr, &Statistics::ms_facets, nullptr},
     {"msCarve", nullptr, &Statistics::ms_carve, nullptr},
+    {"msRefine", nullptr, &Statistics::ms_refine, nullptr},
     {"msTotal", nullptr, &Statistics::ms_total, nullptr},
     {"minDihedral", nullptr, &Statistics::min_dihedral, nullptr},
     {"maxDihedral", nullptr, &Statistics::max_dihedral, nullptr},
     {"flatTets", &Statistics::flat_tets, nullptr, nullptr},
     {"radiusEdgeHistogram", nullptr, nullptr, &Statistics::radius_edge_histogram},
+    {"dihedralHistogram", nullptr, nullptr, &Statistics::dihedral_histogram},
+    {"minDihedralBefore", nullptr, &Statistics::min_dihedral_before, nullptr},
+    {"radiusEdgeHistogramBefore", nullptr, nullptr, &Statistics::radius_edge_histogram_before},
+    {"dihedralHistogramBefore", nullptr, nullptr, &Statistics::dihedral_histogram_before},
 };
 
-/// Fills min_dihedral, max_dihedral (degrees) and radius_edge_histogram of
+/// Fills min_dihedral, max_dihedral (degrees), radius_edge_histogram,
+/// dihedral_histogram and flat_tets of
 /// `stats` from the tets of `mesh`.
 void quality_statistics(const TetMeshData& mesh, Statistics& stats);
 

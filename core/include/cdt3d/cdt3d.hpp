@@ -206,8 +206,9 @@ enum class SteinerKind : uint8_t {
 };
 
 /// Phase names reported to the progress callback, in order.
-/// Read covers the input checks (check_plc and the self-intersection test).
-enum class Phase { Read, Delaunay, Segments, Degeneracy, Facets, Carve, Done };
+/// Read covers the input checks (check_plc and the self-intersection test);
+/// Refine runs only with Options::quality.enabled.
+enum class Phase { Read, Delaunay, Segments, Degeneracy, Facets, Carve, Refine, Done };
 const char* phase_name(Phase phase);  ///< "read", "delaunay", "segments", ...
 /// Inverse of phase_name; false for an unknown name.
 bool phase_from_name(const std::string& name, Phase& out);
@@ -225,6 +226,26 @@ enum class DegeneracyMode : uint8_t {
   Paper = 1,
 };
 
+/// Quality refinement of the carved CDT (constrained Delaunay refinement,
+/// Shewchuk 1998 and Si 2015): encroached subsegments and subfaces are split,
+/// then the circumcentres of bad tets inserted, every point into the CDT with
+/// its constrained faces respected, so the result is a CDT of the refined
+/// PLC (validate() checks it). Input angles below 60 degrees between segments
+/// and 90 degrees between facets are protected: tets whose badness comes
+/// from such an angle are left as they are, so refinement terminates.
+struct QualityOptions {
+  bool enabled = false;       ///< run the Refine phase (CLI --quality, JS quality: {...})
+  double radius_edge = 2.0;   ///< bound on circumradius / shortest edge, >= 1 (tetgen -q)
+  double max_volume = -1;     ///< largest tet volume, -1: none (tetgen -a); Region::max_volume also applies
+  /// Improvement pass after refinement (flips and vertex smoothing against
+  /// slivers, like tetgen -O): raise the smallest dihedral angle towards
+  /// this many degrees; 0 = no pass. At most 70.
+  double min_dihedral = 0;
+  /// Stop refining after this many added points (0: 100 times the points
+  /// of the CDT plus 1e6); reported in Statistics::refine_capped.
+  size_t max_points = 0;
+};
+
 struct Options {
   DegeneracyMode degeneracy = DegeneracyMode::Symbolic;  ///< step 3 (see DegeneracyMode)
   bool keep_convex_hull = false;  ///< keep the tets outside the PLC (like tetgen -c)
@@ -240,6 +261,7 @@ struct Options {
   /// faces name the smallest input facet of their group; validate() the
   /// result against merge_coplanar_facets() of the input.
   bool merge_coplanar_facets = false;
+  QualityOptions quality;         ///< refinement after carving (off by default)
   Phase stop_after = Phase::Done; ///< stop after this phase (debugging); result holds that mesh
   /// Testing only: the first N times facet recovery runs, its first missing
   /// region counts as unrecoverable, which exercises the fallback that puts
@@ -273,14 +295,30 @@ struct Statistics {
   size_t facet_splits = 0;
   /// Numerically flat tets removed by flips before output.
   size_t flat_flips = 0;
+  /// Points added by quality refinement, by where they lie (counted in
+  /// steiner_segment / steiner_facet / steiner_volume too).
+  size_t refine_segment = 0, refine_facet = 0, refine_volume = 0;
+  /// Bad tets refinement left because fixing them would split near a small
+  /// input angle (or would create a numerically flat tet).
+  size_t refine_skipped = 0;
+  size_t refine_capped = 0;   ///< 1 when QualityOptions::max_points stopped refinement
+  size_t improve_flips = 0, improve_smooths = 0;  ///< improvement pass (min_dihedral)
   double ms_read = 0, ms_delaunay = 0, ms_segments = 0, ms_degeneracy = 0, ms_facets = 0,
-         ms_carve = 0, ms_total = 0;
+         ms_carve = 0, ms_refine = 0, ms_total = 0;
   double min_dihedral = 0, max_dihedral = 0;  ///< degrees, over the output tets
   /// Output tets that are numerically flat: 6V computed in doubles from the
   /// output coordinates is below kFlatTetRatio * (longest edge)^3. Always 0
   /// on success (the pipeline removes them); reported for checks.
   size_t flat_tets = 0;
   std::array<size_t, 10> radius_edge_histogram{};  ///< ratio bins [1,1.5,2,3,5,10,20,50,100,inf)
+  /// Per tet its smallest dihedral angle, in degree bins
+  /// [0,1,5,10,15,20,30,40,50,60,inf).
+  std::array<size_t, 10> dihedral_histogram{};
+  /// The same three quality numbers for the CDT before refinement (equal to
+  /// the final ones when quality refinement is off).
+  double min_dihedral_before = 0;
+  std::array<size_t, 10> radius_edge_histogram_before{};
+  std::array<size_t, 10> dihedral_histogram_before{};
 };
 
 /// The CDT. Point i < input_points is PLC point i; the others are Steiner points.
