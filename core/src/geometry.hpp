@@ -15,6 +15,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "predicates.hpp"
+
 namespace cdt3d {
 
 /// A length far below any coordinate difference the core meets (the
@@ -144,6 +146,32 @@ inline bool has_flat_quadruple(const double* const p[5]) {
     for (int i = 0, k = 0; i < 5; ++i)
       if (i != skip) q[k++] = p[i];
     if (std::fabs(volume_ratio(q[0], q[1], q[2], q[3])) <= kFlatTetRatio) return true;
+  }
+  return false;
+}
+
+/// A point of the open segment (u, w) exactly on its line (collinear by the
+/// exact test) at a dyadic fraction g = k / 2^n near f, for n from max_bits
+/// down to min_bits (|g - f| <= 2^-(n+1)); the point is evaluated in doubles
+/// and kept only if that evaluation was exact. Split points of segments use
+/// it so that a subsegment stays exactly on its segment's line when it can.
+inline bool point_exactly_on_segment(const double* pu, const double* pw, double f, int max_bits,
+                                     int min_bits, Vec3& q, double& tf) {
+  for (int n = max_bits; n >= min_bits; --n) {
+    const double scale = std::ldexp(1.0, n);
+    const double g = std::round(f * scale) / scale;
+    if (!(g > 0 && g < 1)) continue;
+    const double x[3] = {pu[0] + g * (pw[0] - pu[0]), pu[1] + g * (pw[1] - pu[1]),
+                         pu[2] + g * (pw[2] - pu[2])};
+    const bool inside = (x[0] - pu[0]) * (pw[0] - pu[0]) + (x[1] - pu[1]) * (pw[1] - pu[1]) +
+                                (x[2] - pu[2]) * (pw[2] - pu[2]) > 0 &&
+                        (x[0] - pw[0]) * (pu[0] - pw[0]) + (x[1] - pw[1]) * (pu[1] - pw[1]) +
+                                (x[2] - pw[2]) * (pu[2] - pw[2]) > 0;
+    if (inside && pred::collinear3d(pu, pw, x)) {
+      q = {x[0], x[1], x[2]};
+      tf = g;
+      return true;
+    }
   }
   return false;
 }

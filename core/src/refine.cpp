@@ -1,11 +1,50 @@
-// Quality refinement (refine.hpp). Work in progress: options are checked and
-// the phase is wired; the refinement itself lands next.
+// Quality refinement of a carved CDT (refine.hpp): constrained Delaunay
+// refinement (Shewchuk 1998, Si 2015) on the kept tets alone.
+//
+// The mesh: the Result's tets in a TetMesh without ghost tets; a face with
+// no tet beyond it is open (kNoHalfFace). Constrained faces carry a tag per
+// half-face (facet + 1, or kHullTag for a boundary face that is no facet, in
+// keep-hull domains); subsegments live in a hash map edge -> segment.
+//
+// Insertion (constrained Bowyer-Watson): the cavity of a new point p is
+// grown from the tets that contain it (or, for a point on a facet or a
+// segment, from the tets beside the subfaces p splits) across faces that
+// are not constrained, to tets whose circumsphere contains p (insphere_sos,
+// p perturbed as the newest vertex, like every Steiner point of steps 1-4).
+// For a point on a facet, the subfaces it splits are found first in the
+// facet's plane: the subfaces whose circumcircle contains p, grown across
+// edges that are not subsegments (the 2D constrained Bowyer-Watson). The
+// cavity boundary must be visible from p (every new tet positive and not
+// numerically flat, tested exactly and in doubles); a tet whose face fails
+// is dropped from the cavity, and when a seed tet would have to go the
+// point is not inserted. So the mesh stays a CDT of the PLC refined by the
+// inserted points, and no insertion creates a flat tet.
+//
+// Termination: a bad tet's circumcentre c is inserted when it encroaches
+// upon no subsegment and no subface of its cavity's boundary and lies in the
+// domain; otherwise the encroached (or blocking) constraint is split instead,
+// but only when its split point lies at least the bad tet's shortest edge
+// from the constraint's vertices (the insertion radius rule of Shewchuk's
+// proof, without its angle assumptions): no insertion then comes closer to
+// an existing vertex than the shortest edge of the mesh it was triggered
+// by, so the edge lengths are bounded below and refinement stops. Bad tets
+// that would need a closer split are left (counted in refine_skipped);
+// they are the ones near small input angles, which TetGen leaves too.
 #include "refine.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <string>
+#include <unordered_map>
+#include <vector>
 
+#include "geometry.hpp"
+#include "predicates.hpp"
+#include "spatial_sort.hpp"
 #include "status.hpp"
+#include "tet_mesh.hpp"
 
 namespace cdt3d {
 
@@ -25,9 +64,981 @@ Status check_quality_options(const QualityOptions& q) {
   return Status::success();
 }
 
-Status refine_quality(const Plc&, const QualityOptions& q, const volatile bool*,
-                      const RefineProgress&, Result&) {
-  return check_quality_options(q);
+namespace {
+
+constexpr uint32_t kNoTag = 0;
+constexpr uint32_t kHullTag = 0xffffffffu;  // boundary face of a keep-hull domain, no facet
+
+// Split points of subsegments lie exactly on their segment's line when a
+// dyadic fraction with this many bits (down to the second) gives one
+// (point_exactly_on_segment), as in segment recovery.
+constexpr int kLineBits = 24;
+constexpr int kLineMinBits = 20;
+
+// A split point that would leave a constrained face of its cavity non-
+// Delaunay splits that face first, and so on to this depth.
+constexpr int kMaxSplitDepth = 6;
+
+// Bound on the tets a walk or an edge rotation visits before giving up (a
+// broken mesh; never reached on a valid one).
+constexpr size_t kMaxWalk = 1u << 20;
+
+enum class Where : uint8_t { Input, Segment, Facet, Volume };
+
+// Floating-point geometry: it places points and ranks tets; no topological
+// decision rests on it (those use the exact predicates).
+struct TetShape {
+  double center[3];
+  double radius;    // circumradius
+  double shortest;  // shortest edge
+  double volume;
+};
+
+TetShape tet_shape(const double* p0, const double* p1, const double* p2, const double* p3) {
+  TetShape s;
+  const Vec3 d = to_vec(p3);
+  const Vec3 a = to_vec(p0) - d, b = to_vec(p1) - d, c = to_vec(p2) - d;
+  const double det = dot(a, cross(b, c));
+  s.volume = std::fabs(det) / 6;
+  const Vec3 bc = cross(b, c), ca = cross(c, a), ab = cross(a, b);
+  const double la = dot(a, a), lb = dot(b, b), lc = dot(c, c);
+  const Vec3 num = la * bc + lb * ca + lc * ab;
+  const double inv = det != 0 ? 1 / (2 * det) : 0;
+  const Vec3 o = d + inv * num;
+  s.center[0] = o.x, s.center[1] = o.y, s.center[2] = o.z;
+  s.radius = det != 0 ? norm(num) * std::fabs(inv) : HUGE_VAL;
+  const double* p[4] = {p0, p1, p2, p3};
+  s.shortest = HUGE_VAL;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) s.shortest = std::min(s.shortest, dist(to_vec(p[i]), to_vec(p[j])));
+  return s;
+}
+
+// Circumcentre and circumradius of triangle (a, b, c) in its plane.
+bool triangle_circle(const double* pa, const double* pb, const double* pc, Vec3& center, double& r) {
+  const Vec3 a = to_vec(pa), ab = to_vec(pb) - a, ac = to_vec(pc) - a;
+  const Vec3 n = cross(ab, ac);
+  const double n2 = dot(n, n);
+  if (!(n2 > 0)) return false;
+  const Vec3 off = (1 / (2 * n2)) * (dot(ab, ab) * cross(ac, n) + dot(ac, ac) * cross(n, ab));
+  center = a + off;
+  r = norm(off);
+  return std::isfinite(r);
+}
+
+// p strictly inside the diametral sphere of triangle (a, b, c): the smallest
+// sphere through its vertices (Shewchuk's encroachment of a subface).
+bool encroaches_triangle(const double* pa, const double* pb, const double* pc, const double* p) {
+  Vec3 o;
+  double r;
+  if (!triangle_circle(pa, pb, pc, o, r)) return false;
+  return dist(to_vec(p), o) < r;
+}
+
+class Refiner {
+ public:
+  Refiner(const Plc& plc, const QualityOptions& q, Result& res) : plc_(plc), q_(q), res_(res) {}
+  Status run(const volatile bool* cancel, const RefineProgress& progress);
+
+ private:
+  struct Subface {
+    HalfFace hf;
+    uint32_t tag;
+    std::array<VertexId, 3> v;
+  };
+  struct BoundaryFace {
+    VertexId a, b, c;   // counterclockwise seen from outside the cavity
+    HalfFace outside;   // the half-face beyond, or kNoHalfFace
+    HalfFace own;       // the face as a half-face of its cavity tet
+    uint32_t tag;
+    double attr;
+    TetId from;
+  };
+  enum class Walk { InTet, Blocked, Failed };
+  // What a cavity check found: fine, a constraint to split first, or no go.
+  enum class Verdict { Ok, SplitSubface, SplitSubsegment, Reject };
+
+  // --- set-up and output ---
+  Status build();
+  void write_result();
+  // --- per-tet-slot and per-vertex arrays that follow TetMesh's growth ---
+  TetId new_tet();
+  VertexId new_vertex(const double* p, Where where, int64_t parent);
+
+  // --- queries ---
+  uint32_t tag(HalfFace hf) const { return hfc_[hf]; }
+  std::array<VertexId, 3> face_of(HalfFace hf) const {
+    const VertexId* t = m_.tet_vertices(hf_tet(hf));
+    const int i = hf_face(hf);
+    return {t[kFaceVertex[i][0]], t[kFaceVertex[i][1]], t[kFaceVertex[i][2]]};
+  }
+  const double* pt(VertexId v) const { return m_.point(v); }
+  bool is_subsegment(VertexId a, VertexId b) const { return subseg_.count(edge_key(a, b)) != 0; }
+  bool edge_ring(TetId t0, VertexId x, VertexId y, std::vector<TetId>& out) const;
+  bool subface_across(const Subface& s, VertexId x, VertexId y, Subface& out);
+  void subfaces_at_edge(VertexId a, VertexId b, TetId t0, std::vector<Subface>& out);
+  int facet_axis(uint32_t tag, const std::array<VertexId, 3>& v) const;
+  Walk locate(TetId start, const double* p, TetId& found, HalfFace& blocked);
+  Walk locate_in_facet(const Subface& start, const double* p, Subface& found, VertexId& sa,
+                       VertexId& sb);
+  double volume_limit(double attr) const;
+  bool is_bad(TetId t, TetShape& shape) const;
+
+  // --- insertion ---
+  bool grow_subface_region(const double* p, VertexId pid, VertexId sa, VertexId sb);
+  void grow_cavity(const double* p, VertexId pid);
+  bool removed(HalfFace hf) const {
+    return std::find(removed_.begin(), removed_.end(), hf) != removed_.end();
+  }
+  void collect_boundary();
+  Verdict check_constraints(const double* p, Where where, VertexId sa, VertexId sb);
+  bool cavity_is_star(const double* p) const;
+  void region_boundary(VertexId sa, VertexId sb);
+  bool region_edges_on_boundary() const;
+  bool cone_is_delaunay(const double* p);
+  void clear_cavity();
+  VertexId commit(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb);
+  bool insert(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb,
+              double floor, Verdict* verdict);
+  double nearest_vertex(const double* p) const;
+
+  // --- the three kinds of split ---
+  bool split_subsegment(VertexId a, VertexId b, double lmin, int depth = 0);
+  bool split_subface(const Subface& s, double lmin, int depth = 0);
+  bool fix_bad_tet(TetId t, const TetShape& shape);
+
+
+  const Plc& plc_;
+  const QualityOptions& q_;
+  Result& res_;
+  TetMesh m_;
+  std::vector<uint32_t> hfc_;     // per half-face: constraint tag
+  std::vector<double> attr_;      // per tet slot: region attribute
+  std::vector<Where> where_;      // per vertex
+  std::vector<int64_t> parent_;   // per vertex: segment or facet, -1
+  std::unordered_map<uint64_t, uint32_t> subseg_;  // subsegment -> input segment
+  std::vector<int8_t> facet_drop_;                 // per facet: projection axis
+  std::vector<int8_t> facet_side_;                 // per facet: orientation of its output faces
+  std::vector<std::pair<double, double>> region_limits_;  // (attribute, max volume)
+  size_t old_points_ = 0;
+  Rng rng_{0x7265666e65ull};
+
+  // Insertion buffers.
+  std::vector<Subface> region_;    // subfaces the point splits
+  std::vector<HalfFace> removed_;  // their half-faces (both sides)
+  std::vector<TetId> cav_;
+  std::vector<BoundaryFace> bnd_;
+  std::vector<uint64_t> bnd_edges_;
+  std::vector<TetId> ring_;
+  Subface split_face_{};             // what check_constraints asks to split
+  VertexId split_a_ = kNone, split_b_ = kNone;
+  std::vector<TetId> queue_;       // tets to test
+  struct SideRec {
+    uint64_t key;
+    uint32_t face;
+    VertexId third;
+  };
+  std::vector<SideRec> sides_;
+  bool fault_ = false;  // cone_is_delaunay() named a constrained face
+  std::vector<std::pair<uint64_t, uint32_t>> rim_;  // region_boundary(): (edge, tag)
+};
+
+// ---------------------------------------------------------------------------
+// Set-up and output
+// ---------------------------------------------------------------------------
+
+TetId Refiner::new_tet() {
+  const TetId t = m_.alloc_tet();
+  if (hfc_.size() < 4 * m_.num_tet_slots()) {
+    hfc_.resize(4 * m_.num_tet_slots(), kNoTag);
+    attr_.resize(m_.num_tet_slots(), 0);
+  }
+  for (int i = 0; i < 4; ++i) hfc_[4 * static_cast<size_t>(t) + i] = kNoTag;
+  return t;
+}
+
+VertexId Refiner::new_vertex(const double* p, Where where, int64_t parent) {
+  const VertexId v = m_.add_vertex(p, kVertexSteiner);
+  where_.push_back(where);
+  parent_.push_back(parent);
+  return v;
+}
+
+Status Refiner::build() {
+  const TetMeshData& md = res_.mesh;
+  const size_t nv = md.points.size() / 3, nt = md.tets.size() / 4;
+  old_points_ = nv;
+  m_.reserve(nv, nt);
+  for (size_t v = 0; v < nv; ++v) m_.add_vertex(&md.points[3 * v], kVertexInput);
+  where_.assign(nv, Where::Input);
+  parent_.assign(nv, -1);
+  for (size_t i = 0; i < res_.steiner_kind.size(); ++i) {
+    const size_t v = res_.input_points + i;
+    if (v >= nv) break;
+    const SteinerKind k = res_.steiner_kind[i];
+    where_[v] = k == SteinerKind::Segment ? Where::Segment
+                : k == SteinerKind::Facet ? Where::Facet
+                                          : Where::Volume;
+    parent_[v] = res_.steiner_parent[i];
+  }
+  // Tets, then their adjacency by matching sorted face keys.
+  std::vector<std::pair<std::array<VertexId, 3>, HalfFace>> keys;
+  keys.reserve(4 * nt);
+  for (size_t k = 0; k < nt; ++k) {
+    const TetId t = new_tet();
+    const uint32_t* v = &md.tets[4 * k];
+    m_.set_tet(t, v[0], v[1], v[2], v[3]);
+    attr_[t] = md.tet_attributes.size() == nt ? md.tet_attributes[k] : 0;
+    for (int i = 0; i < 4; ++i) {
+      m_.set_vertex_tet(v[i], t);
+      const HalfFace hf = make_hf(t, i);
+      keys.push_back({sorted_triangle(face_of(hf)), hf});
+    }
+  }
+  std::sort(keys.begin(), keys.end());
+  for (size_t i = 0; i < keys.size();) {
+    if (i + 1 < keys.size() && keys[i + 1].first == keys[i].first) {
+      if (i + 2 < keys.size() && keys[i + 2].first == keys[i].first)
+        return make_error(ErrorCode::Internal, "Refinement: a face is shared by three tets.");
+      m_.glue(keys[i].second, keys[i + 1].second);
+      i += 2;
+    } else {
+      m_.open_face(keys[i].second);
+      ++i;
+    }
+  }
+  // Constrained faces; open faces that are no facet bound a kept hull.
+  facet_side_.assign(plc_.facets.size(), 0);
+  for (size_t i = 0; i < md.faces.size() / 3; ++i) {
+    const std::array<VertexId, 3> f = {md.faces[3 * i], md.faces[3 * i + 1], md.faces[3 * i + 2]};
+    const uint32_t facet = res_.face_facet[i];
+    auto it = std::lower_bound(keys.begin(), keys.end(), std::make_pair(sorted_triangle(f), HalfFace(0)));
+    for (; it != keys.end() && it->first == sorted_triangle(f); ++it) hfc_[it->second] = facet + 1;
+    if (facet < facet_side_.size() && facet_side_[facet] == 0)
+      facet_side_[facet] = static_cast<int8_t>(
+          pred::orient2d_projected(pt(f[0]), pt(f[1]), pt(f[2]), facet_axis(facet + 1, f)));
+  }
+  for (const auto& k : keys)
+    if (m_.adjacent(k.second) == kNoHalfFace && hfc_[k.second] == kNoTag) hfc_[k.second] = kHullTag;
+  for (size_t i = 0; i < res_.edge_segment.size(); ++i)
+    subseg_[edge_key(res_.edges[2 * i], res_.edges[2 * i + 1])] = res_.edge_segment[i];
+  // Per-region volume bounds (Region::max_volume), by attribute.
+  for (const Region& r : plc_.regions)
+    if (r.max_volume > 0) region_limits_.push_back({r.attribute, r.max_volume});
+  return Status::success();
+}
+
+int Refiner::facet_axis(uint32_t tag, const std::array<VertexId, 3>& v) const {
+  if (tag != kHullTag && tag != kNoTag && tag - 1 < facet_drop_.size() && facet_drop_[tag - 1] >= 0)
+    return facet_drop_[tag - 1];
+  return projection_axis(pt(v[0]), pt(v[1]), pt(v[2]));
+}
+
+void Refiner::write_result() {
+  TetMeshData& md = res_.mesh;
+  const size_t nv = m_.num_vertices();
+  md.points = m_.coords;
+  const bool attributes = !md.tet_attributes.empty();
+  md.tets.clear();
+  md.tet_attributes.clear();
+  md.faces.clear();
+  md.face_markers.clear();
+  res_.face_facet.clear();
+  for (TetId t = 0; t < m_.num_tet_slots(); ++t) {
+    if (m_.is_dead(t)) continue;
+    const VertexId* v = m_.tet_vertices(t);
+    md.tets.insert(md.tets.end(), v, v + 4);
+    if (attributes) md.tet_attributes.push_back(attr_[t]);
+  }
+  for (TetId t = 0; t < m_.num_tet_slots(); ++t) {
+    if (m_.is_dead(t)) continue;
+    for (int i = 0; i < 4; ++i) {
+      const HalfFace hf = make_hf(t, i);
+      const uint32_t g = tag(hf);
+      if (g == kNoTag || g == kHullTag) continue;
+      const HalfFace nb = m_.adjacent(hf);
+      if (nb != kNoHalfFace && hf_tet(nb) < t) continue;  // listed from the other side
+      std::array<VertexId, 3> f = face_of(hf);
+      const uint32_t facet = g - 1;
+      // The faces of a facet keep one orientation in its plane (validate()).
+      const int side = facet < facet_side_.size() ? facet_side_[facet] : 0;
+      if (side != 0 &&
+          pred::orient2d_projected(pt(f[0]), pt(f[1]), pt(f[2]), facet_axis(g, f)) != side)
+        std::swap(f[1], f[2]);
+      md.faces.insert(md.faces.end(), f.begin(), f.end());
+      res_.face_facet.push_back(facet);
+      md.face_markers.push_back(facet < plc_.facets.size() ? plc_.facets[facet].marker : 0);
+    }
+  }
+  std::vector<std::array<uint32_t, 3>> edges;
+  edges.reserve(subseg_.size());
+  for (const auto& e : subseg_)
+    edges.push_back({e.second, static_cast<uint32_t>(e.first >> 32), static_cast<uint32_t>(e.first)});
+  std::sort(edges.begin(), edges.end());
+  res_.edges.clear();
+  res_.edge_segment.clear();
+  for (const auto& e : edges) {
+    res_.edges.push_back(e[1]);
+    res_.edges.push_back(e[2]);
+    res_.edge_segment.push_back(e[0]);
+  }
+  for (size_t v = old_points_; v < nv; ++v) {
+    const Where w = where_[v];
+    res_.steiner_kind.push_back(w == Where::Segment ? SteinerKind::Segment
+                                : w == Where::Facet ? SteinerKind::Facet
+                                                    : SteinerKind::Volume);
+    res_.steiner_parent.push_back(parent_[v]);
+  }
+  Statistics& s = res_.stats;
+  s.points = nv;
+  s.tets = md.tets.size() / 4;
+  s.faces = md.faces.size() / 3;
+  s.steiner_segment = s.steiner_facet = s.steiner_volume = 0;
+  for (SteinerKind k : res_.steiner_kind) {
+    if (k == SteinerKind::Segment) ++s.steiner_segment;
+    if (k == SteinerKind::Facet) ++s.steiner_facet;
+    if (k == SteinerKind::Volume) ++s.steiner_volume;
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Queries
+// ---------------------------------------------------------------------------
+
+// The tets around edge xy, starting at t0 (which has it): rotates across the
+// faces through xy one way until the ring closes or meets the domain
+// boundary, then the other way from t0. False on a broken mesh.
+bool Refiner::edge_ring(TetId t0, VertexId x, VertexId y, std::vector<TetId>& out) const {
+  out.clear();
+  out.push_back(t0);
+  const VertexId* v0 = m_.tet_vertices(t0);
+  VertexId w[2];
+  for (int i = 0, k = 0; i < 4; ++i)
+    if (v0[i] != x && v0[i] != y) {
+      if (k == 2) return false;
+      w[k++] = v0[i];
+    }
+  for (int dir = 0; dir < 2; ++dir) {
+    TetId t = t0;
+    VertexId came = w[dir];  // we "entered" t across the face opposite this vertex
+    for (size_t steps = 0;; ++steps) {
+      if (steps > kMaxWalk) return false;
+      const VertexId* tv = m_.tet_vertices(t);
+      int exit_pos = -1;
+      for (int i = 0; i < 4; ++i)
+        if (tv[i] != x && tv[i] != y && tv[i] != came) exit_pos = i;
+      if (exit_pos < 0) return false;
+      const HalfFace nb = m_.adjacent(make_hf(t, exit_pos));
+      if (nb == kNoHalfFace) break;
+      const TetId u = hf_tet(nb);
+      if (u == t0) return dir == 0;  // closed: every tet seen
+      came = m_.opposite(nb);
+      t = u;
+      out.push_back(t);
+    }
+  }
+  return true;
+}
+
+// The subface of s's facet on the other side of its edge xy (not a
+// subsegment: exactly two subfaces of the facet share it).
+bool Refiner::subface_across(const Subface& s, VertexId x, VertexId y, Subface& out) {
+  if (!edge_ring(hf_tet(s.hf), x, y, ring_)) return false;
+  VertexId z = kNone;
+  for (VertexId u : s.v)
+    if (u != x && u != y) z = u;
+  for (TetId t : ring_) {
+    const VertexId* tv = m_.tet_vertices(t);
+    for (int i = 0; i < 4; ++i) {
+      if (tv[i] == x || tv[i] == y) continue;
+      const HalfFace hf = make_hf(t, i);
+      if (tag(hf) != s.tag) continue;
+      const auto f = face_of(hf);
+      if (std::find(f.begin(), f.end(), z) != f.end()) continue;
+      out = {hf, s.tag, f};
+      return true;
+    }
+  }
+  return false;
+}
+
+// Every constrained face through edge ab, each triangle once.
+void Refiner::subfaces_at_edge(VertexId a, VertexId b, TetId t0, std::vector<Subface>& out) {
+  out.clear();
+  if (!edge_ring(t0, a, b, ring_)) return;
+  for (TetId t : ring_) {
+    const VertexId* tv = m_.tet_vertices(t);
+    for (int i = 0; i < 4; ++i) {
+      if (tv[i] == a || tv[i] == b) continue;
+      const HalfFace hf = make_hf(t, i);
+      if (tag(hf) == kNoTag) continue;
+      const auto f = sorted_triangle(face_of(hf));
+      bool seen = false;
+      for (const Subface& s : out) seen = seen || sorted_triangle(s.v) == f;
+      if (!seen) out.push_back({hf, tag(hf), face_of(hf)});
+    }
+  }
+}
+
+// Visibility walk from `start` towards p across faces p is strictly beyond;
+// stops at a constrained or open face p is beyond (Blocked, `blocked` set).
+Refiner::Walk Refiner::locate(TetId start, const double* p, TetId& found, HalfFace& blocked) {
+  TetId t = start;
+  HalfFace entered = kNoHalfFace;
+  for (size_t steps = 0; steps < kMaxWalk; ++steps) {
+    const int k0 = static_cast<int>(rng_.next() & 3u);
+    bool moved = false;
+    for (int j = 0; j < 4 && !moved; ++j) {
+      const int i = (k0 + j) & 3;
+      const HalfFace hf = make_hf(t, i);
+      if (hf == entered) continue;
+      const auto f = face_of(hf);
+      if (pred::orient3d(pt(f[0]), pt(f[1]), pt(f[2]), p) >= 0) continue;
+      const HalfFace nb = m_.adjacent(hf);
+      if (tag(hf) != kNoTag || nb == kNoHalfFace) {
+        blocked = hf;
+        return Walk::Blocked;
+      }
+      entered = nb;
+      t = hf_tet(nb);
+      moved = true;
+    }
+    if (!moved) {
+      found = t;
+      return Walk::InTet;
+    }
+  }
+  return Walk::Failed;
+}
+
+// The 2D walk in a facet from subface `start` towards p (projected by the
+// facet's axis): crosses edges p is strictly beyond; stops at a subsegment
+// (Blocked, its ends in sa, sb).
+Refiner::Walk Refiner::locate_in_facet(const Subface& start, const double* p, Subface& found,
+                                       VertexId& sa, VertexId& sb) {
+  Subface s = start;
+  const int drop = facet_axis(s.tag, s.v);
+  VertexId from_x = kNone, from_y = kNone;
+  for (size_t steps = 0; steps < kMaxWalk; ++steps) {
+    const int side = pred::orient2d_projected(pt(s.v[0]), pt(s.v[1]), pt(s.v[2]), drop);
+    if (side == 0) return Walk::Failed;
+    bool moved = false;
+    for (int k = 0; k < 3 && !moved; ++k) {
+      const VertexId x = s.v[k], y = s.v[(k + 1) % 3];
+      if ((x == from_x && y == from_y) || (x == from_y && y == from_x)) continue;
+      if (pred::orient2d_projected(pt(x), pt(y), p, drop) * side >= 0) continue;
+      if (is_subsegment(x, y)) {
+        sa = x, sb = y;
+        return Walk::Blocked;
+      }
+      Subface next;
+      if (!subface_across(s, x, y, next)) return Walk::Failed;
+      s = next;
+      from_x = x, from_y = y;
+      moved = true;
+    }
+    if (!moved) {
+      found = s;
+      return Walk::InTet;
+    }
+  }
+  return Walk::Failed;
+}
+
+double Refiner::volume_limit(double attr) const {
+  double limit = q_.max_volume > 0 ? q_.max_volume : HUGE_VAL;
+  for (const auto& r : region_limits_)
+    if (r.first == attr) limit = std::min(limit, r.second);
+  return limit;
+}
+
+bool Refiner::is_bad(TetId t, TetShape& shape) const {
+  const VertexId* v = m_.tet_vertices(t);
+  shape = tet_shape(pt(v[0]), pt(v[1]), pt(v[2]), pt(v[3]));
+  if (!(shape.shortest > 0) || !std::isfinite(shape.radius)) return false;
+  return shape.radius > q_.radius_edge * shape.shortest || shape.volume > volume_limit(attr_[t]);
+}
+
+// ---------------------------------------------------------------------------
+// Insertion
+// ---------------------------------------------------------------------------
+
+// The subfaces a point on a facet (or on segment sa-sb) splits: from the
+// seeds in region_, the subfaces of the same facet across edges that are no
+// subsegment whose circumcircle contains p (exact, in the facet's
+// projection; a tie goes by the perturbed insphere of a tet beside it).
+bool Refiner::grow_subface_region(const double* p, VertexId pid, VertexId sa, VertexId sb) {
+  for (size_t i = 0; i < region_.size(); ++i) {
+    const Subface s = region_[i];
+    for (int k = 0; k < 3; ++k) {
+      const VertexId x = s.v[k], y = s.v[(k + 1) % 3];
+      if ((x == sa && y == sb) || (x == sb && y == sa) || is_subsegment(x, y)) continue;
+      Subface n;
+      if (!subface_across(s, x, y, n)) return false;
+      const auto key = sorted_triangle(n.v);
+      bool seen = false;
+      for (const Subface& r : region_) seen = seen || sorted_triangle(r.v) == key;
+      if (seen) continue;
+      const int drop = facet_axis(n.tag, n.v);
+      double a2[2], b2[2], c2[2], p2[2];
+      const int u = (drop + 1) % 3, w = (drop + 2) % 3;
+      const double* pa = pt(n.v[0]);
+      const double* pb = pt(n.v[1]);
+      const double* pc = pt(n.v[2]);
+      a2[0] = pa[u], a2[1] = pa[w], b2[0] = pb[u], b2[1] = pb[w];
+      c2[0] = pc[u], c2[1] = pc[w], p2[0] = p[u], p2[1] = p[w];
+      const int o = pred::orient2d(a2, b2, c2);
+      int in = o * pred::incircle(a2, b2, c2, p2);
+      if (o == 0) in = -1;
+      if (in == 0) {
+        const VertexId* tv = m_.tet_vertices(hf_tet(n.hf));
+        in = pred::insphere_sos(pt(tv[0]), pt(tv[1]), pt(tv[2]), pt(tv[3]), p, tv[0], tv[1], tv[2],
+                                tv[3], pid);
+      }
+      if (in > 0) region_.push_back(n);
+    }
+  }
+  for (const Subface& s : region_) {
+    removed_.push_back(s.hf);
+    const HalfFace nb = m_.adjacent(s.hf);
+    if (nb != kNoHalfFace) removed_.push_back(nb);
+  }
+  return true;
+}
+
+// Bowyer-Watson growth from the seeds in cav_ (already marked) across faces
+// that are not constrained (or are removed subfaces) to tets in conflict.
+void Refiner::grow_cavity(const double* p, VertexId pid) {
+  for (size_t i = 0; i < cav_.size(); ++i) {
+    const TetId t = cav_[i];
+    for (int f = 0; f < 4; ++f) {
+      const HalfFace hf = make_hf(t, f);
+      const HalfFace nb = m_.adjacent(hf);
+      if (nb == kNoHalfFace) continue;
+      const TetId u = hf_tet(nb);
+      if (m_.tflag[u] & kTetInCavity) continue;
+      if (tag(hf) != kNoTag && !removed(hf)) continue;
+      const VertexId* tv = m_.tet_vertices(u);
+      const bool conflict = removed(hf) || pred::insphere_sos(pt(tv[0]), pt(tv[1]), pt(tv[2]),
+                                                              pt(tv[3]), p, tv[0], tv[1], tv[2],
+                                                              tv[3], pid) > 0;
+      if (!conflict) continue;
+      m_.tflag[u] |= kTetInCavity;
+      cav_.push_back(u);
+    }
+  }
+}
+
+void Refiner::collect_boundary() {
+  bnd_.clear();
+  bnd_edges_.clear();
+  for (TetId t : cav_) {
+    for (int f = 0; f < 4; ++f) {
+      const HalfFace hf = make_hf(t, f);
+      const HalfFace nb = m_.adjacent(hf);
+      if (nb != kNoHalfFace && (m_.tflag[hf_tet(nb)] & kTetInCavity)) continue;
+      if (nb == kNoHalfFace && removed(hf)) continue;  // a split boundary subface
+      const auto v = face_of(hf);
+      bnd_.push_back({v[0], v[1], v[2], nb, hf, tag(hf), attr_[t], t});
+      for (int k = 0; k < 3; ++k) bnd_edges_.push_back(edge_key(v[k], v[(k + 1) % 3]));
+    }
+  }
+  std::sort(bnd_edges_.begin(), bnd_edges_.end());
+}
+
+// Shewchuk's rejection rules: a circumcentre (Volume) is not inserted when it
+// encroaches upon a subface of its cavity's boundary or upon a subsegment
+// among the cavity's edges; a facet point not when it encroaches upon such a
+// subsegment. Any subsegment among the cavity's edges must survive (be an
+// edge of the boundary), else the point is rejected.
+Refiner::Verdict Refiner::check_constraints(const double* p, Where where, VertexId sa,
+                                            VertexId sb) {
+  if (where == Where::Volume) {
+    for (const BoundaryFace& f : bnd_) {
+      if (f.tag == kNoTag) continue;
+      if (encroaches_triangle(pt(f.a), pt(f.b), pt(f.c), p)) {
+        split_face_ = {f.own, f.tag, {f.a, f.b, f.c}};
+        return Verdict::SplitSubface;
+      }
+    }
+  }
+  for (TetId t : cav_) {
+    const VertexId* tv = m_.tet_vertices(t);
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) {
+        const VertexId a = tv[i], b = tv[j];
+        if ((a == sa && b == sb) || (a == sb && b == sa) || !is_subsegment(a, b)) continue;
+        if (where != Where::Segment && pred::dot_sign(pt(a), p, pt(b)) < 0) {
+          split_a_ = a, split_b_ = b;
+          return Verdict::SplitSubsegment;
+        }
+        if (!std::binary_search(bnd_edges_.begin(), bnd_edges_.end(), edge_key(a, b)))
+          return Verdict::Reject;
+      }
+  }
+  return Verdict::Ok;
+}
+
+// The cavity is star-shaped from p: every boundary face gives a positive,
+// not numerically flat tet with p (exact orientation, then the doubles of
+// the output). A cavity that is not (p beyond a constrained face of it,
+// at a concave part of the domain boundary) is not shrunk: the tets left
+// out would still hold p in their circumsphere, next to the new tets, and
+// the mesh would no longer be constrained Delaunay. The point is not
+// inserted instead.
+bool Refiner::cavity_is_star(const double* p) const {
+  for (const BoundaryFace& f : bnd_)
+    if (pred::orient3d(pt(f.a), pt(f.b), pt(f.c), p) <= 0 ||
+        numerically_flat(pt(f.a), pt(f.b), pt(f.c), p))
+      return false;
+  return true;
+}
+
+// The boundary edges of the split subfaces' region, per facet (edges in
+// one subface of the region only), but the split subsegment sa-sb: the new
+// subfaces are p with each of them.
+void Refiner::region_boundary(VertexId sa, VertexId sb) {
+  rim_.clear();
+  for (const Subface& s : region_)
+    for (int k = 0; k < 3; ++k) {
+      const VertexId x = s.v[k], y = s.v[(k + 1) % 3];
+      if ((x == sa && y == sb) || (x == sb && y == sa)) continue;
+      rim_.push_back({edge_key(x, y), s.tag});
+    }
+  std::sort(rim_.begin(), rim_.end());
+  size_t out = 0;
+  for (size_t i = 0; i < rim_.size();) {
+    size_t j = i;
+    while (j < rim_.size() && rim_[j] == rim_[i]) ++j;
+    if (j - i == 1) rim_[out++] = rim_[i];
+    i = j;
+  }
+  rim_.resize(out);
+}
+
+// Every rim edge must be an edge of the cavity boundary, so that the new
+// subface through it and p exists.
+bool Refiner::region_edges_on_boundary() const {
+  for (const auto& e : rim_)
+    if (!std::binary_search(bnd_edges_.begin(), bnd_edges_.end(), e.first)) return false;
+  return true;
+}
+
+// The cone's faces through p between two new tets must be locally Delaunay
+// (exact, unperturbed, as validate() checks). Bowyer-Watson guarantees it
+// for a cavity of tets in conflict bounded by faces that are not
+// constrained; next to a constrained face the cavity stops at, a vertex
+// beyond a neighbouring new tet may lie in the new tet's circumsphere (the
+// constraint is encroached), and the tets beside split subfaces join the
+// cavity without the test (a facet point rounded off its plane may not be
+// in conflict with them). Such an insertion is not done; the constrained
+// face at fault (if any) is named for splitting.
+bool Refiner::cone_is_delaunay(const double* p) {
+  std::vector<SideRec>& sides = sides_;
+  sides.clear();
+  fault_ = false;
+  for (uint32_t i = 0; i < bnd_.size(); ++i) {
+    const VertexId v[3] = {bnd_[i].a, bnd_[i].b, bnd_[i].c};
+    for (int k = 0; k < 3; ++k) sides.push_back({edge_key(v[k], v[(k + 1) % 3]), i, v[(k + 2) % 3]});
+  }
+  std::sort(sides.begin(), sides.end(),
+            [](const SideRec& x, const SideRec& y) { return x.key < y.key; });
+  for (size_t i = 0; i + 1 < sides.size(); ++i) {
+    if (sides[i].key != sides[i + 1].key) continue;
+    const BoundaryFace& f = bnd_[sides[i].face];
+    const BoundaryFace& g = bnd_[sides[i + 1].face];
+    if (pred::insphere(pt(f.a), pt(f.b), pt(f.c), p, pt(sides[i + 1].third)) > 0 ||
+        pred::insphere(pt(g.a), pt(g.b), pt(g.c), p, pt(sides[i].third)) > 0) {
+      const BoundaryFace& c = f.tag != kNoTag ? f : g;
+      split_face_ = {c.own, c.tag, {c.a, c.b, c.c}};
+      fault_ = c.tag != kNoTag;
+      return false;
+    }
+  }
+  return true;
+}
+
+void Refiner::clear_cavity() {
+  for (TetId t : cav_) m_.tflag[t] &= static_cast<uint8_t>(~kTetInCavity);
+  cav_.clear();
+  region_.clear();
+  removed_.clear();
+}
+
+// Replaces the cavity by the cone of its boundary to the new vertex.
+VertexId Refiner::commit(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb) {
+  const VertexId v = new_vertex(p, where, parent);
+  for (TetId t : cav_) m_.free_tet(t);
+  cav_.clear();
+  struct Pending {
+    uint64_t key;
+    HalfFace hf;
+  };
+  std::vector<Pending> pending;
+  pending.reserve(3 * bnd_.size());
+  for (const BoundaryFace& f : bnd_) {
+    const TetId t = new_tet();
+    m_.set_tet(t, f.a, f.b, f.c, v);
+    attr_[t] = f.attr;
+    const HalfFace base = make_hf(t, 3);
+    hfc_[base] = f.tag;
+    if (f.outside != kNoHalfFace)
+      m_.glue(base, f.outside);
+    else
+      m_.open_face(base);
+    const VertexId abc[3] = {f.a, f.b, f.c};
+    for (int i = 0; i < 3; ++i)
+      pending.push_back({edge_key(abc[(i + 1) % 3], abc[(i + 2) % 3]), make_hf(t, i)});
+    queue_.push_back(t);
+  }
+  std::sort(pending.begin(), pending.end(),
+            [](const Pending& x, const Pending& y) { return x.key < y.key; });
+  for (size_t i = 0; i < pending.size();) {
+    if (i + 1 < pending.size() && pending[i + 1].key == pending[i].key) {
+      m_.glue(pending[i].hf, pending[i + 1].hf);
+      i += 2;
+    } else {
+      m_.open_face(pending[i].hf);
+      ++i;
+    }
+  }
+  // The new subfaces: p with each rim edge of the split region.
+  for (const auto& e : rim_) {
+    auto it = std::lower_bound(pending.begin(), pending.end(), e.first,
+                               [](const Pending& a, uint64_t k2) { return a.key < k2; });
+    for (; it != pending.end() && it->key == e.first; ++it) hfc_[it->hf] = e.second;
+  }
+  for (size_t i = queue_.size() - bnd_.size(); i < queue_.size(); ++i) {
+    const TetId t = queue_[i];
+    for (int k = 0; k < 4; ++k) m_.set_vertex_tet(m_.vertex(t, k), t);
+  }
+  if (where == Where::Segment) {
+    const uint32_t seg = subseg_[edge_key(sa, sb)];
+    subseg_.erase(edge_key(sa, sb));
+    subseg_[edge_key(sa, v)] = seg;
+    subseg_[edge_key(v, sb)] = seg;
+  }
+  region_.clear();
+  removed_.clear();
+  return v;
+}
+
+// The distance from p to the nearest vertex of its cavity's boundary: its
+// insertion radius (the cavity holds the vertices nearest to p).
+double Refiner::nearest_vertex(const double* p) const {
+  double d = HUGE_VAL;
+  const Vec3 q = to_vec(p);
+  for (const BoundaryFace& f : bnd_)
+    for (VertexId v : {f.a, f.b, f.c}) d = std::min(d, dist(q, to_vec(pt(v))));
+  return d;
+}
+
+// Inserts p (on segment sa-sb, in the facet of the seed subfaces in
+// region_, or in the volume from the seed tet in cav_). False when it was
+// not inserted; *verdict then says whether a constraint should be split
+// first (split_face_ / split_a_, split_b_).
+bool Refiner::insert(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb,
+                     double floor, Verdict* verdict) {
+  *verdict = Verdict::Reject;
+  const VertexId pid = static_cast<VertexId>(m_.num_vertices());
+  if (!region_.empty() && !grow_subface_region(p, pid, sa, sb)) {
+    clear_cavity();
+    return false;
+  }
+  for (HalfFace hf : removed_) {
+    const TetId t = hf_tet(hf);
+    if (!(m_.tflag[t] & kTetInCavity)) m_.tflag[t] |= kTetInCavity, cav_.push_back(t);
+  }
+  grow_cavity(p, pid);
+  collect_boundary();
+  *verdict = check_constraints(p, where, sa, sb);
+  if (*verdict == Verdict::Ok) {
+    region_boundary(sa, sb);
+    if (!cavity_is_star(p) || !region_edges_on_boundary())
+      *verdict = Verdict::Reject;
+    else if (!cone_is_delaunay(p))  // a constrained face of the cavity is encroached
+      *verdict = fault_ ? Verdict::SplitSubface : Verdict::Reject;
+    else if (nearest_vertex(p) < floor)
+      *verdict = Verdict::Reject;
+  }
+  if (*verdict != Verdict::Ok) {
+    clear_cavity();
+    return false;
+  }
+  commit(p, where, parent, sa, sb);
+  return true;
+}
+
+// ---------------------------------------------------------------------------
+// Splits
+// ---------------------------------------------------------------------------
+
+// Splits subsegment ab: at its midpoint, or, when exactly one end is an input
+// vertex, on the sphere around it whose radius is the power of two nearest to
+// half the length (Shewchuk's concentric shells: segments meeting at a small
+// angle are then split at the same distances and stop encroaching on each
+// other). Not when the split point would come closer than lmin to a or b.
+bool Refiner::split_subsegment(VertexId a, VertexId b, double lmin, int depth) {
+  const auto it = subseg_.find(edge_key(a, b));
+  if (it == subseg_.end()) return false;
+  const double len = dist(to_vec(pt(a)), to_vec(pt(b)));
+  double f = 0.5;
+  const bool ia = where_[a] == Where::Input, ib = where_[b] == Where::Input;
+  if (ia != ib) {
+    const double shell = std::ldexp(1.0, static_cast<int>(std::lround(std::log2(len / 2))));
+    double g = shell / len;
+    if (g > 0.25 && g < 0.75) f = ia ? g : 1 - g;
+  }
+  if (std::min(f, 1 - f) * len < lmin) return false;
+  Vec3 q;
+  double tf;
+  double xyz[3];
+  if (point_exactly_on_segment(pt(a), pt(b), f, kLineBits, kLineMinBits, q, tf)) {
+    xyz[0] = q.x, xyz[1] = q.y, xyz[2] = q.z;
+  } else {
+    // Rounded: near, not on, the segment's line; the chain, not the
+    // coordinates, says which subsegments make the segment (as in §5's
+    // split points), and the star test keeps every new tet positive.
+    for (int k = 0; k < 3; ++k) xyz[k] = pt(a)[k] + f * (pt(b)[k] - pt(a)[k]);
+  }
+  const TetId t0 = m_.find_edge(a, b);
+  if (t0 == kNone) return false;
+  subfaces_at_edge(a, b, t0, region_);
+  if (!edge_ring(t0, a, b, ring_)) {
+    region_.clear();
+    return false;
+  }
+  for (TetId t : ring_) m_.tflag[t] |= kTetInCavity, cav_.push_back(t);
+  Verdict verdict;
+  if (!insert(xyz, Where::Segment, it->second, a, b, lmin, &verdict))
+    return verdict == Verdict::SplitSubface && depth < kMaxSplitDepth &&
+           split_subface(Subface(split_face_), lmin, depth + 1);
+  ++res_.stats.refine_segment;
+  return true;
+}
+
+// Splits subface s at its circumcentre, unless that lies beyond a
+// subsegment of the facet or encroaches upon one (then the subsegment is
+// split) or comes closer than lmin to the subface's vertices.
+bool Refiner::split_subface(const Subface& s, double lmin, int depth) {
+  Vec3 c;
+  double r;
+  if (!triangle_circle(pt(s.v[0]), pt(s.v[1]), pt(s.v[2]), c, r) || r < lmin) return false;
+  const double xyz[3] = {c.x, c.y, c.z};
+  Subface at;
+  VertexId sa = kNone, sb = kNone;
+  const Walk w = locate_in_facet(s, xyz, at, sa, sb);
+  if (w == Walk::Blocked) return split_subsegment(sa, sb, lmin, depth);
+  if (w != Walk::InTet) return false;
+  for (VertexId v : at.v)
+    if (pt(v)[0] == xyz[0] && pt(v)[1] == xyz[1] && pt(v)[2] == xyz[2]) return false;
+  region_.assign(1, at);
+  Verdict verdict;
+  const int64_t parent = s.tag == kHullTag ? -1 : static_cast<int64_t>(s.tag - 1);
+  const Where where = s.tag == kHullTag ? Where::Volume : Where::Facet;
+  if (insert(xyz, where, parent, kNone, kNone, lmin, &verdict)) {
+    ++(where == Where::Facet ? res_.stats.refine_facet : res_.stats.refine_volume);
+    return true;
+  }
+  if (verdict == Verdict::SplitSubsegment) return split_subsegment(split_a_, split_b_, lmin, depth);
+  if (verdict == Verdict::SplitSubface && depth < kMaxSplitDepth &&
+      sorted_triangle(split_face_.v) != sorted_triangle(s.v))
+    return split_subface(Subface(split_face_), lmin, depth + 1);
+  return false;
+}
+
+// A bad tet: its circumcentre goes in when it lies in the domain and
+// encroaches upon nothing; else the blocking or encroached constraint is
+// split (if the radius rule allows). True when the mesh changed.
+bool Refiner::fix_bad_tet(TetId t, const TetShape& shape) {
+  const double* c = shape.center;
+  if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2])) return false;
+  TetId at = kNone;
+  HalfFace blocked = kNoHalfFace;
+  const Walk w = locate(t, c, at, blocked);
+  // The radius rule's length: the shortest edge, or for a tet that is too
+  // big but well shaped, half the edge of a regular tet of the largest
+  // volume allowed (a bound that does not shrink as refinement goes on).
+  double lmin = shape.shortest;
+  if (shape.radius <= q_.radius_edge * shape.shortest)
+    lmin = std::min(lmin, 0.5 * std::cbrt(6 * std::sqrt(2.0) * volume_limit(attr_[t])));
+  if (w == Walk::Blocked) {
+    if (tag(blocked) == kNoTag) return false;
+    return split_subface({blocked, tag(blocked), face_of(blocked)}, lmin);
+  }
+  if (w != Walk::InTet) return false;
+  const VertexId* tv = m_.tet_vertices(at);
+  for (int i = 0; i < 4; ++i)
+    if (pt(tv[i])[0] == c[0] && pt(tv[i])[1] == c[1] && pt(tv[i])[2] == c[2]) return false;
+  m_.tflag[at] |= kTetInCavity;
+  cav_.assign(1, at);
+  Verdict verdict;
+  if (insert(c, Where::Volume, -1, kNone, kNone, lmin, &verdict)) {
+    ++res_.stats.refine_volume;
+    return true;
+  }
+  if (verdict == Verdict::SplitSubface) return split_subface(split_face_, lmin);
+  if (verdict == Verdict::SplitSubsegment) return split_subsegment(split_a_, split_b_, lmin);
+  return false;
+}
+
+Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress) {
+  facet_drop_.assign(plc_.facets.size(), -1);
+  for (size_t f = 0; f < plc_.facets.size(); ++f) {
+    const Vec3 n = newell_normal(plc_, plc_.facets[f].loops[0]);
+    facet_drop_[f] = static_cast<int8_t>(largest_axis(n.x, n.y, n.z));
+  }
+  Status st = build();
+  if (!st.ok()) return st;
+  const size_t cap = q_.max_points ? q_.max_points : 100 * old_points_ + 1000000;
+
+  for (TetId t = 0; t < m_.num_tet_slots(); ++t)
+    if (!m_.is_dead(t)) queue_.push_back(t);
+  size_t added = 0;
+  double reported = 0;
+  for (size_t head = 0; head < queue_.size(); ++head) {
+    if ((head & 1023) == 0) {
+      if (cancel && *cancel)
+        return make_error(ErrorCode::Cancelled, "Cancelled during quality refinement.");
+      const double f = static_cast<double>(head) / static_cast<double>(queue_.size());
+      if (progress.report && f > reported) progress.report(progress.user, reported = f);
+    }
+    const TetId t = queue_[head];
+    if (m_.is_dead(t) || (m_.tflag[t] & kTetUser)) continue;
+    TetShape shape;
+    if (!is_bad(t, shape)) continue;
+    if (added >= cap) {
+      res_.stats.refine_capped = 1;
+      break;
+    }
+    const size_t before = m_.num_vertices();
+    if (fix_bad_tet(t, shape)) {
+      added += m_.num_vertices() - before;
+      if (!m_.is_dead(t)) queue_.push_back(t);  // still there: try again
+    } else {
+      m_.tflag[t] |= kTetUser;  // left as it is
+    }
+  }
+  // Bad tets left.
+  size_t left = 0;
+  for (TetId t = 0; t < m_.num_tet_slots(); ++t) {
+    TetShape shape;
+    if (!m_.is_dead(t) && is_bad(t, shape)) ++left;
+  }
+  res_.stats.refine_skipped = left;
+
+  write_result();
+  return Status::success();
+}
+
+}  // namespace
+
+Status refine_quality(const Plc& plc, const QualityOptions& quality, const volatile bool* cancel,
+                      const RefineProgress& progress, Result& result) {
+  Status st = check_quality_options(quality);
+  if (!st.ok()) return st;
+  Refiner r(plc, quality, result);
+  return r.run(cancel, progress);
 }
 
 }  // namespace cdt3d

@@ -355,29 +355,11 @@ Status SegmentRecovery::split(uint32_t s, VertexId u, VertexId w) {
                            SplitRule::Rule3);
 }
 
-// A point of the open subsegment (u, w) exactly on its line (collinear by
-// the exact test) at a dyadic fraction g = k / 2^n near f, for n from
-// kExactLineBits down to kExactLineMinBits (|g - f| <= 2^-(n+1)); the point
-// is evaluated in doubles and kept only if that evaluation was exact.
+// A point of the open subsegment (u, w) exactly on its line
+// (point_exactly_on_segment, geometry.hpp).
 bool SegmentRecovery::exact_point_on_line(VertexId u, VertexId w, double f, Vec3& q, double& tf) const {
-  const double* pu = mesh_.point(u);
-  const double* pw = mesh_.point(w);
-  for (int n = kExactLineBits; n >= kExactLineMinBits; --n) {
-    const double scale = std::ldexp(1.0, n);
-    const double g = std::round(f * scale) / scale;
-    if (!(g > 0 && g < 1)) continue;
-    const double x[3] = {pu[0] + g * (pw[0] - pu[0]), pu[1] + g * (pw[1] - pu[1]), pu[2] + g * (pw[2] - pu[2])};
-    const bool inside = (x[0] - pu[0]) * (pw[0] - pu[0]) + (x[1] - pu[1]) * (pw[1] - pu[1]) +
-                                (x[2] - pu[2]) * (pw[2] - pu[2]) > 0 &&
-                        (x[0] - pw[0]) * (pu[0] - pw[0]) + (x[1] - pw[1]) * (pu[1] - pw[1]) +
-                                (x[2] - pw[2]) * (pu[2] - pw[2]) > 0;
-    if (inside && pred::collinear3d(pu, pw, x)) {
-      q = {x[0], x[1], x[2]};
-      tf = g;
-      return true;
-    }
-  }
-  return false;
+  return point_exactly_on_segment(mesh_.point(u), mesh_.point(w), f, kExactLineBits,
+                                  kExactLineMinBits, q, tf);
 }
 
 // Inserts the split point of subsegment (u, w) of segment s.

@@ -181,7 +181,7 @@ void TetMesh::vertex_star(VertexId v, std::vector<TetId>& out) {
     const TetId t = out[k];
     const int iv = index_in_tet(t, v);
     for (int i = 0; i < 4; ++i) {
-      if (i == iv) continue;
+      if (i == iv || tadj[4 * static_cast<size_t>(t) + i] == kNoHalfFace) continue;  // open face
       const TetId n = neighbor(t, i);
       if (!stamped(n, e)) {
         stamp(n, e);
@@ -253,7 +253,7 @@ TetId TetMesh::find_edge(VertexId a, VertexId b) {
     if (index_in_tet(t, b) >= 0) return t;
     const int ia = index_in_tet(t, a);
     for (int i = 0; i < 4; ++i) {
-      if (i == ia) continue;
+      if (i == ia || tadj[4 * static_cast<size_t>(t) + i] == kNoHalfFace) continue;  // open face
       const TetId n = neighbor(t, i);
       if (!stamped(n, e)) {
         stamp(n, e);

@@ -46,6 +46,11 @@ using HalfFace = uint32_t;  ///< 4 * tet + face index
 /// The virtual vertex at infinity of ghost tets. Has no coordinates.
 inline constexpr VertexId kInfinite = 0xfffffffeu;
 
+/// tadj value of a face with nothing beyond it: only in meshes of a carved
+/// domain without ghost tets (quality refinement, refine.cpp), where the
+/// domain boundary is open; every other mesh closes the hull with ghosts.
+inline constexpr HalfFace kNoHalfFace = 0xffffffffu;
+
 inline constexpr TetId hf_tet(HalfFace hf) { return hf >> 2; }
 inline constexpr int hf_face(HalfFace hf) { return static_cast<int>(hf & 3u); }
 inline constexpr HalfFace make_hf(TetId t, int i) { return (t << 2) | static_cast<uint32_t>(i); }
@@ -160,6 +165,12 @@ struct TetMesh {
   void link_one_way(HalfFace a, HalfFace b) {
     assert(a < tadj.size() && b < tadj.size());
     tadj[a] = b;
+  }
+  /// Marks half-face a as having nothing beyond it (kNoHalfFace): only for
+  /// meshes of a carved domain without ghosts (refine.cpp).
+  void open_face(HalfFace a) {
+    assert(a < tadj.size());
+    tadj[a] = kNoHalfFace;
   }
   /// Records t as the incident tet of vertex v (kNone: v left the mesh).
   void set_vertex_tet(VertexId v, TetId t) {
