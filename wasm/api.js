@@ -80,7 +80,7 @@ function describe(value) {
 
 const WRITE_FORMATS = ['node', 'ele', 'face', 'vtk', 'mesh'];
 const DEGENERACY_MODES = ['symbolic', 'paper'];
-const PHASES = ['read', 'delaunay', 'segments', 'degeneracy', 'facets', 'carve', 'done'];
+const PHASES = ['read', 'delaunay', 'segments', 'degeneracy', 'facets', 'carve', 'refine', 'done'];
 const OPTION_TYPES = {
   keepConvexHull: 'boolean',
   validate: 'boolean',
@@ -90,9 +90,13 @@ const OPTION_TYPES = {
   degeneracy: 'string',
   verbosity: 'number',
   stopAfter: 'string',
+  quality: 'boolean or object',
   onProgress: 'function',
   signal: 'object',
 };
+// The fields of options.quality and their defaults (the core's QualityOptions;
+// maxVolume -1: no bound, maxPoints 0: the core's own limit).
+const QUALITY_DEFAULTS = { radiusEdge: 2, maxVolume: -1, minDihedral: 0, maxPoints: 0 };
 // The file a readPlc() summary came from, so that it can be meshed directly.
 const SOURCE = Symbol('cdt3d.source');
 
@@ -118,6 +122,7 @@ function checkOptions(options) {
         '',
       );
     }
+    if (key === 'quality') continue; // checkQuality()
     if (value !== undefined && typeof value !== type) {
       throw invalidArgument(`tetrahedralize: option "${key}" must be a ${type}, got ${describe(value)}.`, '');
     }
@@ -144,6 +149,7 @@ function checkOptions(options) {
   if (signal !== null && typeof signal.aborted !== 'boolean') {
     throw invalidArgument('tetrahedralize: option "signal" must be an AbortSignal.', '');
   }
+  const quality = checkQuality(options.quality);
   return {
     keepConvexHull: options.keepConvexHull ?? false,
     validate: options.validate ?? false,
@@ -153,9 +159,44 @@ function checkOptions(options) {
     degeneracy,
     verbosity,
     stopAfter,
+    quality,
     onProgress: options.onProgress ?? null,
     signal,
   };
+}
+
+// options.quality: true or an object turns quality refinement on (every
+// field it leaves out at its default); false, null or undefined leave it off.
+// Returns null (off) or all four fields. The ranges are the core's rules,
+// checked in bindings.cpp (check_quality_options), except maxPoints.
+function checkQuality(quality) {
+  if (quality === undefined || quality === null || quality === false) return null;
+  if (quality === true) return { ...QUALITY_DEFAULTS };
+  const fields = Object.keys(QUALITY_DEFAULTS).join(', ');
+  if (typeof quality !== 'object' || Array.isArray(quality)) {
+    throw invalidArgument(
+      `tetrahedralize: option "quality" must be true or an object with any of ${fields}, got ${describe(quality)}.`,
+      '',
+    );
+  }
+  const out = { ...QUALITY_DEFAULTS };
+  for (const [key, value] of Object.entries(quality)) {
+    if (!Object.hasOwn(QUALITY_DEFAULTS, key)) {
+      throw invalidArgument(`tetrahedralize: unknown option "quality.${key}" (known: ${fields}).`, '');
+    }
+    if (value === undefined) continue;
+    if (typeof value !== 'number') {
+      throw invalidArgument(`tetrahedralize: option "quality.${key}" must be a number, got ${describe(value)}.`, '');
+    }
+    out[key] = value;
+  }
+  if (!Number.isSafeInteger(out.maxPoints) || out.maxPoints < 0) {
+    throw invalidArgument(
+      `tetrahedralize: option "quality.maxPoints" must be a whole number >= 0 (0: the default limit), got ${out.maxPoints}.`,
+      '',
+    );
+  }
+  return out;
 }
 
 function typed(value, Type, what, fn) {
@@ -340,6 +381,7 @@ function wrap(mod, abortReason) {
             degeneracy: opts.degeneracy,
             verbosity: opts.verbosity,
             stopAfter: opts.stopAfter,
+            quality: opts.quality,
           },
           progress,
         ),

@@ -12,6 +12,9 @@
 
 #include <cdt3d/cdt3d.hpp>
 
+#include "refine.hpp"  // check_quality_options (core/src)
+
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <new>
@@ -249,6 +252,12 @@ cdt3d::Status plc_from_js(const val& input, cdt3d::Plc& plc, double* ms_read = n
   return check ? cdt3d::check_plc(plc) : cdt3d::Status::success();
 }
 
+val histogram_js(const std::array<size_t, 10>& counts) {
+  val h = val::array();
+  for (size_t c : counts) h.call<void>("push", static_cast<double>(c));
+  return h;
+}
+
 val stats_js(const cdt3d::Statistics& s) {
   val o = val::object();
   auto n = [&o](const char* k, double v) { o.set(k, val(v)); };
@@ -262,15 +271,43 @@ val stats_js(const cdt3d::Statistics& s) {
   n("protectFacet", s.protect_facet), n("mergedFacets", s.merged_facets);
   n("missingSubfaces", s.missing_subfaces), n("regions", s.regions), n("cavities", s.cavities);
   n("largestCavity", s.largest_cavity), n("fallbacks", s.fallbacks);
-  n("facetSplits", s.facet_splits), n("msRead", s.ms_read);
-  n("msDelaunay", s.ms_delaunay), n("msSegments", s.ms_segments);
+  n("facetSplits", s.facet_splits), n("refineSegment", s.refine_segment);
+  n("refineFacet", s.refine_facet), n("refineVolume", s.refine_volume);
+  n("refineSkipped", s.refine_skipped), n("refineCapped", s.refine_capped);
+  n("improveFlips", s.improve_flips), n("improveSmooths", s.improve_smooths);
+  n("msRead", s.ms_read), n("msDelaunay", s.ms_delaunay), n("msSegments", s.ms_segments);
   n("msDegeneracy", s.ms_degeneracy), n("msFacets", s.ms_facets), n("msCarve", s.ms_carve);
-  n("msTotal", s.ms_total), n("flatFlips", s.flat_flips), n("flatTets", s.flat_tets);
-  n("minDihedral", s.min_dihedral), n("maxDihedral", s.max_dihedral);
-  val h = val::array();
-  for (size_t c : s.radius_edge_histogram) h.call<void>("push", static_cast<double>(c));
-  o.set("radiusEdgeHistogram", h);
+  n("msRefine", s.ms_refine), n("msTotal", s.ms_total), n("flatFlips", s.flat_flips);
+  n("flatTets", s.flat_tets), n("minDihedral", s.min_dihedral), n("maxDihedral", s.max_dihedral);
+  n("minDihedralBefore", s.min_dihedral_before);
+  o.set("radiusEdgeHistogram", histogram_js(s.radius_edge_histogram));
+  o.set("dihedralHistogram", histogram_js(s.dihedral_histogram));
+  o.set("radiusEdgeHistogramBefore", histogram_js(s.radius_edge_histogram_before));
+  o.set("dihedralHistogramBefore", histogram_js(s.dihedral_histogram_before));
   return o;
+}
+
+// options.quality as api.js passes it: null (no refinement) or
+// {radiusEdge, maxVolume, minDihedral, maxPoints}, all numbers. Each value is
+// checked alone by the core's rules, so that the error names its option.
+cdt3d::Status quality_from_js(const val& q, cdt3d::QualityOptions& out) {
+  if (q.isNull() || q.isUndefined()) return cdt3d::Status::success();
+  out.enabled = true;
+  const char* keys[3] = {"radiusEdge", "maxVolume", "minDihedral"};
+  double cdt3d::QualityOptions::*fields[3] = {&cdt3d::QualityOptions::radius_edge,
+                                               &cdt3d::QualityOptions::max_volume,
+                                               &cdt3d::QualityOptions::min_dihedral};
+  for (int i = 0; i < 3; ++i) {
+    cdt3d::QualityOptions one;
+    one.*fields[i] = out.*fields[i] = q[keys[i]].as<double>();
+    cdt3d::Status st = cdt3d::check_quality_options(one);
+    if (!st.ok()) {
+      st.error.message = "tetrahedralize: option quality." + std::string(keys[i]) + ": " + st.error.message;
+      return st;
+    }
+  }
+  out.max_points = static_cast<size_t>(q["maxPoints"].as<double>());
+  return cdt3d::Status::success();
 }
 
 // Progress and cancellation: the JS callback gets (phase, fraction) and
@@ -371,11 +408,15 @@ val repair_js(val input) {
 }
 
 val tetrahedralize_js(val input, val options, val on_progress) {
+  cdt3d::Options opt;
+  // Options first: a bad one is the caller's error whatever the input.
+  cdt3d::Status st = quality_from_js(options["quality"], opt.quality);
+  if (!st.ok()) return failure(st.error);
   cdt3d::Plc plc;
   double ms_read = 0;
   // With repair the input checks are repair's business (as `mesh --repair`).
   const bool fix = options["repair"].as<bool>();
-  cdt3d::Status st = plc_from_js(input, plc, &ms_read, !fix);
+  st = plc_from_js(input, plc, &ms_read, !fix);
   if (!st.ok()) return failure(st.error);
   cdt3d::RepairReport report;
   if (fix) {
@@ -385,7 +426,6 @@ val tetrahedralize_js(val input, val options, val on_progress) {
     plc = std::move(fixed);
     ms_read += report.ms;
   }
-  cdt3d::Options opt;
   opt.keep_convex_hull = options["keepConvexHull"].as<bool>();
   opt.validate = options["validate"].as<bool>();
   opt.check_intersections = options["checkIntersections"].as<bool>();

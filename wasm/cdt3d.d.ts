@@ -196,12 +196,34 @@ export type PlcInput =
       fileName?: string;
     };
 
-export type Phase = 'read' | 'delaunay' | 'segments' | 'degeneracy' | 'facets' | 'carve' | 'done';
+/** The phases in order; "refine" runs only with the `quality` option. */
+export type Phase = 'read' | 'delaunay' | 'segments' | 'degeneracy' | 'facets' | 'carve' | 'refine' | 'done';
 
 export interface Progress {
   phase: Phase;
   /** Overall fraction of the run in [0, 1]; reaches 1 at phase "done". */
   fraction: number;
+}
+
+/**
+ * Quality refinement of the CDT (constrained Delaunay refinement: encroached
+ * subsegments and subfaces split, circumcentres of bad tets inserted; the
+ * result is still a CDT of the refined PLC). The native CLI's `--quality
+ * [RATIO]`, `--max-volume V`, `--min-dihedral D`, `--max-points N`. Bad
+ * values throw Cdt3dError "invalid-argument" naming the field.
+ */
+export interface QualityOptions {
+  /** Bound on circumradius / shortest edge of every tet, >= 1 (tetgen -q). Default 2. */
+  radiusEdge?: number;
+  /** Largest tet volume, > 0 (tetgen -a); -1: none (default). Regions' maxVolume applies too. */
+  maxVolume?: number;
+  /**
+   * Afterwards raise the smallest dihedral angle towards this many degrees
+   * (0-70) by flips and vertex smoothing (tetgen -O). Default 0: no such pass.
+   */
+  minDihedral?: number;
+  /** Stop refining after this many added points (stats.refineCapped is then 1). Default 0: the core's limit. */
+  maxPoints?: number;
 }
 
 export interface TetrahedralizeOptions {
@@ -230,6 +252,12 @@ export interface TetrahedralizeOptions {
   verbosity?: number;
   /** Stop after a phase and return all tets reached so far (debugging). Default "done". */
   stopAfter?: Exclude<Phase, 'read'>;
+  /**
+   * Quality refinement after carving: an object (the fields it leaves out at
+   * their defaults) or `true` (all defaults) turns it on; false or absent: off
+   * (default).
+   */
+  quality?: boolean | QualityOptions;
   onProgress?: (progress: Progress) => void;
   /** An AbortSignal: aborting cancels the run at its next progress report with a Cdt3dError "cancelled". */
   signal?: { readonly aborted: boolean };
@@ -292,13 +320,28 @@ export interface MeshStatistics {
    * missing region could not be recovered otherwise (counted in `steinerFacet` too).
    */
   facetSplits: number;
-  /** Milliseconds per phase (msRead: reading and input checks). */
+  /** Quality refinement: points added on input segments (counted in `steinerSegment` too). */
+  refineSegment: number;
+  /** Quality refinement: points added inside input facets (counted in `steinerFacet` too). */
+  refineFacet: number;
+  /** Quality refinement: points added in the volume, circumcentres of bad tets (counted in `steinerVolume` too). */
+  refineVolume: number;
+  /** Quality refinement: bad tets left as they are because of a small input angle (or a flat tet) nearby. */
+  refineSkipped: number;
+  /** 1 when quality.maxPoints stopped the refinement, else 0. */
+  refineCapped: number;
+  /** Improvement pass (quality.minDihedral): flips made. */
+  improveFlips: number;
+  /** Improvement pass (quality.minDihedral): vertices smoothed. */
+  improveSmooths: number;
+  /** Milliseconds per phase (msRead: reading and input checks; msRefine: 0 without `quality`). */
   msRead: number;
   msDelaunay: number;
   msSegments: number;
   msDegeneracy: number;
   msFacets: number;
   msCarve: number;
+  msRefine: number;
   msTotal: number;
   /** Numerically flat tets removed by flips before output. */
   flatFlips: number;
@@ -313,6 +356,14 @@ export interface MeshStatistics {
   maxDihedral: number;
   /** Tets per radius-edge ratio bin: <1, 1-1.5, 1.5-2, 2-3, 3-5, 5-10, 10-20, 20-50, 50-100, >100. */
   radiusEdgeHistogram: number[];
+  /** Tets per bin of their smallest dihedral angle, degrees: <1, 1-5, 5-10, 10-15, 15-20, 20-30, 30-40, 40-50, 50-60, >60. */
+  dihedralHistogram: number[];
+  /** `minDihedral` of the CDT before quality refinement (equal to `minDihedral` without it). */
+  minDihedralBefore: number;
+  /** `radiusEdgeHistogram` of the CDT before quality refinement (equal to it without refinement). */
+  radiusEdgeHistogramBefore: number[];
+  /** `dihedralHistogram` of the CDT before quality refinement (equal to it without refinement). */
+  dihedralHistogramBefore: number[];
 }
 
 /** A CDT. Arrays are copies (they never detach). Point i < inputPoints is input point i. */

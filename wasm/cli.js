@@ -1,6 +1,7 @@
 #!/usr/bin/env node
 // `npx cdt3d mesh MODEL [-o PREFIX] [--format node|vtk|mesh] [--keep-hull]
-//  [--validate] [--stats] [--json] [-q]` and `npx cdt3d info MODEL [--json]`:
+//  [--validate] [--stats] [--json] [-q] [--quality [RATIO]] [--max-volume V]
+//  [--min-dihedral D] [--max-points N]` and `npx cdt3d info MODEL [--json]`:
 // the native CLI's commands, switches and exit codes (0 success, 1 input or
 // meshing error, 2 usage error), run on the WebAssembly build.
 import { readFileSync, writeFileSync } from 'node:fs';
@@ -17,8 +18,12 @@ commands:
   info MODEL [--json]      read a PLC and print its summary
   mesh MODEL [-o PREFIX] [--format node|vtk|mesh] [--keep-hull] [--validate]
              [--stats] [--json] [-q] [--merge] [--paper-degeneracy] [--no-intersection-check]
-             [--stop-after PHASE]
-                           constrained Delaunay tetrahedralization of MODEL
+             [--stop-after PHASE] [--quality [RATIO]] [--max-volume V] [--min-dihedral D]
+             [--max-points N]
+                           constrained Delaunay tetrahedralization of MODEL;
+                           --quality (radius-edge bound RATIO >= 1, default 2.0),
+                           --max-volume, --min-dihedral (0-70 degrees, by flips and
+                           smoothing) and --max-points each turn quality refinement on
 
 MODEL: .stl (ASCII/binary) .off .obj .ply .poly .smesh
 exit codes: 0 success, 1 input or meshing error, 2 usage error
@@ -30,11 +35,26 @@ function usage(message) {
   return EXIT_USAGE;
 }
 
+// The quality options: CLI word -> field of the JS option `quality`.
+const QUALITY_FLAGS = { '--quality': 'radiusEdge', '--max-volume': 'maxVolume', '--min-dihedral': 'minDihedral', '--max-points': 'maxPoints' };
+const NUMBER = /^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$/;
+
 function parse(args) {
-  const opts = { input: null, prefix: null, format: 'node', json: false, quiet: false, stats: false, tet: {} };
+  const opts = { input: null, prefix: null, format: 'node', json: false, quiet: false, stats: false, tet: {}, qualityFlags: [] };
   for (let i = 0; i < args.length; ++i) {
     const a = args[i];
-    if (a === '--json') opts.json = true;
+    if (Object.hasOwn(QUALITY_FLAGS, a)) {
+      const quality = (opts.tet.quality ??= {});
+      const next = args[i + 1];
+      opts.qualityFlags.push(a);
+      // The ratio of --quality is optional: the next word only if it is a number.
+      if (a === '--quality' && !(next !== undefined && NUMBER.test(next))) continue;
+      if (next === undefined) return { error: `${a} needs a value` };
+      const whole = a === '--max-points';
+      if (!(whole ? /^\d+$/ : NUMBER).test(next)) return { error: `${a} takes ${whole ? 'a whole number >= 0' : 'a number'}, not '${next}'` };
+      quality[QUALITY_FLAGS[a]] = Number(next);
+      ++i;
+    } else if (a === '--json') opts.json = true;
     else if (a === '-q') opts.quiet = true;
     else if (a === '--stats') opts.stats = true;
     else if (a === '--keep-hull') opts.tet.keepConvexHull = true;
@@ -55,6 +75,9 @@ function parse(args) {
   if (opts.tet.stopAfter !== undefined && !['delaunay', 'segments', 'degeneracy', 'facets'].includes(opts.tet.stopAfter)) {
     return { error: `--stop-after takes delaunay, segments, degeneracy or facets, not '${opts.tet.stopAfter}'` };
   }
+  if (opts.tet.quality && opts.tet.stopAfter !== undefined) {
+    return { error: `${opts.qualityFlags[0]} refines the finished CDT; it cannot go with --stop-after` };
+  }
   return opts;
 }
 
@@ -70,7 +93,15 @@ function printError(e, json) {
   return EXIT_ERROR;
 }
 
-function table(file, s, validated) {
+const RATIO_BINS = ['<1', '1-1.5', '1.5-2', '2-3', '3-5', '5-10', '10-20', '20-50', '50-100', '>100'];
+const ANGLE_BINS = ['<1', '1-5', '5-10', '10-15', '15-20', '20-30', '30-40', '40-50', '50-60', '>60'];
+
+// One histogram line of --stats, as the native CLI prints it.
+function histogram(title, bins, counts) {
+  return `  ${title.padEnd(26)}${bins.map((b, i) => ` ${b}: ${counts[i]}`).join('')}`;
+}
+
+function table(file, s, validated, refined, stats) {
   const lines = [
     file,
     `  Input points:              ${s.inputPoints}`,
@@ -80,11 +111,44 @@ function table(file, s, validated) {
     `  Mesh tetrahedra:           ${s.tets}`,
     `  Mesh constrained faces:    ${s.faces}`,
     `  Steiner points:            ${s.steinerSegment + s.steinerFacet + s.steinerVolume} (segments ${s.steinerSegment}, facets ${s.steinerFacet} of which ${s.facetSplits} in failed facet regions, volume ${s.steinerVolume})`,
-    `  Flat tetrahedra:           ${s.flatTets} in the output, ${s.flatFlips} removed by flips`,
-    `  Time (ms):                 read ${s.msRead.toFixed(1)}, delaunay ${s.msDelaunay.toFixed(1)}, segments ${s.msSegments.toFixed(1)}, degeneracy ${s.msDegeneracy.toFixed(1)}, facets ${s.msFacets.toFixed(1)}, carve ${s.msCarve.toFixed(1)}, total ${s.msTotal.toFixed(1)}`,
   ];
+  if (refined) {
+    lines.push(
+      `  Quality refinement:        ${s.refineSegment + s.refineFacet + s.refineVolume} points (segments ${s.refineSegment}, facets ${s.refineFacet}, volume ${s.refineVolume}); ${s.refineSkipped} bad tets left near small input angles${s.refineCapped ? '; stopped at the point limit (--max-points)' : ''}`,
+      `  Sliver improvement:        ${s.improveFlips} flips, ${s.improveSmooths} vertex smoothings`,
+    );
+  }
+  lines.push(
+    `  Flat tetrahedra:           ${s.flatTets} in the output, ${s.flatFlips} removed by flips`,
+    `  Time (ms):                 read ${s.msRead.toFixed(1)}, delaunay ${s.msDelaunay.toFixed(1)}, segments ${s.msSegments.toFixed(1)}, degeneracy ${s.msDegeneracy.toFixed(1)}, facets ${s.msFacets.toFixed(1)}, carve ${s.msCarve.toFixed(1)}, ${refined ? `refine ${s.msRefine.toFixed(1)}, ` : ''}total ${s.msTotal.toFixed(1)}`,
+  );
+  if (stats && refined) {
+    lines.push(
+      `  Dihedral angles (deg):     min ${s.minDihedral.toFixed(3)} (before refinement ${s.minDihedralBefore.toFixed(3)}), max ${s.maxDihedral.toFixed(3)}`,
+      histogram('Radius-edge ratios before:', RATIO_BINS, s.radiusEdgeHistogramBefore),
+      histogram('Radius-edge ratios after:', RATIO_BINS, s.radiusEdgeHistogram),
+      histogram('Min dihedral/tet before:', ANGLE_BINS, s.dihedralHistogramBefore),
+      histogram('Min dihedral/tet after:', ANGLE_BINS, s.dihedralHistogram),
+    );
+  } else if (stats) {
+    lines.push(
+      `  Dihedral angles (deg):     min ${s.minDihedral.toFixed(3)}, max ${s.maxDihedral.toFixed(3)}`,
+      histogram('Radius-edge ratios:', RATIO_BINS, s.radiusEdgeHistogram),
+      histogram('Min dihedral/tet (deg):', ANGLE_BINS, s.dihedralHistogram),
+    );
+  }
   if (validated) lines.push('  Validation:                passed');
   return `${lines.join('\n')}\n`;
+}
+
+// A bad quality value is a usage error, as in the native CLI, naming the
+// CLI word instead of the JS field; null for any other error.
+function qualityUsage(e) {
+  const m = e instanceof Cdt3dError && e.code === 'invalid-argument' && /^tetrahedralize: option "?quality\.(\w+)"?:? (.*)$/s.exec(e.message);
+  if (!m) return null;
+  const flag = Object.keys(QUALITY_FLAGS).find((k) => QUALITY_FLAGS[k] === m[1]) ?? `quality.${m[1]}`;
+  process.stderr.write(`cdt3d mesh: ${flag}: ${m[2]}\n`);
+  return EXIT_USAGE;
 }
 
 async function main(argv) {
@@ -111,9 +175,11 @@ async function main(argv) {
       for (const ext of exts) writeFileSync(`${opts.prefix}.${ext}`, cdt.write(r, ext));
     }
     if (opts.json) process.stdout.write(`${JSON.stringify({ ok: true, phase: opts.tet.stopAfter ?? 'done', ...r.stats, valid: opts.tet.validate ? true : null })}\n`);
-    else if (!opts.quiet) process.stdout.write(table(opts.input, r.stats, opts.tet.validate));
+    else if (!opts.quiet) process.stdout.write(table(opts.input, r.stats, opts.tet.validate, !!opts.tet.quality, opts.stats));
     return EXIT_OK;
   } catch (e) {
+    const usageExit = qualityUsage(e);
+    if (usageExit !== null) return usageExit;
     if (e?.code === 'ENOENT' || e?.code === 'EACCES' || e?.code === 'EISDIR') {
       return printError(new Cdt3dError('io', 'Cannot open the file.', { file: opts.input }), opts.json);
     }

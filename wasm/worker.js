@@ -319,7 +319,7 @@ function callSafely(fn, arg) {
 /**
  * Meshes one model in a worker of its own, which is stopped afterwards.
  * @param file File | Blob | ArrayBuffer | Uint8Array | {points, triangles}
- * @param options tetrahedralize options (keepConvexHull, validate, ...)
+ * @param options tetrahedralize options (keepConvexHull, validate, quality, ...; plain data, posted to the worker)
  * @param extra {onProgress, signal, fileName, onSurface, transfer}
  * @returns Promise of the tetrahedralize result; rejects with Cdt3dError
  *   ("cancelled" when `signal` aborts).

@@ -23,6 +23,7 @@ const PHASES = [
   ['facets', 'Facets'],
   ['carve', 'Carving'],
 ];
+const REFINE_PHASE = ['refine', 'Refining'];
 const PHASE_TIMES = [
   ['msRead', 'read'],
   ['msDelaunay', 'Delaunay'],
@@ -31,6 +32,13 @@ const PHASE_TIMES = [
   ['msFacets', 'facets'],
   ['msCarve', 'carve'],
 ];
+const REFINE_TIME = ['msRefine', 'refine'];
+// Bins of the core's quality histograms (MeshStatistics in cdt3d.d.ts): a
+// short label (lower bound) and the range for the tooltip.
+const RATIO_BINS = ['<1', '1', '1.5', '2', '3', '5', '10', '20', '50', '100+'];
+const RATIO_RANGES = ['< 1', '1-1.5', '1.5-2', '2-3', '3-5', '5-10', '10-20', '20-50', '50-100', '> 100'];
+const ANGLE_BINS = ['<1°', '1°', '5°', '10°', '15°', '20°', '30°', '40°', '50°', '60°+'];
+const ANGLE_RANGES = ['< 1°', '1-5°', '5-10°', '10-15°', '15-20°', '20-30°', '30-40°', '40-50°', '50-60°', '> 60°'];
 
 // Min dihedral angle colour ramp (degrees -> rgb 0..1); 70.53 is a regular tet.
 const QUALITY_RAMP = [
@@ -73,6 +81,7 @@ const demo = {
   highlighted: 0,
   snapshot: () => viewer.snapshot(),
   repair: null, // the repair report of the last "Repair and mesh"
+  quality: null, // the quality option of the last job (null: no refinement)
 };
 window.cdt3dDemo = demo;
 
@@ -120,7 +129,7 @@ async function openModel(source) {
   viewer.clear();
   current = { id, name, source, result: null, built: null, origin: null, surface: null };
   updateVisibleCount();
-  showProgress(name);
+  showProgress(name, qualityOption() ? [...PHASES, REFINE_PHASE] : PHASES);
 
   try {
     let input = source.file;
@@ -135,6 +144,9 @@ async function openModel(source) {
     timing.meshStart = performance.now();
     const options = { validate: $('opt-validate').checked, keepConvexHull: $('opt-hull').checked };
     if (source.repair) options.repair = true;
+    const quality = qualityOption();
+    if (quality) options.quality = quality;
+    demo.quality = quality;
     let result;
     try {
       result = await mesher.mesh(input, options, {
@@ -159,7 +171,7 @@ async function openModel(source) {
         triangleFacets: result.inputTriangleFacets,
       });
     }
-    showStats(result);
+    showStats(result, !!options.quality);
     setState('building');
     $('model-status').textContent = 'Preparing the view…';
     const built = await buildGeometry(id, result);
@@ -398,13 +410,15 @@ function showLegend() {
 // ---------------------------------------------------------------- progress
 
 let progressTimer = null;
-function showProgress(name) {
+let progressPhases = PHASES; // the phases of the running job
+function showProgress(name, phases) {
+  progressPhases = phases;
   $('progress').hidden = false;
   $('progress-file').textContent = name;
   $('progress-bar').style.width = '0%';
   delete $('progress').dataset.phase;
   delete $('progress').dataset.fraction;
-  $('progress-steps').innerHTML = PHASES.map(([p, label]) => `<li data-phase="${p}">${label}</li>`).join('');
+  $('progress-steps').innerHTML = phases.map(([p, label]) => `<li data-phase="${p}">${label}</li>`).join('');
   const t0 = performance.now();
   clearInterval(progressTimer);
   progressTimer = setInterval(() => {
@@ -423,14 +437,14 @@ function setPhase(text) {
 }
 
 function onProgress({ phase, fraction }) {
-  const i = PHASES.findIndex(([p]) => p === phase);
+  const i = progressPhases.findIndex(([p]) => p === phase);
   const f = Math.max(0, Math.min(1, Number(fraction) || 0));
   if (phase === 'done') {
     $('progress-bar').style.width = '100%';
     setPhase('finishing…');
   } else if (i >= 0) {
-    $('progress-bar').style.width = `${(((i + f) / PHASES.length) * 100).toFixed(1)}%`;
-    setPhase(`${PHASES[i][1]} ${Math.floor(f * 100)}%`);
+    $('progress-bar').style.width = `${(((i + f) / progressPhases.length) * 100).toFixed(1)}%`;
+    setPhase(`${progressPhases[i][1]} ${Math.floor(f * 100)}%`);
   } else {
     setPhase(`${phase} ${Math.floor(f * 100)}%`);
   }
@@ -438,7 +452,7 @@ function onProgress({ phase, fraction }) {
   bar.dataset.phase = phase;
   bar.dataset.fraction = String(f);
   for (const li of $('progress-steps').children) {
-    const k = PHASES.findIndex(([p]) => p === li.dataset.phase);
+    const k = progressPhases.findIndex(([p]) => p === li.dataset.phase);
     li.className = phase === 'done' || k < i ? 'done' : k === i ? 'active' : '';
   }
 }
@@ -452,7 +466,7 @@ function setStat(key, value, text = null) {
   el.textContent = text ?? (typeof value === 'number' ? fmt.format(value) : String(value ?? '—'));
 }
 
-function showStats(result) {
+function showStats(result, refined) {
   const s = result.stats;
   for (const key of [
     'inputPoints', 'inputFacets', 'inputSegments', 'points', 'tets', 'faces',
@@ -474,7 +488,7 @@ function showStats(result) {
     vEl.title = v.message ?? '';
   }
   // Time per phase.
-  const times = PHASE_TIMES.map(([k, label]) => [label, Number(s[k]) || 0]);
+  const times = (refined ? [...PHASE_TIMES, REFINE_TIME] : PHASE_TIMES).map(([k, label]) => [label, Number(s[k]) || 0]);
   const max = Math.max(1e-9, ...times.map(([, ms]) => ms));
   const rows = times.map(
     ([label, ms]) =>
@@ -483,17 +497,42 @@ function showStats(result) {
   const total = Number(s.msTotal) || times.reduce((a, [, ms]) => a + ms, 0);
   rows.push(`<span class="total">total</span><span></span><span class="ms total" id="stat-msTotal">${total.toFixed(0)} ms</span>`);
   $('timing').innerHTML = rows.join('');
-  // Radius-edge histogram from the core, when present.
+  // Radius-edge histogram from the core; with refinement, before and after.
   const re = s.radiusEdgeHistogram;
-  if (Array.isArray(re) && re.length > 0) {
-    $('re-block').hidden = false;
-    const edges = Array.isArray(s.radiusEdgeBins) ? s.radiusEdgeBins : null;
-    drawHistogram($('re-histogram'), re, () => [0.36, 0.58, 0.93], (i) => (edges ? edges[i] : i));
-  } else {
-    $('re-block').hidden = true;
-  }
+  $('re-block').hidden = refined || !Array.isArray(re);
+  if (!$('re-block').hidden) drawHistogram($('re-histogram'), re, () => [0.36, 0.58, 0.93], (i) => RATIO_BINS[i]);
+  $('refine-block').hidden = !refined;
+  if (refined) showRefinement(s);
   $('stats').hidden = false;
   $('stats').dataset.json = JSON.stringify(s);
+}
+
+// What quality refinement did: points added, what it left, and the quality
+// histograms of the core before and after it.
+function showRefinement(s) {
+  for (const key of ['refineSegment', 'refineFacet', 'refineVolume', 'refineSkipped']) setStat(key, s[key]);
+  setStat('improve', `${s.improveFlips}/${s.improveSmooths}`, `${fmt.format(s.improveFlips)} / ${fmt.format(s.improveSmooths)}`);
+  setStat('minDihedralBefore', s.minDihedralBefore, `${s.minDihedralBefore.toFixed(2)}°`);
+  $('refine-capped').hidden = !s.refineCapped;
+  drawCompare($('re-compare'), s.radiusEdgeHistogramBefore, s.radiusEdgeHistogram, RATIO_BINS, RATIO_RANGES);
+  drawCompare($('dihedral-compare'), s.dihedralHistogramBefore, s.dihedralHistogram, ANGLE_BINS, ANGLE_RANGES);
+}
+
+// Two counts per bin side by side (before grey, after blue), on one square-root scale.
+function drawCompare(el, before, after, labels, ranges) {
+  const max = Math.max(1, ...before, ...after);
+  const height = (c) => (c > 0 ? Math.max(2, (Math.sqrt(c) / Math.sqrt(max)) * 100) : 0).toFixed(1);
+  el.innerHTML = before
+    .map(
+      (b, i) =>
+        `<div class="pair" title="${ranges[i]}: ${fmt.format(b)} before, ${fmt.format(after[i])} after">` +
+        `<div class="col before" style="height:${height(b)}%"></div>` +
+        `<div class="col after" style="height:${height(after[i])}%"></div>` +
+        `<span class="tick">${labels[i]}</span></div>`,
+    )
+    .join('');
+  el.dataset.before = JSON.stringify(before);
+  el.dataset.after = JSON.stringify(after);
 }
 
 function showHistogram(histogram) {
@@ -671,6 +710,27 @@ $('cut-flip').addEventListener('click', () => {
   requestOrder();
   updateVisibleCount();
 });
+
+// The `quality` option from the controls: null when the box is unchecked;
+// empty fields are left to the defaults. Values are checked by the core: a
+// bad one comes back as an "invalid-argument" error naming it.
+function qualityOption() {
+  if (!$('opt-quality').checked) return null;
+  const quality = {};
+  for (const [id, key] of [['opt-radius-edge', 'radiusEdge'], ['opt-max-volume', 'maxVolume'], ['opt-min-dihedral', 'minDihedral']]) {
+    const text = $(id).value.trim();
+    if (text !== '') quality[key] = Number(text);
+  }
+  return quality;
+}
+
+function syncQualityControls() {
+  const on = $('opt-quality').checked;
+  $('quality-controls').classList.toggle('off', !on);
+  for (const id of ['opt-radius-edge', 'opt-max-volume', 'opt-min-dihedral']) $(id).disabled = !on;
+}
+$('opt-quality').addEventListener('change', syncQualityControls);
+syncQualityControls();
 
 $('cancel').addEventListener('click', () => job?.controller.abort());
 $('remesh').addEventListener('click', () => current?.source && openModel(current.source));

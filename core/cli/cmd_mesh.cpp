@@ -7,13 +7,20 @@
 // so anyone can inspect an intermediate result in ParaView or another tool.
 #include <cdt3d/cdt3d.hpp>
 
+#include <cctype>
+#include <cerrno>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli.hpp"
+#include "refine.hpp"
+#include "stats.hpp"
 
 namespace cdt3d {
 namespace cli {
@@ -26,7 +33,8 @@ void usage(std::FILE* out) {
       "usage: cdt3d mesh MODEL [-o PREFIX] [--format node|vtk|mesh] [--keep-hull]\n"
       "                        [--validate] [--stats] [--json] [-q] [--merge]\n"
       "                        [--paper-degeneracy] [--no-intersection-check] [--stop-after PHASE]\n"
-      "                        [--repair]\n"
+      "                        [--repair] [--quality [RATIO]] [--max-volume V] [--min-dihedral D]\n"
+      "                        [--max-points N]\n"
       "\n"
       "Constrained Delaunay tetrahedralization of MODEL (.stl .off .obj .ply .poly .smesh).\n"
       "  -o PREFIX         write the mesh: PREFIX.node/.ele/.face (default format),\n"
@@ -34,7 +42,8 @@ void usage(std::FILE* out) {
       "  --format F        node (TetGen, numbered from 1), vtk (legacy VTK), mesh (Medit)\n"
       "  --keep-hull       keep the tets between the PLC and its convex hull (tetgen -c)\n"
       "  --validate        check the result: valid, facets recovered, constrained Delaunay\n"
-      "  --stats           print quality statistics (dihedral angles, radius-edge ratios)\n"
+      "  --stats           print quality statistics (dihedral angles, radius-edge ratios;\n"
+      "                    before and after refinement when it ran)\n"
       "  --json            print the statistics as one JSON object on stdout\n"
       "  -q                quiet: print nothing but errors\n"
       "  --merge           join coplanar edge-adjacent facets into one (TetGen's default;\n"
@@ -46,6 +55,14 @@ void usage(std::FILE* out) {
       "                    and in errors keep their input numbers\n"
       "  --stop-after P    delaunay | segments | degeneracy | facets: stop after that step,\n"
       "                    write all tets as PREFIX.node/.ele and the subsegments as .edge\n"
+      "quality refinement of the CDT (each of these options turns it on):\n"
+      "  --quality [RATIO] bound on circumradius / shortest edge of the tets, >= 1 (default 2.0;\n"
+      "                    like tetgen -q); -q stays \"quiet\"\n"
+      "  --max-volume V    largest tet volume, > 0 (like tetgen -a); regions' own bounds apply too\n"
+      "  --min-dihedral D  then raise the smallest dihedral angle towards D degrees (0-70) by\n"
+      "                    flips and vertex smoothing (like tetgen -O)\n"
+      "  --max-points N    stop refining after N added points (default 0: 100 times the CDT's\n"
+      "                    points plus 1e6; the statistics say when it stopped there)\n"
       "exit codes: 0 success, 1 input or meshing error, 2 usage error\n");
 }
 
@@ -87,38 +104,45 @@ Status write_result(const Result& r, const std::string& prefix, const std::strin
   return st;
 }
 
+// The statistics come from kStatisticsFields (stats.hpp), the one list the
+// bindings and the d.ts are checked against; times are rounded to 1 us.
 void print_json(const Result& r, Phase stop, bool validated, const Status& valid,
                 const std::string& repair) {
   const Statistics& s = r.stats;
-  std::printf(
-      "{\"ok\":true,\"phase\":%s,\"inputPoints\":%zu,\"inputFacets\":%zu,\"inputSegments\":%zu,"
-      "\"points\":%zu,\"tets\":%zu,\"faces\":%zu,\"edges\":%zu,\"steinerSegment\":%zu,"
-      "\"steinerFacet\":%zu,\"steinerVolume\":%zu,\"rule1\":%zu,\"rule2\":%zu,\"rule3\":%zu,"
-      "\"missingSegments\":%zu,\"acuteBoth\":%zu,\"maxSplits\":%zu,\"perturbations\":%zu,"
-      "\"breakPoints\":%zu,\"protectSegment\":%zu,\"protectFacet\":%zu,\"missingSubfaces\":%zu,"
-      "\"regions\":%zu,\"mergedFacets\":%zu,\"cavities\":%zu,\"largestCavity\":%zu,"
-      "\"fallbacks\":%zu,\"facetSplits\":%zu,\"msRead\":%.3f,"
-      "\"msDelaunay\":%.3f,\"msSegments\":%.3f,\"msDegeneracy\":%.3f,\"msFacets\":%.3f,"
-      "\"msCarve\":%.3f,\"msTotal\":%.3f,\"flatFlips\":%zu,\"flatTets\":%zu,\"minDihedral\":%s,"
-      "\"maxDihedral\":%s,\"radiusEdgeHistogram\":[",
-      json_string(phase_name(stop)).c_str(), s.input_points, s.input_facets, s.input_segments,
-      s.points, s.tets, s.faces, r.edges.size() / 2, s.steiner_segment, s.steiner_facet,
-      s.steiner_volume, s.rule1, s.rule2, s.rule3, s.missing_segments, s.acute_both, s.max_splits,
-      s.perturbations, s.break_points, s.protect_segment, s.protect_facet, s.missing_subfaces,
-      s.regions, s.merged_facets, s.cavities, s.largest_cavity, s.fallbacks, s.facet_splits,
-      s.ms_read, s.ms_delaunay, s.ms_segments, s.ms_degeneracy, s.ms_facets, s.ms_carve, s.ms_total,
-      s.flat_flips, s.flat_tets, json_number(s.min_dihedral).c_str(),
-      json_number(s.max_dihedral).c_str());
-  for (size_t i = 0; i < s.radius_edge_histogram.size(); ++i)
-    std::printf("%s%zu", i ? "," : "", s.radius_edge_histogram[i]);
-  std::printf("],\"valid\":%s,\"validation\":%s%s%s}\n",
-              validated ? (valid.ok() ? "true" : "false") : "null",
-              json_string(validated && !valid.ok() ? valid.error.to_string() : "").c_str(),
-              repair.empty() ? "" : ",\"repair\":", repair.c_str());
+  std::string out = "{\"ok\":true,\"phase\":" + json_string(phase_name(stop)) +
+                    ",\"edges\":" + std::to_string(r.edges.size() / 2);
+  for (const StatisticsField& f : kStatisticsFields) {
+    out += ",\"" + std::string(f.name) + "\":";
+    if (f.count) {
+      out += std::to_string(s.*(f.count));
+    } else if (f.real) {
+      const bool time = std::strncmp(f.name, "ms", 2) == 0 && std::isupper(f.name[2]);
+      char buf[40];
+      std::snprintf(buf, sizeof buf, "%.3f", s.*(f.real));
+      out += time ? std::string(buf) : json_number(s.*(f.real));
+    } else {
+      out += "[";
+      for (size_t c : s.*(f.histogram)) out += (out.back() == '[' ? "" : ",") + std::to_string(c);
+      out += "]";
+    }
+  }
+  out += ",\"valid\":" + std::string(validated ? (valid.ok() ? "true" : "false") : "null") +
+         ",\"validation\":" +
+         json_string(validated && !valid.ok() ? valid.error.to_string() : "") +
+         (repair.empty() ? "" : ",\"repair\":" + repair) + "}\n";
+  std::fputs(out.c_str(), stdout);
+}
+
+// One histogram line of --stats: "  <title padded> <bin>: <count> ...".
+void print_histogram(const char* title, const char* const bins[10],
+                     const std::array<size_t, 10>& counts) {
+  std::printf("  %-26s", title);
+  for (int i = 0; i < 10; ++i) std::printf(" %s: %zu", bins[i], counts[i]);
+  std::printf("\n");
 }
 
 void print_table(const std::string& input, const Result& r, Phase stop, DegeneracyMode mode,
-                 bool quality, bool validated) {
+                 bool show_quality, bool refined, bool validated) {
   const Statistics& s = r.stats;
   std::printf("%s\n", input.c_str());
   std::printf("  Input points:              %zu\n", s.input_points);
@@ -150,30 +174,75 @@ void print_table(const std::string& input, const Result& r, Phase stop, Degenera
                 "(largest %zu faces), %zu fallbacks, %zu facet splits\n",
                 s.missing_subfaces, s.regions, s.cavities, s.largest_cavity, s.fallbacks,
                 s.facet_splits);
+  if (refined) {
+    std::printf("  Quality refinement:        %zu points (segments %zu, facets %zu, volume %zu); "
+                "%zu bad tets left near small input angles%s\n",
+                s.refine_segment + s.refine_facet + s.refine_volume, s.refine_segment,
+                s.refine_facet, s.refine_volume, s.refine_skipped,
+                s.refine_capped ? "; stopped at the point limit (--max-points)" : "");
+    std::printf("  Sliver improvement:        %zu flips, %zu vertex smoothings\n", s.improve_flips,
+                s.improve_smooths);
+  }
   std::printf("  Flat tetrahedra:           %zu in the output, %zu removed by flips\n",
               s.flat_tets, s.flat_flips);
   std::printf("  Time (ms):                 read %.1f, delaunay %.1f, segments %.1f, "
-              "degeneracy %.1f, facets %.1f, carve %.1f, total %.1f\n",
-              s.ms_read, s.ms_delaunay, s.ms_segments, s.ms_degeneracy, s.ms_facets, s.ms_carve,
-              s.ms_total);
-  if (quality) {
-    std::printf("  Dihedral angles (deg):     min %.3f, max %.3f\n", s.min_dihedral,
-                s.max_dihedral);
-    static const char* bins[10] = {"<1",   "1-1.5", "1.5-2", "2-3",    "3-5",
-                                   "5-10", "10-20", "20-50", "50-100", ">100"};
-    std::printf("  Radius-edge ratios:       ");
-    for (int i = 0; i < 10; ++i) std::printf(" %s: %zu", bins[i], s.radius_edge_histogram[i]);
-    std::printf("\n");
+              "degeneracy %.1f, facets %.1f, carve %.1f, ",
+              s.ms_read, s.ms_delaunay, s.ms_segments, s.ms_degeneracy, s.ms_facets, s.ms_carve);
+  if (refined) std::printf("refine %.1f, ", s.ms_refine);
+  std::printf("total %.1f\n", s.ms_total);
+  if (show_quality) {
+    static const char* const ratio_bins[10] = {"<1",   "1-1.5", "1.5-2", "2-3",    "3-5",
+                                               "5-10", "10-20", "20-50", "50-100", ">100"};
+    static const char* const angle_bins[10] = {"<1",    "1-5",   "5-10",  "10-15", "15-20",
+                                               "20-30", "30-40", "40-50", "50-60", ">60"};
+    if (refined) {
+      std::printf("  Dihedral angles (deg):     min %.3f (before refinement %.3f), max %.3f\n",
+                  s.min_dihedral, s.min_dihedral_before, s.max_dihedral);
+      print_histogram("Radius-edge ratios before:", ratio_bins, s.radius_edge_histogram_before);
+      print_histogram("Radius-edge ratios after:", ratio_bins, s.radius_edge_histogram);
+      print_histogram("Min dihedral/tet before:", angle_bins, s.dihedral_histogram_before);
+      print_histogram("Min dihedral/tet after:", angle_bins, s.dihedral_histogram);
+    } else {
+      std::printf("  Dihedral angles (deg):     min %.3f, max %.3f\n", s.min_dihedral,
+                  s.max_dihedral);
+      print_histogram("Radius-edge ratios:", ratio_bins, s.radius_edge_histogram);
+      print_histogram("Min dihedral/tet (deg):", angle_bins, s.dihedral_histogram);
+    }
   }
   if (validated) std::printf("  Validation:                passed\n");
+}
+
+// A whole command-line word as a double ("1.5", "-1", "1e-3", "inf");
+// false for anything else ("abc", "1.5x", ""), `out` then unchanged.
+bool parse_number(const char* text, double& out) {
+  if (*text == '\0' || std::isspace(static_cast<unsigned char>(*text))) return false;
+  char* end = nullptr;
+  const double v = std::strtod(text, &end);
+  if (*end != '\0') return false;
+  out = v;
+  return true;
+}
+
+// A whole command-line word as a non-negative integer; `out` unchanged on failure.
+bool parse_count(const char* text, size_t& out) {
+  if (!std::isdigit(static_cast<unsigned char>(*text))) return false;
+  char* end = nullptr;
+  errno = 0;
+  const unsigned long long v = std::strtoull(text, &end, 10);
+  if (*end != '\0' || errno == ERANGE || v > SIZE_MAX) return false;
+  out = static_cast<size_t>(v);
+  return true;
 }
 
 }  // namespace
 
 int run_mesh(int argc, char** argv) {
   std::string input, prefix, format = "node", stop_name;
-  bool json = false, quiet = false, quality = false, fix = false;
+  bool json = false, quiet = false, show_quality = false, fix = false;
   Options opt;
+  // Each quality option with its value alone (the other fields at their
+  // defaults), checked after parsing so that an error names the option.
+  std::vector<std::pair<std::string, QualityOptions>> quality_args;
   for (int i = 0; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "-h" || a == "--help") {
@@ -184,7 +253,33 @@ int run_mesh(int argc, char** argv) {
     } else if (a == "-q") {
       quiet = true;
     } else if (a == "--stats") {
-      quality = true;
+      show_quality = true;
+    } else if (a == "--quality") {
+      // The ratio is optional: the next word is taken only if it is a number.
+      QualityOptions one;
+      if (i + 1 < argc && parse_number(argv[i + 1], one.radius_edge)) ++i;
+      opt.quality.radius_edge = one.radius_edge;
+      quality_args.emplace_back(a, one);
+    } else if (a == "--max-volume" || a == "--min-dihedral" || a == "--max-points") {
+      QualityOptions one;
+      const char* value = i + 1 < argc ? argv[i + 1] : nullptr;
+      bool ok = value != nullptr;
+      if (ok && a == "--max-volume") ok = parse_number(value, one.max_volume);
+      if (ok && a == "--min-dihedral") ok = parse_number(value, one.min_dihedral);
+      if (ok && a == "--max-points") ok = parse_count(value, one.max_points);
+      if (!ok) {
+        if (value)
+          std::fprintf(stderr, "cdt3d mesh: %s takes %s, not '%s'\n", a.c_str(),
+                       a == "--max-points" ? "a whole number >= 0" : "a number", value);
+        else
+          std::fprintf(stderr, "cdt3d mesh: %s needs a value\n", a.c_str());
+        return kExitUsage;
+      }
+      ++i;
+      if (a == "--max-volume") opt.quality.max_volume = one.max_volume;
+      if (a == "--min-dihedral") opt.quality.min_dihedral = one.min_dihedral;
+      if (a == "--max-points") opt.quality.max_points = one.max_points;
+      quality_args.emplace_back(a, one);
     } else if (a == "--keep-hull") {
       opt.keep_convex_hull = true;
     } else if (a == "--validate") {
@@ -218,6 +313,19 @@ int run_mesh(int argc, char** argv) {
   if (input.empty() || (format != "node" && format != "vtk" && format != "mesh")) {
     if (!input.empty()) std::fprintf(stderr, "cdt3d mesh: unknown format '%s'\n", format.c_str());
     usage(stderr);
+    return kExitUsage;
+  }
+  for (auto& [option, one] : quality_args) {
+    const Status qs = check_quality_options(one);
+    if (!qs.ok()) {
+      std::fprintf(stderr, "cdt3d mesh: %s: %s\n", option.c_str(), qs.error.message.c_str());
+      return kExitUsage;
+    }
+  }
+  opt.quality.enabled = !quality_args.empty();
+  if (opt.quality.enabled && stop != Phase::Done) {
+    std::fprintf(stderr, "cdt3d mesh: %s refines the finished CDT; it cannot go with --stop-after\n",
+                 quality_args.front().first.c_str());
     return kExitUsage;
   }
   const bool intermediate = stop != Phase::Done;
@@ -258,7 +366,7 @@ int run_mesh(int argc, char** argv) {
   if (json) {
     print_json(r, stop, validated, st, fix ? repair_json(report) : std::string());
   } else if (!quiet) {
-    print_table(input, r, stop, opt.degeneracy, quality, validated);
+    print_table(input, r, stop, opt.degeneracy, show_quality, opt.quality.enabled, validated);
     if (fix) std::printf("%s", repair_summary(report).c_str());
   }
   return kExitOk;

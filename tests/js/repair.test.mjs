@@ -9,15 +9,11 @@ import { readFileSync } from 'node:fs';
 import path from 'node:path';
 import { before, describe, test } from 'node:test';
 
-import { dataDir, importPackage, readManifest, repoRoot, requireNativeCli, skipNative } from './support.mjs';
+import { createInstance, dataDir, readManifest, repoRoot, requireNativeCli, skipNative } from './support.mjs';
 
 let cdt;
 let Cdt3dError;
-before(async () => {
-  const pkg = await importPackage();
-  Cdt3dError = pkg.Cdt3dError;
-  cdt = await pkg.createCdt3d();
-});
+before(async () => ({ cdt, Cdt3dError } = await createInstance()));
 
 const manifest = [...readManifest().values()];
 const REPAIRABLE = /^invalid-(selfintersect|duplicate|degenerate|nonplanar)$/;

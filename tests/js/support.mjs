@@ -33,6 +33,12 @@ export async function importPackage() {
   }
 }
 
+/** A new instance of the package and its error class: {cdt, Cdt3dError}. */
+export async function createInstance() {
+  const pkg = await importPackage();
+  return { cdt: await pkg.createCdt3d(), Cdt3dError: pkg.Cdt3dError };
+}
+
 /** Reads a file of the package folder (wasm/). */
 export function packageFile(name) {
   return readFileSync(path.join(packageDir, name));

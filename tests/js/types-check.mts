@@ -17,6 +17,7 @@ import type {
   MeshStatistics,
   Phase,
   Progress,
+  QualityOptions,
   ValidationResult,
   InputSurface,
   RepairReport,
@@ -164,3 +165,25 @@ const polyText: string = repaired.poly;
 // @ts-expect-error repair is a boolean option
 cdt.tetrahedralize(repaired, { repair: 'yes' });
 void [repairCounts, changedFacets, fromRepaired, meshReport, polyText, report.changed];
+
+// Quality refinement: the options, the "refine" phase, the new statistics.
+{
+  const bytes = new Uint8Array(4);
+  const q: QualityOptions = { radiusEdge: 1.414, maxVolume: 0.5, minDihedral: 15, maxPoints: 1000 };
+  const refined: MeshResult = cdt.tetrahedralize({ bytes, fileName: 'a.off' }, { quality: q });
+  cdt.tetrahedralize({ bytes, fileName: 'a.off' }, { quality: true, stopAfter: 'refine' });
+  cdt.tetrahedralize({ bytes, fileName: 'a.off' }, { quality: {} });
+  const s: MeshStatistics = refined.stats;
+  const added: number = s.refineSegment + s.refineFacet + s.refineVolume + s.refineSkipped + s.refineCapped +
+    s.improveFlips + s.improveSmooths + s.msRefine + s.minDihedralBefore;
+  const histograms: number[][] = [s.dihedralHistogram, s.radiusEdgeHistogramBefore, s.dihedralHistogramBefore];
+  const phase: Phase = 'refine';
+  const inWorker: Promise<MeshResult> = meshInWorker(bytes, { quality: { maxVolume: 1 } }, { fileName: 'a.off' });
+  void [added, histograms, phase, inWorker];
+  // @ts-expect-error the quality fields are numbers
+  cdt.tetrahedralize({ bytes, fileName: 'a.off' }, { quality: { radiusEdge: '2' } });
+  // @ts-expect-error no such quality field
+  cdt.tetrahedralize({ bytes, fileName: 'a.off' }, { quality: { ratio: 2 } });
+  // @ts-expect-error quality is an object or a boolean
+  cdt.tetrahedralize({ bytes, fileName: 'a.off' }, { quality: 2 });
+}

@@ -25,7 +25,7 @@ const OPEN = 'tests/data/open_cube.off';
 const SMALL = 'tests/data/chazelle_n3.off';
 const LARGE_SAMPLE = 'armadillo.obj'; // bundled sample (web/public/samples)
 
-// Page options (the defaults of its check boxes).
+// Page options (the defaults of its check boxes; quality refinement is off).
 const PAGE_OPTIONS = { validate: true, keepConvexHull: false };
 const FINAL = ['done', 'error', 'cancelled'];
 
@@ -428,6 +428,58 @@ test('repair: an error repair can fix offers "Repair and mesh", then counts per 
     assert.ok(highlighted > 0, `${rel}: the changed facets are not highlighted`);
     await shot(`repair-${fileName.replace(/\W+/g, '_')}`);
   }
+});
+
+test('quality: the controls reach the worker, the panel shows the histograms before and after', { skip, timeout: 90_000 }, async () => {
+  // Off by default, its fields disabled until the box is checked.
+  assert.equal(await page.isChecked('#opt-quality'), false);
+  assert.equal(await page.isDisabled('#opt-radius-edge'), true);
+  await page.check('#opt-quality');
+  for (const id of ['#opt-radius-edge', '#opt-max-volume', '#opt-min-dihedral']) assert.equal(await page.isEnabled(id), true, id);
+  try {
+    await page.fill('#opt-radius-edge', '1.8');
+    await page.fill('#opt-min-dihedral', '5');
+    const quality = { radiusEdge: 1.8, minDihedral: 5 }; // the empty volume field: no bound
+    assert.equal(await openFile(REGIONS), 'done', await page.textContent('#error'));
+    assert.deepEqual(await page.evaluate(() => window.cdt3dDemo.quality), quality);
+    const bytes = readFileSync(path.join(repoRoot, REGIONS));
+    const expected = cdt.tetrahedralize({ bytes, fileName: path.basename(REGIONS) }, { ...PAGE_OPTIONS, quality }).stats;
+    assert.deepEqual(comparable(await pageStats()), comparable(expected));
+    assert.ok(await page.isVisible('#refine-block'), 'the refinement block is shown');
+    assert.equal(await page.isVisible('#re-block'), false, 'the single radius-edge histogram gives way to before/after');
+    const compare = (id) => page.$eval(id, (el) => ({
+      before: JSON.parse(el.dataset.before),
+      after: JSON.parse(el.dataset.after),
+      pairs: el.querySelectorAll('.pair').length,
+    }));
+    assert.deepEqual(await compare('#re-compare'), { before: expected.radiusEdgeHistogramBefore, after: expected.radiusEdgeHistogram, pairs: 10 });
+    assert.deepEqual(await compare('#dihedral-compare'), { before: expected.dihedralHistogramBefore, after: expected.dihedralHistogram, pairs: 10 });
+    const en = new Intl.NumberFormat('en-US');
+    for (const k of ['refineSegment', 'refineFacet', 'refineVolume', 'refineSkipped']) {
+      assert.equal(await page.textContent(`#stat-${k}`), en.format(expected[k]), k);
+    }
+    assert.equal(await page.textContent('#stat-minDihedralBefore'), `${expected.minDihedralBefore.toFixed(2)}°`);
+    assert.ok((await page.textContent('#timing')).includes('refine'), 'the refine phase has its time bar');
+    const steps = await page.$$eval('#progress-steps li', (lis) => lis.map((li) => li.dataset.phase));
+    assert.equal(steps.at(-1), 'refine', `progress steps: ${steps}`);
+    await shot('quality');
+
+    // A bad value: the core's message, naming the field, in the error panel.
+    await page.fill('#opt-radius-edge', '0.5');
+    assert.equal(await openFile(SMALL), 'error');
+    assert.ok((await page.textContent('#error-title')).includes('invalid-argument'));
+    assert.match(await page.textContent('#error-message'), /quality\.radiusEdge: The radius-edge bound .* >= 1/);
+  } finally {
+    await page.fill('#opt-radius-edge', '2');
+    await page.fill('#opt-min-dihedral', '0');
+    await page.uncheck('#opt-quality');
+  }
+  // Unchecked: no refinement, no refinement block.
+  assert.equal(await page.isDisabled('#opt-radius-edge'), true);
+  assert.equal(await openFile(SMALL), 'done');
+  assert.equal(await page.evaluate(() => window.cdt3dDemo.quality), null);
+  assert.equal(await page.isVisible('#refine-block'), false);
+  assert.deepEqual(comparable(await pageStats()), comparable(nodeMesh(SMALL).result.stats));
 });
 
 test('a large model can be cancelled, and a new file cancels the running job', { skip, timeout: 90_000 }, async () => {
