@@ -61,6 +61,13 @@ Status check_quality_options(const QualityOptions& q) {
     return make_error(ErrorCode::InvalidArgument,
                       "The dihedral angle target must be between 0 and 70 degrees (got " +
                           std::to_string(q.min_dihedral) + ").");
+  // The improvement pass (flips and smoothing against slivers) is not built
+  // yet; an option that silently did nothing would mislead.
+  if (q.min_dihedral > 0)
+    return make_error(ErrorCode::InvalidArgument,
+                      "The dihedral angle target needs the sliver improvement pass, which is not "
+                      "available yet: leave it at 0 (got " +
+                          std::to_string(q.min_dihedral) + ").");
   return Status::success();
 }
 
@@ -742,7 +749,11 @@ bool Refiner::cone_is_delaunay(const double* p) {
     for (int k = 0; k < 3; ++k) sides.push_back({edge_key(v[k], v[(k + 1) % 3]), i, v[(k + 2) % 3]});
   }
   std::sort(sides.begin(), sides.end(),
-            [](const SideRec& x, const SideRec& y) { return x.key < y.key; });
+            [](const SideRec& x, const SideRec& y) {
+              // A total order: std::sort differs between standard libraries
+              // on ties, and native and WASM must split the same faces.
+              return x.key != y.key ? x.key < y.key : x.face < y.face;
+            });
   for (size_t i = 0; i + 1 < sides.size(); ++i) {
     if (sides[i].key != sides[i + 1].key) continue;
     const BoundaryFace& f = bnd_[sides[i].face];

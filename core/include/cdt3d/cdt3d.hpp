@@ -239,7 +239,8 @@ struct QualityOptions {
   double max_volume = -1;     ///< largest tet volume, -1: none (tetgen -a); Region::max_volume also applies
   /// Improvement pass after refinement (flips and vertex smoothing against
   /// slivers, like tetgen -O): raise the smallest dihedral angle towards
-  /// this many degrees; 0 = no pass. At most 70.
+  /// this many degrees; 0 = no pass. At most 70. Not available yet: a value
+  /// above 0 is rejected with InvalidArgument.
   double min_dihedral = 0;
   /// Stop refining after this many added points (0: 100 times the points
   /// of the CDT plus 1e6); reported in Statistics::refine_capped.
