@@ -202,8 +202,8 @@ class Refiner {
   // --- insertion ---
   bool grow_subface_region(const double* p, VertexId pid, VertexId sa, VertexId sb);
   void grow_cavity(const double* p, VertexId pid);
-  bool removed(HalfFace hf) const {
-    return std::find(removed_.begin(), removed_.end(), hf) != removed_.end();
+  bool removed(HalfFace hf) const {  // removed_ is sorted once the region is known
+    return !removed_.empty() && std::binary_search(removed_.begin(), removed_.end(), hf);
   }
   void collect_boundary();
   Verdict check_constraints(const double* p, Where where, VertexId sa, VertexId sb);
@@ -618,6 +618,7 @@ bool Refiner::grow_subface_region(const double* p, VertexId pid, VertexId sa, Ve
     const HalfFace nb = m_.adjacent(s.hf);
     if (nb != kNoHalfFace) removed_.push_back(nb);
   }
+  std::sort(removed_.begin(), removed_.end());
   return true;
 }
 
@@ -632,9 +633,10 @@ void Refiner::grow_cavity(const double* p, VertexId pid) {
       if (nb == kNoHalfFace) continue;
       const TetId u = hf_tet(nb);
       if (m_.tflag[u] & kTetInCavity) continue;
-      if (tag(hf) != kNoTag && !removed(hf)) continue;
+      const bool split = tag(hf) != kNoTag && removed(hf);
+      if (tag(hf) != kNoTag && !split) continue;
       const VertexId* tv = m_.tet_vertices(u);
-      const bool conflict = removed(hf) || pred::insphere_sos(pt(tv[0]), pt(tv[1]), pt(tv[2]),
+      const bool conflict = split || pred::insphere_sos(pt(tv[0]), pt(tv[1]), pt(tv[2]),
                                                               pt(tv[3]), p, tv[0], tv[1], tv[2],
                                                               tv[3], pid) > 0;
       if (!conflict) continue;
@@ -918,7 +920,7 @@ bool Refiner::split_subsegment(VertexId a, VertexId b, double lmin, int depth) {
     double g = shell / len;
     if (g > 0.25 && g < 0.75) f = ia ? g : 1 - g;
   }
-  if (std::min(f, 1 - f) * len < lmin) return false;
+  if (std::min(f, 1 - f) * len < kFloorFactor * lmin) return false;
   Vec3 q;
   double tf;
   double xyz[3];
@@ -952,7 +954,7 @@ bool Refiner::split_subsegment(VertexId a, VertexId b, double lmin, int depth) {
 bool Refiner::split_subface(const Subface& s, double lmin, int depth) {
   Vec3 c;
   double r;
-  if (!triangle_circle(pt(s.v[0]), pt(s.v[1]), pt(s.v[2]), c, r) || r < lmin) return false;
+  if (!triangle_circle(pt(s.v[0]), pt(s.v[1]), pt(s.v[2]), c, r) || r < kFloorFactor * lmin) return false;
   const double xyz[3] = {c.x, c.y, c.z};
   Subface at;
   VertexId sa = kNone, sb = kNone;
