@@ -243,7 +243,8 @@ struct QualityOptions {
   /// above 0 is rejected with InvalidArgument.
   double min_dihedral = 0;
   /// Stop refining after this many added points (0: 100 times the points
-  /// of the CDT plus 1e6); reported in Statistics::refine_capped.
+  /// of the CDT plus 100000, plus 6 per smallest volume bound's worth of
+  /// volume); reported in Statistics::refine_capped.
   size_t max_points = 0;
 };
 
