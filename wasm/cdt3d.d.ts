@@ -220,6 +220,7 @@ export interface QualityOptions {
   /**
    * Afterwards raise the smallest dihedral angle towards this many degrees
    * (0-70) by flips and vertex smoothing (tetgen -O). Default 0: no such pass.
+   * The pass is not available yet: a value above 0 throws "invalid-argument".
    */
   minDihedral?: number;
   /** Stop refining after this many added points (stats.refineCapped is then 1). Default 0: the core's limit. */

@@ -60,7 +60,8 @@ void usage(std::FILE* out) {
       "                    like tetgen -q); -q stays \"quiet\"\n"
       "  --max-volume V    largest tet volume, > 0 (like tetgen -a); regions' own bounds apply too\n"
       "  --min-dihedral D  then raise the smallest dihedral angle towards D degrees (0-70) by\n"
-      "                    flips and vertex smoothing (like tetgen -O)\n"
+      "                    flips and vertex smoothing (like tetgen -O); not available yet:\n"
+      "                    only 0 is accepted\n"
       "  --max-points N    stop refining after N added points (default 0: 100 times the CDT's\n"
       "                    points plus 1e6; the statistics say when it stopped there)\n"
       "exit codes: 0 success, 1 input or meshing error, 2 usage error\n");
