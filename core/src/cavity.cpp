@@ -363,7 +363,46 @@ struct UnionFind {
   }
 };
 
+// Whether triangle v traverses the edge p -> q (in that direction).
+bool has_directed_edge(const VertexId* v, VertexId p, VertexId q) {
+  for (int k = 0; k < 3; ++k)
+    if (v[k] == p && v[(k + 1) % 3] == q) return true;
+  return false;
+}
+
+// The vertex of triangle v that is neither p nor q.
+VertexId third_vertex(const VertexId* v, VertexId p, VertexId q) {
+  VertexId c = kNone;
+  for (int k = 0; k < 3; ++k)
+    if (v[k] != p && v[k] != q) c = v[k];
+  return c;
+}
+
 }  // namespace
+
+// link_cavities' state. Node 2r of the union-find is side A of record r,
+// node 2r + 1 its side B; the classes are the cavities. The buffers hold the
+// edge being linked: its records and the ring of tets around it.
+struct CavityMesher::Linking {
+  // Where a triangle of Ω lies in a run of hole tets around the edge: pos
+  // 2i + 1 inside the i-th tet of the run, 2i + 2 along the face after it;
+  // prev_side is the triangle's side (orientation sign) facing the piece
+  // before it in the ring's order.
+  struct Cut {
+    uint32_t pos, rec;
+    int prev_side;
+  };
+  explicit Linking(size_t records) : uf(2 * records) {}
+
+  UnionFind uf;
+  std::map<HalfFace, uint32_t> rec_of_kept;    // kept half-face -> its record
+  std::vector<std::array<uint32_t, 3>> edges;  // (smaller id, larger id, record), sorted
+  std::vector<uint32_t> srecs, orecs;          // at this edge: hole faces, triangles of Ω
+  std::vector<TetId> ring;
+  std::vector<VertexId> arrive;
+  std::vector<Cut> cuts;
+  std::vector<uint8_t> placed;  // per orecs entry: cuts made by it
+};
 
 // formcavity step 2, second half: which cavity faces bound the same cavity.
 // Around an edge of the hole's boundary, the tets form a ring; each run of
@@ -374,140 +413,160 @@ struct UnionFind {
 // kept tet around them (inside the hole, or not mesh edges) join the sides of
 // Ω's triangles directly. The connected classes are the cavities.
 bool CavityMesher::link_cavities(std::string& why) {
-  const size_t nr = recs_.size();
-  UnionFind uf(2 * nr);
-  std::map<HalfFace, uint32_t> rec_of_kept;
-  std::vector<std::array<uint32_t, 3>> edges;
-  edges.reserve(3 * nr);
-  for (uint32_t r = 0; r < nr; ++r) {
+  Linking L(recs_.size());
+  list_record_edges(L);
+  for (size_t e0 = 0; e0 < L.edges.size();) {
+    const VertexId p = L.edges[e0][0], q = L.edges[e0][1];
+    L.srecs.clear(), L.orecs.clear();
+    for (; e0 < L.edges.size() && L.edges[e0][0] == p && L.edges[e0][1] == q; ++e0) {
+      const uint32_t r = L.edges[e0][2];
+      (recs_[r].omega < 0 ? L.srecs : L.orecs).push_back(r);
+    }
+    const bool linked = L.srecs.empty() ? link_omega_edge(L, p, q, why) : link_ring(L, p, q, why);
+    if (!linked) return false;
+  }
+  number_cavities(L);
+  return true;
+}
+
+// Every edge of every record, sorted so that the records at one edge are
+// consecutive; and the record of each kept half-face.
+void CavityMesher::list_record_edges(Linking& L) const {
+  L.edges.reserve(3 * recs_.size());
+  for (uint32_t r = 0; r < recs_.size(); ++r) {
     const Rec& R = recs_[r];
-    if (R.omega < 0) rec_of_kept[R.kept] = r;
+    if (R.omega < 0) L.rec_of_kept[R.kept] = r;
     for (int k = 0; k < 3; ++k) {
       const VertexId x = R.v[k], y = R.v[(k + 1) % 3];
-      edges.push_back({std::min(x, y), std::max(x, y), r});
+      L.edges.push_back({std::min(x, y), std::max(x, y), r});
     }
   }
-  std::sort(edges.begin(), edges.end());
-  std::vector<TetId> ring;
-  std::vector<VertexId> arrive;
-  std::vector<uint32_t> srecs, orecs;
-  struct Cut {
-    uint32_t pos, rec;
-    int prev_side;
-  };
-  std::vector<Cut> cuts;
-  std::vector<uint8_t> placed;
-  for (size_t e0 = 0; e0 < edges.size();) {
-    size_t e1 = e0;
-    while (e1 < edges.size() && edges[e1][0] == edges[e0][0] && edges[e1][1] == edges[e0][1]) ++e1;
-    const VertexId p = edges[e0][0], q = edges[e0][1];
-    srecs.clear(), orecs.clear();
-    for (size_t e = e0; e < e1; ++e)
-      (recs_[edges[e][2]].omega < 0 ? srecs : orecs).push_back(edges[e][2]);
-    e0 = e1;
-    if (srecs.empty()) {
-      if (orecs.size() == 1) {
-        uf.unite(2 * orecs[0], 2 * orecs[0] + 1);
-      } else if (orecs.size() == 2) {
-        // Same facet, opposite sides of the edge: consistently oriented
-        // triangles (the edge traversed in opposite directions) have the
-        // same positive side.
-        auto forward = [&](uint32_t r) {
-          const VertexId* v = recs_[r].v;
-          for (int k = 0; k < 3; ++k)
-            if (v[k] == p && v[(k + 1) % 3] == q) return true;
-          return false;
-        };
-        const bool same = forward(orecs[0]) != forward(orecs[1]);
-        uf.unite(2 * orecs[0], 2 * orecs[1] + (same ? 0 : 1));
-        uf.unite(2 * orecs[0] + 1, 2 * orecs[1] + (same ? 1 : 0));
-      } else {
-        why = "more than two triangles of the region share an edge";
-        return false;
-      }
-      continue;
-    }
-    // Ring of tets around pq, starting at a kept tet.
-    const char* broken =
-        m_.ring_around_edge(hf_tet(recs_[srecs[0]].kept), p, q, limits_.max_ring, ring, arrive);
-    if (broken) {
-      why = broken;
+  std::sort(L.edges.begin(), L.edges.end());
+}
+
+// An edge pq of Ω that no hole face has: the triangles of Ω at pq (one or
+// two) close the cavities on their sides among themselves.
+bool CavityMesher::link_omega_edge(Linking& L, VertexId p, VertexId q, std::string& why) {
+  const std::vector<uint32_t>& o = L.orecs;
+  if (o.size() == 1) {
+    L.uf.unite(2 * o[0], 2 * o[0] + 1);
+  } else if (o.size() == 2) {
+    // Same facet, opposite sides of the edge: consistently oriented
+    // triangles (the edge traversed in opposite directions) have the same
+    // positive side.
+    const bool same =
+        has_directed_edge(recs_[o[0]].v, p, q) != has_directed_edge(recs_[o[1]].v, p, q);
+    L.uf.unite(2 * o[0], 2 * o[1] + (same ? 0 : 1));
+    L.uf.unite(2 * o[0] + 1, 2 * o[1] + (same ? 1 : 0));
+  } else {
+    why = "more than two triangles of the region share an edge";
+    return false;
+  }
+  return true;
+}
+
+// An edge pq of the hole's boundary: walks the ring of tets around pq from a
+// kept tet and links each run of hole tets in it; every triangle of Ω at pq
+// must lie in exactly one run, once.
+bool CavityMesher::link_ring(Linking& L, VertexId p, VertexId q, std::string& why) {
+  const char* broken =
+      m_.ring_around_edge(hf_tet(recs_[L.srecs[0]].kept), p, q, limits_.max_ring, L.ring, L.arrive);
+  if (broken) {
+    why = broken;
+    return false;
+  }
+  const size_t n = L.ring.size();
+  auto hole = [&](size_t i) { return mark_[L.ring[i]] == kMarkHole; };
+  L.placed.assign(L.orecs.size(), 0);
+  for (size_t s = 1; s < n; ++s) {
+    if (!hole(s) || hole(s - 1)) continue;
+    size_t e = s;
+    while (e + 1 < n && hole(e + 1)) ++e;
+    if (!link_run(L, p, q, s, e, why)) return false;
+  }
+  for (uint8_t count : L.placed)
+    if (count != 1) {
+      why = "a triangle of the region is not located exactly once around its edge";
       return false;
     }
-    const size_t n = ring.size();
-    auto hole = [&](size_t i) { return mark_[ring[i]] == kMarkHole; };
-    auto leave = [&](size_t i) { return arrive[(i + 1) % n]; };  // other vertex of ring[i]
-    placed.assign(orecs.size(), 0);
-    for (size_t s = 1; s < n; ++s) {
-      if (!hole(s) || hole(s - 1)) continue;
-      size_t e = s;
-      while (e + 1 < n && hole(e + 1)) ++e;
-      const HalfFace hf_in = make_hf(ring[s - 1], m_.index_in_tet(ring[s - 1], arrive[s - 1]));
-      const HalfFace hf_out = m_.adjacent(make_hf(ring[e], m_.index_in_tet(ring[e], arrive[e])));
-      auto it_in = rec_of_kept.find(hf_in), it_out = rec_of_kept.find(hf_out);
-      if (it_in == rec_of_kept.end() || it_out == rec_of_kept.end()) {
-        why = "a face of the hole has no record";
-        return false;
-      }
-      cuts.clear();
-      for (size_t o = 0; o < orecs.size(); ++o) {
-        const Rec& R = recs_[orecs[o]];
-        VertexId c = kNone;
-        for (int k = 0; k < 3; ++k)
-          if (R.v[k] != p && R.v[k] != q) c = R.v[k];
-        for (size_t i = s; i <= e; ++i) {
-          const TetId t = ring[i];
-          if (!m_.is_ghost(t)) {
-            const VertexId x = arrive[i], y = leave(i);
-            const int o1 = orient_ids(m_, p, q, x, c), r1 = orient_ids(m_, p, q, x, y);
-            const int o2 = orient_ids(m_, p, q, y, c), r2 = orient_ids(m_, p, q, y, x);
-            if (o1 != 0 && o1 == r1 && o2 != 0 && o2 == r2) {
-              const int sp = orient_ids(m_, R.v[0], R.v[1], R.v[2], x);
-              cuts.push_back({uint32_t(2 * (i - s) + 1), orecs[o], sp});
-              ++placed[o];
-            }
-          }
-          if (i < e) {
-            // Along the face between ring[i] and ring[i + 1]?
-            const VertexId f = arrive[i + 1];
-            if (f == kInfinite || orient_ids(m_, p, q, f, c) != 0) continue;
-            const bool real_i = !m_.is_ghost(ring[i]);
-            const VertexId x = real_i ? arrive[i] : leave(i + 1);
-            if (x == kInfinite) continue;
-            const int sc = orient_ids(m_, p, q, x, c), sf = orient_ids(m_, p, q, x, f);
-            if (sc == 0 || sc != sf) continue;
-            const int so = orient_ids(m_, R.v[0], R.v[1], R.v[2], x);
-            cuts.push_back({uint32_t(2 * (i - s) + 2), orecs[o], real_i ? so : -so});
-            ++placed[o];
-          }
-        }
-      }
-      std::sort(cuts.begin(), cuts.end(), [](const Cut& a, const Cut& b) {
-        return a.pos != b.pos ? a.pos < b.pos : a.rec < b.rec;
-      });
-      uint32_t prev = 2 * it_in->second;
-      for (const Cut& ct : cuts) {
-        if (ct.prev_side == 0) {
-          why = "a triangle of the region lies in the plane of a ring tet's vertex";
-          return false;
-        }
-        const uint32_t back = ct.prev_side > 0 ? 0 : 1;
-        uf.unite(prev, 2 * ct.rec + back);
-        prev = 2 * ct.rec + (1 - back);
-      }
-      uf.unite(prev, 2 * it_out->second);
-    }
-    for (size_t o = 0; o < orecs.size(); ++o)
-      if (placed[o] != 1) {
-        why = "a triangle of the region is not located exactly once around its edge";
-        return false;
-      }
+  return true;
+}
+
+// The run ring[s..e] of hole tets between the kept tets ring[s - 1] and
+// ring[e + 1]: chains the kept face it enters by, the triangles of Ω that
+// cut it (in ring order, each passed from the side facing the piece before
+// it to its other side), and the kept face it leaves by.
+bool CavityMesher::link_run(Linking& L, VertexId p, VertexId q, size_t s, size_t e,
+                            std::string& why) {
+  const HalfFace hf_in = make_hf(L.ring[s - 1], m_.index_in_tet(L.ring[s - 1], L.arrive[s - 1]));
+  const HalfFace hf_out = m_.adjacent(make_hf(L.ring[e], m_.index_in_tet(L.ring[e], L.arrive[e])));
+  auto it_in = L.rec_of_kept.find(hf_in), it_out = L.rec_of_kept.find(hf_out);
+  if (it_in == L.rec_of_kept.end() || it_out == L.rec_of_kept.end()) {
+    why = "a face of the hole has no record";
+    return false;
   }
-  // Classes -> cavity ids, numbered by first record.
+  L.cuts.clear();
+  for (size_t o = 0; o < L.orecs.size(); ++o) locate_in_run(L, p, q, s, e, o);
+  std::sort(L.cuts.begin(), L.cuts.end(), [](const Linking::Cut& a, const Linking::Cut& b) {
+    return a.pos != b.pos ? a.pos < b.pos : a.rec < b.rec;
+  });
+  uint32_t prev = 2 * it_in->second;
+  for (const Linking::Cut& ct : L.cuts) {
+    if (ct.prev_side == 0) {
+      why = "a triangle of the region lies in the plane of a ring tet's vertex";
+      return false;
+    }
+    const uint32_t back = ct.prev_side > 0 ? 0 : 1;
+    L.uf.unite(prev, 2 * ct.rec + back);
+    prev = 2 * ct.rec + (1 - back);
+  }
+  L.uf.unite(prev, 2 * it_out->second);
+  return true;
+}
+
+// Where the triangle L.orecs[o] of Ω (edge pq, third vertex c) cuts the run
+// ring[s..e]: strictly inside the wedge of a real tet at pq (c strictly
+// between the tet's two other vertices around pq), or along the face between
+// two consecutive tets (c in that face's plane through pq, on its side).
+// Appends a cut for each and counts them in L.placed[o].
+void CavityMesher::locate_in_run(Linking& L, VertexId p, VertexId q, size_t s, size_t e, size_t o) {
+  const size_t n = L.ring.size();
+  auto leave = [&](size_t i) { return L.arrive[(i + 1) % n]; };  // other vertex of ring[i]
+  const Rec& R = recs_[L.orecs[o]];
+  const VertexId c = third_vertex(R.v, p, q);
+  for (size_t i = s; i <= e; ++i) {
+    if (!m_.is_ghost(L.ring[i])) {
+      const VertexId x = L.arrive[i], y = leave(i);
+      const int o1 = orient_ids(m_, p, q, x, c), r1 = orient_ids(m_, p, q, x, y);
+      const int o2 = orient_ids(m_, p, q, y, c), r2 = orient_ids(m_, p, q, y, x);
+      if (o1 != 0 && o1 == r1 && o2 != 0 && o2 == r2) {
+        const int sp = orient_ids(m_, R.v[0], R.v[1], R.v[2], x);
+        L.cuts.push_back({uint32_t(2 * (i - s) + 1), L.orecs[o], sp});
+        ++L.placed[o];
+      }
+    }
+    if (i == e) continue;
+    const VertexId f = L.arrive[i + 1];
+    if (f == kInfinite || orient_ids(m_, p, q, f, c) != 0) continue;
+    const bool real_i = !m_.is_ghost(L.ring[i]);
+    const VertexId x = real_i ? L.arrive[i] : leave(i + 1);
+    if (x == kInfinite) continue;
+    const int sc = orient_ids(m_, p, q, x, c), sf = orient_ids(m_, p, q, x, f);
+    if (sc == 0 || sc != sf) continue;
+    const int so = orient_ids(m_, R.v[0], R.v[1], R.v[2], x);
+    L.cuts.push_back({uint32_t(2 * (i - s) + 2), L.orecs[o], real_i ? so : -so});
+    ++L.placed[o];
+  }
+}
+
+// Classes -> cavity ids, numbered by first record; a cavity with a face
+// through the vertex at infinity is a ghost cavity.
+void CavityMesher::number_cavities(Linking& L) {
+  const size_t nr = recs_.size();
   std::vector<uint32_t> cav_of_root(2 * nr, kNone);
   uint32_t ncav = 0;
   auto cav_of = [&](uint32_t node) {
-    const uint32_t root = uf.find(node);
+    const uint32_t root = L.uf.find(node);
     if (cav_of_root[root] == kNone) cav_of_root[root] = ncav++;
     return cav_of_root[root];
   };
@@ -521,7 +580,6 @@ bool CavityMesher::link_cavities(std::string& why) {
   for (const Rec& R : recs_)
     if (R.v[0] == kInfinite || R.v[1] == kInfinite || R.v[2] == kInfinite)
       cavs_[R.side[0]].ghost = true;
-  return true;
 }
 
 // Vertices of hole tets on no cavity face lie inside a cavity: the one on

@@ -147,7 +147,15 @@ class CavityMesher {
   CavityOutcome form_hole(const std::vector<Triangle>& region, std::string& why);
   bool test_tet(TetId t, const std::vector<Triangle>& region);
   bool build_records(const std::vector<Triangle>& region, std::string& why);
+  // link_cavities and its parts: one edge of the cavity faces at a time.
+  struct Linking;
   bool link_cavities(std::string& why);
+  void list_record_edges(Linking& L) const;
+  bool link_omega_edge(Linking& L, VertexId p, VertexId q, std::string& why);
+  bool link_ring(Linking& L, VertexId p, VertexId q, std::string& why);
+  bool link_run(Linking& L, VertexId p, VertexId q, size_t s, size_t e, std::string& why);
+  void locate_in_run(Linking& L, VertexId p, VertexId q, size_t s, size_t e, size_t o);
+  void number_cavities(Linking& L);
   bool assign_interior_vertices(const std::vector<Triangle>& region, std::string& why);
   CavityOutcome verify_and_expand(CavityReport& report, std::string& why);
   bool build_cavity_dt(uint32_t k, std::vector<uint32_t>& missing, std::string& why);
