@@ -366,7 +366,6 @@ class DegeneracyRemoval {
   enum class Outcome { Broken, Protected, Deferred, Skipped };
 
   Status handle(const Found& f, bool force, Outcome& outcome);
-  bool conflict_sign(TetId t, const double* p, int& sign) const;
   bool probe(const double* p, TetId hint);
   bool new_pair_degenerate(const double* p, const VertexId q[4]) const;
   bool strictly_breaks(const Found& f, const double* p) const;
@@ -413,7 +412,7 @@ class DegeneracyRemoval {
   DegeneracyStats& stats_;
   PointInserter inserter_;
   Rng draw_;  // break point and protection point perturbations
-  Rng walk_;  // point location in probe()
+  Rng walk_;  // point location in probe(), apart from the inserter's walks
 
   // Facets and segments, built on first need (models without degeneracies
   // never pay for them).
@@ -438,28 +437,12 @@ class DegeneracyRemoval {
   std::vector<std::array<VertexId, 2>> pairs_;
 
   // probe() scratch.
-  std::vector<TetId> cavity_;
-  std::vector<std::array<VertexId, 4>> faces_;  // boundary face (3) + apex beyond
+  std::vector<std::array<VertexId, 4>> faces_;  // boundary face (3) + vertex beyond
   std::vector<std::array<VertexId, 3>> edges_;  // (lo, hi, third)
   std::vector<uint32_t> cand_;
   size_t point_budget_ = 0;
   size_t added_ = 0;
 };
-
-// Sign of "p in conflict with tet t": insphere for real tets, the ghost rule
-// (beyond the hull face, or in its plane inside its circle) for ghost tets.
-// False when the answer is an exact zero (p co-spherical / co-circular).
-bool DegeneracyRemoval::conflict_sign(TetId t, const double* p, int& sign) const {
-  const VertexId* w = mesh_.tet_vertices(t);
-  const double *a = mesh_.point(w[0]), *b = mesh_.point(w[1]), *c = mesh_.point(w[2]);
-  if (w[3] != kInfinite) {
-    sign = pred::insphere(a, b, c, mesh_.point(w[3]), p);
-    return sign != 0;
-  }
-  sign = pred::orient3d(a, b, c, p);
-  if (sign == 0) sign = pred::incircle_coplanar(a, b, c, p);
-  return sign != 0;
-}
 
 // Five points of two new tets sharing a face at p: p and q[0..3], where at
 // most one q is kInfinite (then the pair is two hull faces through p).
@@ -487,45 +470,15 @@ bool DegeneracyRemoval::new_pair_degenerate(const double* p, const VertexId q[4]
 // vertex counts as outside on ties, agrees with the exact one), no new tet is
 // flat, and no two new tets sharing a face are co-spherical.
 bool DegeneracyRemoval::probe(const double* p, TetId hint) {
-  const Location loc = locate_point(mesh_, p, hint, walk_);
-  if (loc.kind != LocateKind::InTet && loc.kind != LocateKind::OutsideHull) return false;
-  const uint32_t out_epoch = mesh_.next_epoch();
-  const uint32_t in_epoch = mesh_.next_epoch();
-  cavity_.clear();
-  faces_.clear();
-  int sign = 0;
-  if (!conflict_sign(loc.tet, p, sign) || sign < 0) return false;
-  mesh_.stamp(loc.tet, in_epoch);
-  cavity_.push_back(loc.tet);
-  for (size_t k = 0; k < cavity_.size(); ++k) {
-    const TetId t = cavity_[k];
-    for (int i = 0; i < 4; ++i) {
-      const TetId n = mesh_.neighbor(t, i);
-      if (mesh_.stamped(n, in_epoch)) continue;
-      if (!mesh_.stamped(n, out_epoch)) {
-        if (!conflict_sign(n, p, sign)) return false;
-        if (sign > 0) {
-          mesh_.stamp(n, in_epoch);
-          cavity_.push_back(n);
-          continue;
-        }
-        mesh_.stamp(n, out_epoch);
-      }
-      // Boundary face i of t: the new tet is t with vertex i replaced by p.
-      const VertexId* w = mesh_.tet_vertices(t);
-      if (w[0] != kInfinite && w[1] != kInfinite && w[2] != kInfinite && w[3] != kInfinite) {
-        const double* q[4];
-        for (int j = 0; j < 4; ++j) q[j] = j == i ? p : mesh_.point(w[j]);
-        if (pred::orient3d(q[0], q[1], q[2], q[3]) == 0) return false;
-      } else if (i == 3) {
-        // Ghost tet replaced by a real tet on its hull face.
-        if (pred::orient3d(mesh_.point(w[0]), mesh_.point(w[1]), mesh_.point(w[2]), p) == 0) return false;
-      }
-      const HalfFace hf = mesh_.adjacent(make_hf(t, i));
-      faces_.push_back(
-          {w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]], mesh_.opposite(hf)});
-    }
-  }
+  ProbeOptions exact;
+  exact.walk = &walk_;
+  exact.fail_on_tie = true;
+  if (!inserter_.probe(p, hint, faces_, exact)) return false;
+  // No new tet (a boundary face coned to p) is flat.
+  for (const auto& f : faces_)
+    if (f[0] != kInfinite && f[1] != kInfinite && f[2] != kInfinite &&
+        pred::orient3d(mesh_.point(f[0]), mesh_.point(f[1]), mesh_.point(f[2]), p) == 0)
+      return false;
   // Pairs of new tets: the two boundary faces at each boundary edge.
   edges_.clear();
   for (const auto& f : faces_)
@@ -546,9 +499,8 @@ bool DegeneracyRemoval::probe(const double* p, TetId hint) {
 // p lies strictly inside the circumspheres of both tets of the degeneracy
 // (both ghost tets of a hull degeneracy), so inserting p destroys both.
 bool DegeneracyRemoval::strictly_breaks(const Found& f, const double* p) const {
-  int s1 = 0, s2 = 0;
   const TetId n = hf_tet(mesh_.adjacent(make_hf(f.t, f.face)));
-  return conflict_sign(f.t, p, s1) && s1 > 0 && conflict_sign(n, p, s2) && s2 > 0;
+  return conflict_sign(mesh_, f.t, p) > 0 && conflict_sign(mesh_, n, p) > 0;
 }
 
 // Moves xyz by a few ulps along +-dir until it strictly breaks f. Used for
