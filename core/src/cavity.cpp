@@ -1156,7 +1156,7 @@ CavityOutcome CavityMesher::verify_and_expand(CavityReport& report, std::string&
 // convex there.
 bool CavityMesher::plan_ghost_cavity(uint32_t k, std::string& why) {
   Cav& C = cavs_[k];
-  C.ghosts.clear(), C.ghost_rec.clear();
+  C.ghosts.clear();
   for (uint32_t r = 0; r < recs_.size(); ++r) {
     const Rec& R = recs_[r];
     if (!R.alive || (R.side[0] != k && R.side[1] != k)) continue;
@@ -1176,7 +1176,6 @@ bool CavityMesher::plan_ghost_cavity(uint32_t k, std::string& why) {
       C.ghosts.push_back({R.v[0], R.v[1], R.v[2], kInfinite});
     else
       C.ghosts.push_back({R.v[0], R.v[2], R.v[1], kInfinite});
-    C.ghost_rec.push_back(r);
   }
   // Every infinite face of a new ghost: an infinite record of k, or exactly
   // one other new ghost.
@@ -1233,9 +1232,9 @@ bool CavityMesher::plan_ghost_cavity(uint32_t k, std::string& why) {
 }
 
 // Cavity retetrahedralization step 2(3): replace the hole and the absorbed
-// tets by the inside tets of every D_C (and the new ghost tets), reusing the
-// freed slots, and glue them to each other and to the kept tets.
-void CavityMesher::commit() {
+// tets by the inside tets of every D_C and the new ghost tets;
+// TetMesh::replace_tets glues them to each other and to the kept tets.
+bool CavityMesher::commit(std::string& why) {
   removed_faces_.clear();
   auto remove = [&](TetId t) {
     for (int i = 0; i < 4; ++i) {
@@ -1250,77 +1249,31 @@ void CavityMesher::commit() {
   std::sort(removed_faces_.begin(), removed_faces_.end());
   removed_faces_.erase(std::unique(removed_faces_.begin(), removed_faces_.end()),
                        removed_faces_.end());
-  for (TetId t : hole_) m_.free_tet(t);
-  for (TetId t : absorbed_) m_.free_tet(t);
 
-  std::vector<TetId> created_real, created_ghost;
-  for (uint32_t k = 0; k < cavs_.size(); ++k) {
-    Cav& C = cavs_[k];
+  std::vector<std::array<VertexId, 4>> fresh;
+  for (const Cav& C : cavs_) {
     if (C.ghost) {
-      C.new_id.assign(C.ghosts.size(), kNone);
-      for (size_t g = 0; g < C.ghosts.size(); ++g) {
-        const TetId t = m_.alloc_tet();
-        const std::array<VertexId, 4>& G = C.ghosts[g];
-        m_.set_tet(t, G[0], G[1], G[2], G[3]);
-        C.new_id[g] = t;
-        created_ghost.push_back(t);
-        Rec& R = recs_[C.ghost_rec[g]];
-        R.new_hf[R.side[0] == k ? 0 : 1] = make_hf(t, 3);
-      }
+      fresh.insert(fresh.end(), C.ghosts.begin(), C.ghosts.end());
       continue;
     }
-    const size_t slots = C.dt.num_tet_slots();
-    C.new_id.assign(slots, kNone);
-    for (TetId d = 0; d < slots; ++d) {
-      if (C.inside[d] != 1) continue;
-      const TetId t = m_.alloc_tet();
-      m_.set_tet(t, C.verts[C.dt.vertex(d, 0)], C.verts[C.dt.vertex(d, 1)],
-                 C.verts[C.dt.vertex(d, 2)], C.verts[C.dt.vertex(d, 3)]);
-      C.new_id[d] = t;
-      created_real.push_back(t);
-    }
-    for (TetId d = 0; d < slots; ++d) {
-      if (C.inside[d] != 1) continue;
-      for (int i = 0; i < 4; ++i) {
-        const HalfFace hf = make_hf(d, i);
-        const HalfFace nb = C.dt.adjacent(hf);
-        if (C.inside[hf_tet(nb)] == 1) {
-          m_.glue(make_hf(C.new_id[d], i), make_hf(C.new_id[hf_tet(nb)], hf_face(nb)));
-          continue;
-        }
-        Rec& R = recs_[C.rec_at[hf]];
-        R.new_hf[(R.side[0] == k && R.dt_hf[0] == hf) ? 0 : 1] = make_hf(C.new_id[d], i);
+    for (TetId d = 0; d < C.dt.num_tet_slots(); ++d)
+      if (C.inside[d] == 1) {
+        const VertexId* w = C.dt.tet_vertices(d);
+        fresh.push_back({C.verts[w[0]], C.verts[w[1]], C.verts[w[2]], C.verts[w[3]]});
       }
-    }
   }
-  // Ghost cavities: infinite faces to each other or to the kept ghosts.
-  for (uint32_t k = 0; k < cavs_.size(); ++k) {
-    Cav& C = cavs_[k];
-    if (!C.ghost) continue;
-    std::vector<std::pair<Triangle, HalfFace>> faces;
-    for (size_t g = 0; g < C.ghosts.size(); ++g)
-      for (int i = 0; i < 3; ++i) {
-        const std::array<VertexId, 4>& G = C.ghosts[g];
-        const Triangle key =
-            sorted_triangle(G[kFaceVertex[i][0]], G[kFaceVertex[i][1]], G[kFaceVertex[i][2]]);
-        const auto it = rec_of_.find(key);
-        if (it != rec_of_.end() && recs_[it->second].side[0] == k) {
-          recs_[it->second].new_hf[0] = make_hf(C.new_id[g], i);
-          continue;
-        }
-        faces.push_back({key, make_hf(C.new_id[g], i)});
-      }
-    std::sort(faces.begin(), faces.end());
-    for (size_t i = 0; i + 1 < faces.size(); i += 2) m_.glue(faces[i].second, faces[i + 1].second);
+  // Slots: last removed first, the order in which alloc_tet hands them out
+  // after the hole and then the absorbed tets are freed one by one (the
+  // numbering of the output's tets follows the slots).
+  std::vector<TetId> old(absorbed_.rbegin(), absorbed_.rend());
+  old.insert(old.end(), hole_.rbegin(), hole_.rend());
+  std::vector<TetId> created;
+  if (!m_.replace_tets(old.data(), old.size(), fresh.data(), fresh.size(), &created)) {
+    why = "the new tets do not fill the cavities face to face";
+    return false;
   }
-  for (const Rec& R : recs_) {
-    if (!R.alive || (R.side[0] == R.side[1])) continue;
-    m_.glue(R.new_hf[0], R.side[1] == kSideKept ? R.kept : R.new_hf[1]);
-  }
-  // vtet: a real new tet where there is one, else a real kept tet next to a
-  // cavity face, else any live tet holding the vertex.
-  for (TetId t : created_real)
-    for (int i = 0; i < 4; ++i) m_.set_vertex_tet(m_.vertex(t, i), t);
+  // vtet: replace_tets set a real new tet where there is one; else a real
+  // kept tet next to a cavity face, else any live tet holding the vertex.
   auto valid = [&](VertexId v) {
     const TetId t = m_.vtet[v];
     return t != kNone && t < m_.num_tet_slots() && !m_.is_dead(t) && m_.index_in_tet(t, v) >= 0;
@@ -1334,9 +1287,11 @@ void CavityMesher::commit() {
       if (!valid(v) || (m_.is_ghost(m_.vtet[v]) && !m_.is_ghost(t))) m_.set_vertex_tet(v, t);
     }
   }
-  for (TetId t : created_ghost)
-    for (int i = 0; i < 3; ++i)
-      if (!valid(m_.vertex(t, i))) m_.set_vertex_tet(m_.vertex(t, i), t);
+  for (TetId t : created)
+    if (m_.is_ghost(t))
+      for (int i = 0; i < 3; ++i)
+        if (!valid(m_.vertex(t, i))) m_.set_vertex_tet(m_.vertex(t, i), t);
+  return true;
 }
 
 CavityOutcome CavityMesher::recover_region(const std::vector<Triangle>& region,
@@ -1375,7 +1330,7 @@ CavityOutcome CavityMesher::recover_region(const std::vector<Triangle>& region,
   }
   report.cavities = cavs_.size();
   reset_marks();
-  commit();
+  if (!commit(why)) return fail(CavityOutcome::Failed);
   return CavityOutcome::Recovered;
 }
 

@@ -125,8 +125,7 @@ class CavityMesher {
     HalfFace kept = kNone;  ///< side B's half-face when side[1] == kSideKept
     int32_t omega = -1;     ///< index of the triangle of Ω, or -1
     bool alive = true;
-    HalfFace dt_hf[2] = {kNone, kNone};   ///< per cavity side: half-face in that cavity's D_C
-    HalfFace new_hf[2] = {kNone, kNone};  ///< per cavity side: half-face of the new tet
+    HalfFace dt_hf[2] = {kNone, kNone};  ///< per cavity side: half-face in that cavity's D_C
   };
   /// A cavity and its Delaunay tetrahedralization D_C (local vertex k is
   /// verts[k]; the ids are increasing so the perturbation agrees with the mesh).
@@ -138,9 +137,7 @@ class CavityMesher {
     TetMesh dt;
     std::vector<uint8_t> inside;   ///< per D_C slot: 0 unknown, 1 inside C, 2 outside
     std::vector<uint32_t> rec_at;  ///< per D_C half-face: the record lying there, or kNone
-    std::vector<TetId> new_id;     ///< per D_C slot: the mesh tet made from it
     std::vector<std::array<VertexId, 4>> ghosts;  ///< ghost cavity: new ghost tets
-    std::vector<uint32_t> ghost_rec;              ///< record under each new ghost tet
     size_t faces = 0;
   };
 
@@ -178,7 +175,7 @@ class CavityMesher {
   void collect_vertices(uint32_t k);
   bool absorb(TetId t, uint32_t k, std::string& why);
   bool plan_ghost_cavity(uint32_t k, std::string& why);
-  void commit();
+  bool commit(std::string& why);
   void reset_marks();
   uint32_t new_record(const VertexId v[3], uint32_t side_a, uint32_t side_b, HalfFace kept,
                       int32_t omega);

@@ -914,9 +914,9 @@ void DegeneracyRemoval::subsegments_at(VertexId u, std::vector<std::array<Vertex
 // the inner side of the link faces). The link is triangulated in a
 // temporary mesh whose local ids follow the global ids, so the symbolic
 // perturbation decides every tie as it does in the whole mesh. The result
-// is checked to fill the star exactly (every link face is matched once from
-// inside, no ghost tet is reached); otherwise nothing changes and the
-// answer is false. Hull vertices are not removed.
+// must fill the star exactly (no ghost tet is reached from inside, and
+// TetMesh::replace_tets matches every link face once); otherwise nothing
+// changes and the answer is false. Hull vertices are not removed.
 bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
   created.clear();
   mesh_.vertex_star(v, star_);
@@ -924,7 +924,6 @@ bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
   struct LinkFace {
     std::array<uint32_t, 3> key;  // sorted local ids
     VertexId a, b, c;             // counterclockwise seen from outside the star
-    HalfFace outside;
   };
   std::vector<LinkFace> faces;
   link_.clear();
@@ -932,8 +931,7 @@ bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
     if (mesh_.is_ghost(t)) return false;
     const int iv = mesh_.index_in_tet(t, v);
     const VertexId* w = mesh_.tet_vertices(t);
-    faces.push_back({{0, 0, 0}, w[kFaceVertex[iv][0]], w[kFaceVertex[iv][1]], w[kFaceVertex[iv][2]],
-                     mesh_.adjacent(make_hf(t, iv))});
+    faces.push_back({{0, 0, 0}, w[kFaceVertex[iv][0]], w[kFaceVertex[iv][1]], w[kFaceVertex[iv][2]]});
     for (int j = 0; j < 4; ++j)
       if (j != iv) link_.push_back(w[j]);
   }
@@ -955,10 +953,10 @@ bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
   std::sort(faces.begin(), faces.end(), [](const LinkFace& x, const LinkFace& y) { return x.key < y.key; });
   for (size_t k = 0; k + 1 < faces.size(); ++k)
     if (faces[k].key == faces[k + 1].key) return false;
-  auto find = [&](const std::array<uint32_t, 3>& key) -> const LinkFace* {
+  auto is_link_face = [&](const std::array<uint32_t, 3>& key) {
     auto it = std::lower_bound(faces.begin(), faces.end(), key,
                                [](const LinkFace& x, const std::array<uint32_t, 3>& k) { return x.key < k; });
-    return it != faces.end() && it->key == key ? &*it : nullptr;
+    return it != faces.end() && it->key == key;
   };
   // Seeds: the tet of DT(link) on the inner side of each link face (the side
   // of v: orient3d(a, b, c, x) > 0 for a face counterclockwise from outside).
@@ -981,18 +979,14 @@ bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
   inside.erase(std::unique(inside.begin(), inside.end()), inside.end());
   const uint32_t epoch = tmp.next_epoch();
   for (TetId t : inside) tmp.stamp(t, epoch);
-  // Flood fill without crossing link faces; count the link faces met.
-  std::vector<std::array<uint32_t, 3>> met;
+  // Flood fill without crossing link faces.
   for (size_t k = 0; k < inside.size(); ++k) {
     const TetId t = inside[k];
     for (int i = 0; i < 4; ++i) {
       std::array<uint32_t, 3> key = {tmp.vertex(t, kFaceVertex[i][0]), tmp.vertex(t, kFaceVertex[i][1]),
                                      tmp.vertex(t, kFaceVertex[i][2])};
       std::sort(key.begin(), key.end());
-      if (find(key)) {
-        met.push_back(key);
-        continue;
-      }
+      if (is_link_face(key)) continue;
       const TetId n = tmp.neighbor(t, i);
       if (tmp.is_ghost(n)) return false;
       if (!tmp.stamped(n, epoch)) {
@@ -1001,35 +995,18 @@ bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
       }
     }
   }
-  std::sort(met.begin(), met.end());
-  if (met.size() != faces.size()) return false;
-  for (size_t k = 0; k < met.size(); ++k)
-    if (met[k] != faces[k].key) return false;
-
-  // Replace the star.
-  for (TetId t : star_) mesh_.free_tet(t);
-  std::vector<TetId> id(tmp.num_tet_slots(), kNone);
+  // Replace the star; replace_tets checks that the filled tets meet every
+  // link face once. Slots: last star tet first, the order in which
+  // alloc_tet hands them out after the star is freed tet by tet (the
+  // numbering of the output's tets follows the slots).
+  std::vector<std::array<VertexId, 4>> fresh;
   for (TetId t : inside) {
-    const TetId nt = mesh_.alloc_tet();
-    id[t] = nt;
-    mesh_.set_tet(nt, link_[tmp.vertex(t, 0)], link_[tmp.vertex(t, 1)], link_[tmp.vertex(t, 2)],
-                  link_[tmp.vertex(t, 3)]);
-    created.push_back(nt);
+    const VertexId* w = tmp.tet_vertices(t);
+    fresh.push_back({link_[w[0]], link_[w[1]], link_[w[2]], link_[w[3]]});
   }
-  for (TetId t : inside) {
-    for (int i = 0; i < 4; ++i) {
-      const HalfFace hf = tmp.adjacent(make_hf(t, i));
-      if (id[hf_tet(hf)] != kNone) {
-        mesh_.glue(make_hf(id[t], i), make_hf(id[hf_tet(hf)], hf_face(hf)));
-        continue;
-      }
-      std::array<uint32_t, 3> key = {tmp.vertex(t, kFaceVertex[i][0]), tmp.vertex(t, kFaceVertex[i][1]),
-                                     tmp.vertex(t, kFaceVertex[i][2])};
-      std::sort(key.begin(), key.end());
-      mesh_.glue(make_hf(id[t], i), find(key)->outside);
-    }
-    for (int j = 0; j < 4; ++j) mesh_.set_vertex_tet(mesh_.vertex(id[t], j), id[t]);
-  }
+  const std::vector<TetId> old(star_.rbegin(), star_.rend());
+  if (!mesh_.replace_tets(old.data(), old.size(), fresh.data(), fresh.size(), &created))
+    return false;
   mesh_.set_vertex_tet(v, kNone);
   mesh_.vkind[v] = kVertexNotInserted;
   return true;
