@@ -229,10 +229,11 @@ Status insert_point(TetMesh& mesh, const double* xyz, TetId hint, InsertResult* 
 // Reading and writing point files for the CLI (delaunay_io.cpp)
 // ---------------------------------------------------------------------------
 
-/// Points of a TetGen .node text: "<n> <dim=3> <#attributes> <#markers>" then
-/// n lines "<index> <x> <y> <z> [attributes] [marker]"; '#' starts a comment.
-/// Indices may start at 0 or 1 (*first_index gets the first one); points are
-/// kept in file order. Errors carry the 1-based line.
+/// Points of a TetGen .node text: "<n> [dim=3] [#attributes] [#markers]" then
+/// n records "<index> <x> <y> <z> [attributes] [marker]"; '#' starts a
+/// comment. Indices start at 0 or 1 (*first_index gets the first one) and
+/// are consecutive; points are kept in file order, duplicates included.
+/// Errors are the PLC readers' (io/read_common.hpp) and carry the 1-based line.
 Status parse_node_points(const char* text, size_t size, const std::string& file_name,
                          std::vector<double>& coords, int* first_index = nullptr);
 Status read_node_points_file(const std::string& path, std::vector<double>& coords,
