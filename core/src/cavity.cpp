@@ -51,16 +51,11 @@ struct Projection {
 };
 
 Projection projection_of(const double* a, const double* b, const double* c) {
-  const Vec3 normal = triangle_normal(a, b, c);
-  const double n[3] = {std::fabs(normal.x), std::fabs(normal.y), std::fabs(normal.z)};
-  // The best axis first (largest_axis's order), then the others by size.
-  int order[3] = {0, 1, 2};
-  std::sort(order, order + 3, [&](int i, int j) { return n[i] != n[j] ? n[i] > n[j] : i < j; });
   Projection p;
-  for (int k = 0; k < 3; ++k) {
-    const int s = pred::orient2d_projected(a, b, c, order[k]);
+  for (int drop : axes_by_normal(triangle_normal(a, b, c))) {
+    const int s = pred::orient2d_projected(a, b, c, drop);
     if (s != 0) {
-      p.drop = order[k];
+      p.drop = drop;
       p.sign = s;
       return p;
     }
