@@ -51,16 +51,11 @@ struct Projection {
 };
 
 Projection projection_of(const double* a, const double* b, const double* c) {
-  const Vec3 normal = triangle_normal(a, b, c);
-  const double n[3] = {std::fabs(normal.x), std::fabs(normal.y), std::fabs(normal.z)};
-  // The best axis first (largest_axis's order), then the others by size.
-  int order[3] = {0, 1, 2};
-  std::sort(order, order + 3, [&](int i, int j) { return n[i] != n[j] ? n[i] > n[j] : i < j; });
   Projection p;
-  for (int k = 0; k < 3; ++k) {
-    const int s = pred::orient2d_projected(a, b, c, order[k]);
+  for (int drop : axes_by_normal(triangle_normal(a, b, c))) {
+    const int s = pred::orient2d_projected(a, b, c, drop);
     if (s != 0) {
-      p.drop = order[k];
+      p.drop = drop;
       p.sign = s;
       return p;
     }
@@ -363,7 +358,46 @@ struct UnionFind {
   }
 };
 
+// Whether triangle v traverses the edge p -> q (in that direction).
+bool has_directed_edge(const VertexId* v, VertexId p, VertexId q) {
+  for (int k = 0; k < 3; ++k)
+    if (v[k] == p && v[(k + 1) % 3] == q) return true;
+  return false;
+}
+
+// The vertex of triangle v that is neither p nor q.
+VertexId third_vertex(const VertexId* v, VertexId p, VertexId q) {
+  VertexId c = kNone;
+  for (int k = 0; k < 3; ++k)
+    if (v[k] != p && v[k] != q) c = v[k];
+  return c;
+}
+
 }  // namespace
+
+// link_cavities' state. Node 2r of the union-find is side A of record r,
+// node 2r + 1 its side B; the classes are the cavities. The buffers hold the
+// edge being linked: its records and the ring of tets around it.
+struct CavityMesher::Linking {
+  // Where a triangle of Ω lies in a run of hole tets around the edge: pos
+  // 2i + 1 inside the i-th tet of the run, 2i + 2 along the face after it;
+  // prev_side is the triangle's side (orientation sign) facing the piece
+  // before it in the ring's order.
+  struct Cut {
+    uint32_t pos, rec;
+    int prev_side;
+  };
+  explicit Linking(size_t records) : uf(2 * records) {}
+
+  UnionFind uf;
+  std::map<HalfFace, uint32_t> rec_of_kept;    // kept half-face -> its record
+  std::vector<std::array<uint32_t, 3>> edges;  // (smaller id, larger id, record), sorted
+  std::vector<uint32_t> srecs, orecs;          // at this edge: hole faces, triangles of Ω
+  std::vector<TetId> ring;
+  std::vector<VertexId> arrive;
+  std::vector<Cut> cuts;
+  std::vector<uint8_t> placed;  // per orecs entry: cuts made by it
+};
 
 // formcavity step 2, second half: which cavity faces bound the same cavity.
 // Around an edge of the hole's boundary, the tets form a ring; each run of
@@ -374,140 +408,160 @@ struct UnionFind {
 // kept tet around them (inside the hole, or not mesh edges) join the sides of
 // Ω's triangles directly. The connected classes are the cavities.
 bool CavityMesher::link_cavities(std::string& why) {
-  const size_t nr = recs_.size();
-  UnionFind uf(2 * nr);
-  std::map<HalfFace, uint32_t> rec_of_kept;
-  std::vector<std::array<uint32_t, 3>> edges;
-  edges.reserve(3 * nr);
-  for (uint32_t r = 0; r < nr; ++r) {
+  Linking L(recs_.size());
+  list_record_edges(L);
+  for (size_t e0 = 0; e0 < L.edges.size();) {
+    const VertexId p = L.edges[e0][0], q = L.edges[e0][1];
+    L.srecs.clear(), L.orecs.clear();
+    for (; e0 < L.edges.size() && L.edges[e0][0] == p && L.edges[e0][1] == q; ++e0) {
+      const uint32_t r = L.edges[e0][2];
+      (recs_[r].omega < 0 ? L.srecs : L.orecs).push_back(r);
+    }
+    const bool linked = L.srecs.empty() ? link_omega_edge(L, p, q, why) : link_ring(L, p, q, why);
+    if (!linked) return false;
+  }
+  number_cavities(L);
+  return true;
+}
+
+// Every edge of every record, sorted so that the records at one edge are
+// consecutive; and the record of each kept half-face.
+void CavityMesher::list_record_edges(Linking& L) const {
+  L.edges.reserve(3 * recs_.size());
+  for (uint32_t r = 0; r < recs_.size(); ++r) {
     const Rec& R = recs_[r];
-    if (R.omega < 0) rec_of_kept[R.kept] = r;
+    if (R.omega < 0) L.rec_of_kept[R.kept] = r;
     for (int k = 0; k < 3; ++k) {
       const VertexId x = R.v[k], y = R.v[(k + 1) % 3];
-      edges.push_back({std::min(x, y), std::max(x, y), r});
+      L.edges.push_back({std::min(x, y), std::max(x, y), r});
     }
   }
-  std::sort(edges.begin(), edges.end());
-  std::vector<TetId> ring;
-  std::vector<VertexId> arrive;
-  std::vector<uint32_t> srecs, orecs;
-  struct Cut {
-    uint32_t pos, rec;
-    int prev_side;
-  };
-  std::vector<Cut> cuts;
-  std::vector<uint8_t> placed;
-  for (size_t e0 = 0; e0 < edges.size();) {
-    size_t e1 = e0;
-    while (e1 < edges.size() && edges[e1][0] == edges[e0][0] && edges[e1][1] == edges[e0][1]) ++e1;
-    const VertexId p = edges[e0][0], q = edges[e0][1];
-    srecs.clear(), orecs.clear();
-    for (size_t e = e0; e < e1; ++e)
-      (recs_[edges[e][2]].omega < 0 ? srecs : orecs).push_back(edges[e][2]);
-    e0 = e1;
-    if (srecs.empty()) {
-      if (orecs.size() == 1) {
-        uf.unite(2 * orecs[0], 2 * orecs[0] + 1);
-      } else if (orecs.size() == 2) {
-        // Same facet, opposite sides of the edge: consistently oriented
-        // triangles (the edge traversed in opposite directions) have the
-        // same positive side.
-        auto forward = [&](uint32_t r) {
-          const VertexId* v = recs_[r].v;
-          for (int k = 0; k < 3; ++k)
-            if (v[k] == p && v[(k + 1) % 3] == q) return true;
-          return false;
-        };
-        const bool same = forward(orecs[0]) != forward(orecs[1]);
-        uf.unite(2 * orecs[0], 2 * orecs[1] + (same ? 0 : 1));
-        uf.unite(2 * orecs[0] + 1, 2 * orecs[1] + (same ? 1 : 0));
-      } else {
-        why = "more than two triangles of the region share an edge";
-        return false;
-      }
-      continue;
-    }
-    // Ring of tets around pq, starting at a kept tet.
-    const char* broken =
-        m_.ring_around_edge(hf_tet(recs_[srecs[0]].kept), p, q, limits_.max_ring, ring, arrive);
-    if (broken) {
-      why = broken;
+  std::sort(L.edges.begin(), L.edges.end());
+}
+
+// An edge pq of Ω that no hole face has: the triangles of Ω at pq (one or
+// two) close the cavities on their sides among themselves.
+bool CavityMesher::link_omega_edge(Linking& L, VertexId p, VertexId q, std::string& why) {
+  const std::vector<uint32_t>& o = L.orecs;
+  if (o.size() == 1) {
+    L.uf.unite(2 * o[0], 2 * o[0] + 1);
+  } else if (o.size() == 2) {
+    // Same facet, opposite sides of the edge: consistently oriented
+    // triangles (the edge traversed in opposite directions) have the same
+    // positive side.
+    const bool same =
+        has_directed_edge(recs_[o[0]].v, p, q) != has_directed_edge(recs_[o[1]].v, p, q);
+    L.uf.unite(2 * o[0], 2 * o[1] + (same ? 0 : 1));
+    L.uf.unite(2 * o[0] + 1, 2 * o[1] + (same ? 1 : 0));
+  } else {
+    why = "more than two triangles of the region share an edge";
+    return false;
+  }
+  return true;
+}
+
+// An edge pq of the hole's boundary: walks the ring of tets around pq from a
+// kept tet and links each run of hole tets in it; every triangle of Ω at pq
+// must lie in exactly one run, once.
+bool CavityMesher::link_ring(Linking& L, VertexId p, VertexId q, std::string& why) {
+  const char* broken =
+      m_.ring_around_edge(hf_tet(recs_[L.srecs[0]].kept), p, q, limits_.max_ring, L.ring, L.arrive);
+  if (broken) {
+    why = broken;
+    return false;
+  }
+  const size_t n = L.ring.size();
+  auto hole = [&](size_t i) { return mark_[L.ring[i]] == kMarkHole; };
+  L.placed.assign(L.orecs.size(), 0);
+  for (size_t s = 1; s < n; ++s) {
+    if (!hole(s) || hole(s - 1)) continue;
+    size_t e = s;
+    while (e + 1 < n && hole(e + 1)) ++e;
+    if (!link_run(L, p, q, s, e, why)) return false;
+  }
+  for (uint8_t count : L.placed)
+    if (count != 1) {
+      why = "a triangle of the region is not located exactly once around its edge";
       return false;
     }
-    const size_t n = ring.size();
-    auto hole = [&](size_t i) { return mark_[ring[i]] == kMarkHole; };
-    auto leave = [&](size_t i) { return arrive[(i + 1) % n]; };  // other vertex of ring[i]
-    placed.assign(orecs.size(), 0);
-    for (size_t s = 1; s < n; ++s) {
-      if (!hole(s) || hole(s - 1)) continue;
-      size_t e = s;
-      while (e + 1 < n && hole(e + 1)) ++e;
-      const HalfFace hf_in = make_hf(ring[s - 1], m_.index_in_tet(ring[s - 1], arrive[s - 1]));
-      const HalfFace hf_out = m_.adjacent(make_hf(ring[e], m_.index_in_tet(ring[e], arrive[e])));
-      auto it_in = rec_of_kept.find(hf_in), it_out = rec_of_kept.find(hf_out);
-      if (it_in == rec_of_kept.end() || it_out == rec_of_kept.end()) {
-        why = "a face of the hole has no record";
-        return false;
-      }
-      cuts.clear();
-      for (size_t o = 0; o < orecs.size(); ++o) {
-        const Rec& R = recs_[orecs[o]];
-        VertexId c = kNone;
-        for (int k = 0; k < 3; ++k)
-          if (R.v[k] != p && R.v[k] != q) c = R.v[k];
-        for (size_t i = s; i <= e; ++i) {
-          const TetId t = ring[i];
-          if (!m_.is_ghost(t)) {
-            const VertexId x = arrive[i], y = leave(i);
-            const int o1 = orient_ids(m_, p, q, x, c), r1 = orient_ids(m_, p, q, x, y);
-            const int o2 = orient_ids(m_, p, q, y, c), r2 = orient_ids(m_, p, q, y, x);
-            if (o1 != 0 && o1 == r1 && o2 != 0 && o2 == r2) {
-              const int sp = orient_ids(m_, R.v[0], R.v[1], R.v[2], x);
-              cuts.push_back({uint32_t(2 * (i - s) + 1), orecs[o], sp});
-              ++placed[o];
-            }
-          }
-          if (i < e) {
-            // Along the face between ring[i] and ring[i + 1]?
-            const VertexId f = arrive[i + 1];
-            if (f == kInfinite || orient_ids(m_, p, q, f, c) != 0) continue;
-            const bool real_i = !m_.is_ghost(ring[i]);
-            const VertexId x = real_i ? arrive[i] : leave(i + 1);
-            if (x == kInfinite) continue;
-            const int sc = orient_ids(m_, p, q, x, c), sf = orient_ids(m_, p, q, x, f);
-            if (sc == 0 || sc != sf) continue;
-            const int so = orient_ids(m_, R.v[0], R.v[1], R.v[2], x);
-            cuts.push_back({uint32_t(2 * (i - s) + 2), orecs[o], real_i ? so : -so});
-            ++placed[o];
-          }
-        }
-      }
-      std::sort(cuts.begin(), cuts.end(), [](const Cut& a, const Cut& b) {
-        return a.pos != b.pos ? a.pos < b.pos : a.rec < b.rec;
-      });
-      uint32_t prev = 2 * it_in->second;
-      for (const Cut& ct : cuts) {
-        if (ct.prev_side == 0) {
-          why = "a triangle of the region lies in the plane of a ring tet's vertex";
-          return false;
-        }
-        const uint32_t back = ct.prev_side > 0 ? 0 : 1;
-        uf.unite(prev, 2 * ct.rec + back);
-        prev = 2 * ct.rec + (1 - back);
-      }
-      uf.unite(prev, 2 * it_out->second);
-    }
-    for (size_t o = 0; o < orecs.size(); ++o)
-      if (placed[o] != 1) {
-        why = "a triangle of the region is not located exactly once around its edge";
-        return false;
-      }
+  return true;
+}
+
+// The run ring[s..e] of hole tets between the kept tets ring[s - 1] and
+// ring[e + 1]: chains the kept face it enters by, the triangles of Ω that
+// cut it (in ring order, each passed from the side facing the piece before
+// it to its other side), and the kept face it leaves by.
+bool CavityMesher::link_run(Linking& L, VertexId p, VertexId q, size_t s, size_t e,
+                            std::string& why) {
+  const HalfFace hf_in = make_hf(L.ring[s - 1], m_.index_in_tet(L.ring[s - 1], L.arrive[s - 1]));
+  const HalfFace hf_out = m_.adjacent(make_hf(L.ring[e], m_.index_in_tet(L.ring[e], L.arrive[e])));
+  auto it_in = L.rec_of_kept.find(hf_in), it_out = L.rec_of_kept.find(hf_out);
+  if (it_in == L.rec_of_kept.end() || it_out == L.rec_of_kept.end()) {
+    why = "a face of the hole has no record";
+    return false;
   }
-  // Classes -> cavity ids, numbered by first record.
+  L.cuts.clear();
+  for (size_t o = 0; o < L.orecs.size(); ++o) locate_in_run(L, p, q, s, e, o);
+  std::sort(L.cuts.begin(), L.cuts.end(), [](const Linking::Cut& a, const Linking::Cut& b) {
+    return a.pos != b.pos ? a.pos < b.pos : a.rec < b.rec;
+  });
+  uint32_t prev = 2 * it_in->second;
+  for (const Linking::Cut& ct : L.cuts) {
+    if (ct.prev_side == 0) {
+      why = "a triangle of the region lies in the plane of a ring tet's vertex";
+      return false;
+    }
+    const uint32_t back = ct.prev_side > 0 ? 0 : 1;
+    L.uf.unite(prev, 2 * ct.rec + back);
+    prev = 2 * ct.rec + (1 - back);
+  }
+  L.uf.unite(prev, 2 * it_out->second);
+  return true;
+}
+
+// Where the triangle L.orecs[o] of Ω (edge pq, third vertex c) cuts the run
+// ring[s..e]: strictly inside the wedge of a real tet at pq (c strictly
+// between the tet's two other vertices around pq), or along the face between
+// two consecutive tets (c in that face's plane through pq, on its side).
+// Appends a cut for each and counts them in L.placed[o].
+void CavityMesher::locate_in_run(Linking& L, VertexId p, VertexId q, size_t s, size_t e, size_t o) {
+  const size_t n = L.ring.size();
+  auto leave = [&](size_t i) { return L.arrive[(i + 1) % n]; };  // other vertex of ring[i]
+  const Rec& R = recs_[L.orecs[o]];
+  const VertexId c = third_vertex(R.v, p, q);
+  for (size_t i = s; i <= e; ++i) {
+    if (!m_.is_ghost(L.ring[i])) {
+      const VertexId x = L.arrive[i], y = leave(i);
+      const int o1 = orient_ids(m_, p, q, x, c), r1 = orient_ids(m_, p, q, x, y);
+      const int o2 = orient_ids(m_, p, q, y, c), r2 = orient_ids(m_, p, q, y, x);
+      if (o1 != 0 && o1 == r1 && o2 != 0 && o2 == r2) {
+        const int sp = orient_ids(m_, R.v[0], R.v[1], R.v[2], x);
+        L.cuts.push_back({uint32_t(2 * (i - s) + 1), L.orecs[o], sp});
+        ++L.placed[o];
+      }
+    }
+    if (i == e) continue;
+    const VertexId f = L.arrive[i + 1];
+    if (f == kInfinite || orient_ids(m_, p, q, f, c) != 0) continue;
+    const bool real_i = !m_.is_ghost(L.ring[i]);
+    const VertexId x = real_i ? L.arrive[i] : leave(i + 1);
+    if (x == kInfinite) continue;
+    const int sc = orient_ids(m_, p, q, x, c), sf = orient_ids(m_, p, q, x, f);
+    if (sc == 0 || sc != sf) continue;
+    const int so = orient_ids(m_, R.v[0], R.v[1], R.v[2], x);
+    L.cuts.push_back({uint32_t(2 * (i - s) + 2), L.orecs[o], real_i ? so : -so});
+    ++L.placed[o];
+  }
+}
+
+// Classes -> cavity ids, numbered by first record; a cavity with a face
+// through the vertex at infinity is a ghost cavity.
+void CavityMesher::number_cavities(Linking& L) {
+  const size_t nr = recs_.size();
   std::vector<uint32_t> cav_of_root(2 * nr, kNone);
   uint32_t ncav = 0;
   auto cav_of = [&](uint32_t node) {
-    const uint32_t root = uf.find(node);
+    const uint32_t root = L.uf.find(node);
     if (cav_of_root[root] == kNone) cav_of_root[root] = ncav++;
     return cav_of_root[root];
   };
@@ -521,7 +575,6 @@ bool CavityMesher::link_cavities(std::string& why) {
   for (const Rec& R : recs_)
     if (R.v[0] == kInfinite || R.v[1] == kInfinite || R.v[2] == kInfinite)
       cavs_[R.side[0]].ghost = true;
-  return true;
 }
 
 // Vertices of hole tets on no cavity face lie inside a cavity: the one on
@@ -1098,7 +1151,7 @@ CavityOutcome CavityMesher::verify_and_expand(CavityReport& report, std::string&
 // convex there.
 bool CavityMesher::plan_ghost_cavity(uint32_t k, std::string& why) {
   Cav& C = cavs_[k];
-  C.ghosts.clear(), C.ghost_rec.clear();
+  C.ghosts.clear();
   for (uint32_t r = 0; r < recs_.size(); ++r) {
     const Rec& R = recs_[r];
     if (!R.alive || (R.side[0] != k && R.side[1] != k)) continue;
@@ -1118,7 +1171,6 @@ bool CavityMesher::plan_ghost_cavity(uint32_t k, std::string& why) {
       C.ghosts.push_back({R.v[0], R.v[1], R.v[2], kInfinite});
     else
       C.ghosts.push_back({R.v[0], R.v[2], R.v[1], kInfinite});
-    C.ghost_rec.push_back(r);
   }
   // Every infinite face of a new ghost: an infinite record of k, or exactly
   // one other new ghost.
@@ -1175,9 +1227,9 @@ bool CavityMesher::plan_ghost_cavity(uint32_t k, std::string& why) {
 }
 
 // Cavity retetrahedralization step 2(3): replace the hole and the absorbed
-// tets by the inside tets of every D_C (and the new ghost tets), reusing the
-// freed slots, and glue them to each other and to the kept tets.
-void CavityMesher::commit() {
+// tets by the inside tets of every D_C and the new ghost tets;
+// TetMesh::replace_tets glues them to each other and to the kept tets.
+bool CavityMesher::commit(std::string& why) {
   removed_faces_.clear();
   auto remove = [&](TetId t) {
     for (int i = 0; i < 4; ++i) {
@@ -1192,77 +1244,31 @@ void CavityMesher::commit() {
   std::sort(removed_faces_.begin(), removed_faces_.end());
   removed_faces_.erase(std::unique(removed_faces_.begin(), removed_faces_.end()),
                        removed_faces_.end());
-  for (TetId t : hole_) m_.free_tet(t);
-  for (TetId t : absorbed_) m_.free_tet(t);
 
-  std::vector<TetId> created_real, created_ghost;
-  for (uint32_t k = 0; k < cavs_.size(); ++k) {
-    Cav& C = cavs_[k];
+  std::vector<std::array<VertexId, 4>> fresh;
+  for (const Cav& C : cavs_) {
     if (C.ghost) {
-      C.new_id.assign(C.ghosts.size(), kNone);
-      for (size_t g = 0; g < C.ghosts.size(); ++g) {
-        const TetId t = m_.alloc_tet();
-        const std::array<VertexId, 4>& G = C.ghosts[g];
-        m_.set_tet(t, G[0], G[1], G[2], G[3]);
-        C.new_id[g] = t;
-        created_ghost.push_back(t);
-        Rec& R = recs_[C.ghost_rec[g]];
-        R.new_hf[R.side[0] == k ? 0 : 1] = make_hf(t, 3);
-      }
+      fresh.insert(fresh.end(), C.ghosts.begin(), C.ghosts.end());
       continue;
     }
-    const size_t slots = C.dt.num_tet_slots();
-    C.new_id.assign(slots, kNone);
-    for (TetId d = 0; d < slots; ++d) {
-      if (C.inside[d] != 1) continue;
-      const TetId t = m_.alloc_tet();
-      m_.set_tet(t, C.verts[C.dt.vertex(d, 0)], C.verts[C.dt.vertex(d, 1)],
-                 C.verts[C.dt.vertex(d, 2)], C.verts[C.dt.vertex(d, 3)]);
-      C.new_id[d] = t;
-      created_real.push_back(t);
-    }
-    for (TetId d = 0; d < slots; ++d) {
-      if (C.inside[d] != 1) continue;
-      for (int i = 0; i < 4; ++i) {
-        const HalfFace hf = make_hf(d, i);
-        const HalfFace nb = C.dt.adjacent(hf);
-        if (C.inside[hf_tet(nb)] == 1) {
-          m_.glue(make_hf(C.new_id[d], i), make_hf(C.new_id[hf_tet(nb)], hf_face(nb)));
-          continue;
-        }
-        Rec& R = recs_[C.rec_at[hf]];
-        R.new_hf[(R.side[0] == k && R.dt_hf[0] == hf) ? 0 : 1] = make_hf(C.new_id[d], i);
+    for (TetId d = 0; d < C.dt.num_tet_slots(); ++d)
+      if (C.inside[d] == 1) {
+        const VertexId* w = C.dt.tet_vertices(d);
+        fresh.push_back({C.verts[w[0]], C.verts[w[1]], C.verts[w[2]], C.verts[w[3]]});
       }
-    }
   }
-  // Ghost cavities: infinite faces to each other or to the kept ghosts.
-  for (uint32_t k = 0; k < cavs_.size(); ++k) {
-    Cav& C = cavs_[k];
-    if (!C.ghost) continue;
-    std::vector<std::pair<Triangle, HalfFace>> faces;
-    for (size_t g = 0; g < C.ghosts.size(); ++g)
-      for (int i = 0; i < 3; ++i) {
-        const std::array<VertexId, 4>& G = C.ghosts[g];
-        const Triangle key =
-            sorted_triangle(G[kFaceVertex[i][0]], G[kFaceVertex[i][1]], G[kFaceVertex[i][2]]);
-        const auto it = rec_of_.find(key);
-        if (it != rec_of_.end() && recs_[it->second].side[0] == k) {
-          recs_[it->second].new_hf[0] = make_hf(C.new_id[g], i);
-          continue;
-        }
-        faces.push_back({key, make_hf(C.new_id[g], i)});
-      }
-    std::sort(faces.begin(), faces.end());
-    for (size_t i = 0; i + 1 < faces.size(); i += 2) m_.glue(faces[i].second, faces[i + 1].second);
+  // Slots: last removed first, the order in which alloc_tet hands them out
+  // after the hole and then the absorbed tets are freed one by one (the
+  // numbering of the output's tets follows the slots).
+  std::vector<TetId> old(absorbed_.rbegin(), absorbed_.rend());
+  old.insert(old.end(), hole_.rbegin(), hole_.rend());
+  std::vector<TetId> created;
+  if (!m_.replace_tets(old.data(), old.size(), fresh.data(), fresh.size(), &created)) {
+    why = "the new tets do not fill the cavities face to face";
+    return false;
   }
-  for (const Rec& R : recs_) {
-    if (!R.alive || (R.side[0] == R.side[1])) continue;
-    m_.glue(R.new_hf[0], R.side[1] == kSideKept ? R.kept : R.new_hf[1]);
-  }
-  // vtet: a real new tet where there is one, else a real kept tet next to a
-  // cavity face, else any live tet holding the vertex.
-  for (TetId t : created_real)
-    for (int i = 0; i < 4; ++i) m_.set_vertex_tet(m_.vertex(t, i), t);
+  // vtet: replace_tets set a real new tet where there is one; else a real
+  // kept tet next to a cavity face, else any live tet holding the vertex.
   auto valid = [&](VertexId v) {
     const TetId t = m_.vtet[v];
     return t != kNone && t < m_.num_tet_slots() && !m_.is_dead(t) && m_.index_in_tet(t, v) >= 0;
@@ -1276,9 +1282,11 @@ void CavityMesher::commit() {
       if (!valid(v) || (m_.is_ghost(m_.vtet[v]) && !m_.is_ghost(t))) m_.set_vertex_tet(v, t);
     }
   }
-  for (TetId t : created_ghost)
-    for (int i = 0; i < 3; ++i)
-      if (!valid(m_.vertex(t, i))) m_.set_vertex_tet(m_.vertex(t, i), t);
+  for (TetId t : created)
+    if (m_.is_ghost(t))
+      for (int i = 0; i < 3; ++i)
+        if (!valid(m_.vertex(t, i))) m_.set_vertex_tet(m_.vertex(t, i), t);
+  return true;
 }
 
 CavityOutcome CavityMesher::recover_region(const std::vector<Triangle>& region,
@@ -1317,7 +1325,7 @@ CavityOutcome CavityMesher::recover_region(const std::vector<Triangle>& region,
   }
   report.cavities = cavs_.size();
   reset_marks();
-  commit();
+  if (!commit(why)) return fail(CavityOutcome::Failed);
   return CavityOutcome::Recovered;
 }
 

@@ -125,8 +125,7 @@ class CavityMesher {
     HalfFace kept = kNone;  ///< side B's half-face when side[1] == kSideKept
     int32_t omega = -1;     ///< index of the triangle of Ω, or -1
     bool alive = true;
-    HalfFace dt_hf[2] = {kNone, kNone};   ///< per cavity side: half-face in that cavity's D_C
-    HalfFace new_hf[2] = {kNone, kNone};  ///< per cavity side: half-face of the new tet
+    HalfFace dt_hf[2] = {kNone, kNone};  ///< per cavity side: half-face in that cavity's D_C
   };
   /// A cavity and its Delaunay tetrahedralization D_C (local vertex k is
   /// verts[k]; the ids are increasing so the perturbation agrees with the mesh).
@@ -138,16 +137,22 @@ class CavityMesher {
     TetMesh dt;
     std::vector<uint8_t> inside;   ///< per D_C slot: 0 unknown, 1 inside C, 2 outside
     std::vector<uint32_t> rec_at;  ///< per D_C half-face: the record lying there, or kNone
-    std::vector<TetId> new_id;     ///< per D_C slot: the mesh tet made from it
     std::vector<std::array<VertexId, 4>> ghosts;  ///< ghost cavity: new ghost tets
-    std::vector<uint32_t> ghost_rec;              ///< record under each new ghost tet
     size_t faces = 0;
   };
 
   CavityOutcome form_hole(const std::vector<Triangle>& region, std::string& why);
   bool test_tet(TetId t, const std::vector<Triangle>& region);
   bool build_records(const std::vector<Triangle>& region, std::string& why);
+  // link_cavities and its parts: one edge of the cavity faces at a time.
+  struct Linking;
   bool link_cavities(std::string& why);
+  void list_record_edges(Linking& L) const;
+  bool link_omega_edge(Linking& L, VertexId p, VertexId q, std::string& why);
+  bool link_ring(Linking& L, VertexId p, VertexId q, std::string& why);
+  bool link_run(Linking& L, VertexId p, VertexId q, size_t s, size_t e, std::string& why);
+  void locate_in_run(Linking& L, VertexId p, VertexId q, size_t s, size_t e, size_t o);
+  void number_cavities(Linking& L);
   bool assign_interior_vertices(const std::vector<Triangle>& region, std::string& why);
   CavityOutcome verify_and_expand(CavityReport& report, std::string& why);
   bool build_cavity_dt(uint32_t k, std::vector<uint32_t>& missing, std::string& why);
@@ -170,7 +175,7 @@ class CavityMesher {
   void collect_vertices(uint32_t k);
   bool absorb(TetId t, uint32_t k, std::string& why);
   bool plan_ghost_cavity(uint32_t k, std::string& why);
-  void commit();
+  bool commit(std::string& why);
   void reset_marks();
   uint32_t new_record(const VertexId v[3], uint32_t side_a, uint32_t side_b, HalfFace kept,
                       int32_t omega);

@@ -366,7 +366,6 @@ class DegeneracyRemoval {
   enum class Outcome { Broken, Protected, Deferred, Skipped };
 
   Status handle(const Found& f, bool force, Outcome& outcome);
-  bool conflict_sign(TetId t, const double* p, int& sign) const;
   bool probe(const double* p, TetId hint);
   bool new_pair_degenerate(const double* p, const VertexId q[4]) const;
   bool strictly_breaks(const Found& f, const double* p) const;
@@ -413,7 +412,7 @@ class DegeneracyRemoval {
   DegeneracyStats& stats_;
   PointInserter inserter_;
   Rng draw_;  // break point and protection point perturbations
-  Rng walk_;  // point location in probe()
+  Rng walk_;  // point location in probe(), apart from the inserter's walks
 
   // Facets and segments, built on first need (models without degeneracies
   // never pay for them).
@@ -438,28 +437,12 @@ class DegeneracyRemoval {
   std::vector<std::array<VertexId, 2>> pairs_;
 
   // probe() scratch.
-  std::vector<TetId> cavity_;
-  std::vector<std::array<VertexId, 4>> faces_;  // boundary face (3) + apex beyond
+  std::vector<std::array<VertexId, 4>> faces_;  // boundary face (3) + vertex beyond
   std::vector<std::array<VertexId, 3>> edges_;  // (lo, hi, third)
   std::vector<uint32_t> cand_;
   size_t point_budget_ = 0;
   size_t added_ = 0;
 };
-
-// Sign of "p in conflict with tet t": insphere for real tets, the ghost rule
-// (beyond the hull face, or in its plane inside its circle) for ghost tets.
-// False when the answer is an exact zero (p co-spherical / co-circular).
-bool DegeneracyRemoval::conflict_sign(TetId t, const double* p, int& sign) const {
-  const VertexId* w = mesh_.tet_vertices(t);
-  const double *a = mesh_.point(w[0]), *b = mesh_.point(w[1]), *c = mesh_.point(w[2]);
-  if (w[3] != kInfinite) {
-    sign = pred::insphere(a, b, c, mesh_.point(w[3]), p);
-    return sign != 0;
-  }
-  sign = pred::orient3d(a, b, c, p);
-  if (sign == 0) sign = pred::incircle_coplanar(a, b, c, p);
-  return sign != 0;
-}
 
 // Five points of two new tets sharing a face at p: p and q[0..3], where at
 // most one q is kInfinite (then the pair is two hull faces through p).
@@ -487,45 +470,15 @@ bool DegeneracyRemoval::new_pair_degenerate(const double* p, const VertexId q[4]
 // vertex counts as outside on ties, agrees with the exact one), no new tet is
 // flat, and no two new tets sharing a face are co-spherical.
 bool DegeneracyRemoval::probe(const double* p, TetId hint) {
-  const Location loc = locate_point(mesh_, p, hint, walk_);
-  if (loc.kind != LocateKind::InTet && loc.kind != LocateKind::OutsideHull) return false;
-  const uint32_t out_epoch = mesh_.next_epoch();
-  const uint32_t in_epoch = mesh_.next_epoch();
-  cavity_.clear();
-  faces_.clear();
-  int sign = 0;
-  if (!conflict_sign(loc.tet, p, sign) || sign < 0) return false;
-  mesh_.stamp(loc.tet, in_epoch);
-  cavity_.push_back(loc.tet);
-  for (size_t k = 0; k < cavity_.size(); ++k) {
-    const TetId t = cavity_[k];
-    for (int i = 0; i < 4; ++i) {
-      const TetId n = mesh_.neighbor(t, i);
-      if (mesh_.stamped(n, in_epoch)) continue;
-      if (!mesh_.stamped(n, out_epoch)) {
-        if (!conflict_sign(n, p, sign)) return false;
-        if (sign > 0) {
-          mesh_.stamp(n, in_epoch);
-          cavity_.push_back(n);
-          continue;
-        }
-        mesh_.stamp(n, out_epoch);
-      }
-      // Boundary face i of t: the new tet is t with vertex i replaced by p.
-      const VertexId* w = mesh_.tet_vertices(t);
-      if (w[0] != kInfinite && w[1] != kInfinite && w[2] != kInfinite && w[3] != kInfinite) {
-        const double* q[4];
-        for (int j = 0; j < 4; ++j) q[j] = j == i ? p : mesh_.point(w[j]);
-        if (pred::orient3d(q[0], q[1], q[2], q[3]) == 0) return false;
-      } else if (i == 3) {
-        // Ghost tet replaced by a real tet on its hull face.
-        if (pred::orient3d(mesh_.point(w[0]), mesh_.point(w[1]), mesh_.point(w[2]), p) == 0) return false;
-      }
-      const HalfFace hf = mesh_.adjacent(make_hf(t, i));
-      faces_.push_back(
-          {w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]], mesh_.opposite(hf)});
-    }
-  }
+  ProbeOptions exact;
+  exact.walk = &walk_;
+  exact.fail_on_tie = true;
+  if (!inserter_.probe(p, hint, faces_, exact)) return false;
+  // No new tet (a boundary face coned to p) is flat.
+  for (const auto& f : faces_)
+    if (f[0] != kInfinite && f[1] != kInfinite && f[2] != kInfinite &&
+        pred::orient3d(mesh_.point(f[0]), mesh_.point(f[1]), mesh_.point(f[2]), p) == 0)
+      return false;
   // Pairs of new tets: the two boundary faces at each boundary edge.
   edges_.clear();
   for (const auto& f : faces_)
@@ -546,9 +499,8 @@ bool DegeneracyRemoval::probe(const double* p, TetId hint) {
 // p lies strictly inside the circumspheres of both tets of the degeneracy
 // (both ghost tets of a hull degeneracy), so inserting p destroys both.
 bool DegeneracyRemoval::strictly_breaks(const Found& f, const double* p) const {
-  int s1 = 0, s2 = 0;
   const TetId n = hf_tet(mesh_.adjacent(make_hf(f.t, f.face)));
-  return conflict_sign(f.t, p, s1) && s1 > 0 && conflict_sign(n, p, s2) && s2 > 0;
+  return conflict_sign(mesh_, f.t, p) > 0 && conflict_sign(mesh_, n, p) > 0;
 }
 
 // Moves xyz by a few ulps along +-dir until it strictly breaks f. Used for
@@ -962,9 +914,9 @@ void DegeneracyRemoval::subsegments_at(VertexId u, std::vector<std::array<Vertex
 // the inner side of the link faces). The link is triangulated in a
 // temporary mesh whose local ids follow the global ids, so the symbolic
 // perturbation decides every tie as it does in the whole mesh. The result
-// is checked to fill the star exactly (every link face is matched once from
-// inside, no ghost tet is reached); otherwise nothing changes and the
-// answer is false. Hull vertices are not removed.
+// must fill the star exactly (no ghost tet is reached from inside, and
+// TetMesh::replace_tets matches every link face once); otherwise nothing
+// changes and the answer is false. Hull vertices are not removed.
 bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
   created.clear();
   mesh_.vertex_star(v, star_);
@@ -972,7 +924,6 @@ bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
   struct LinkFace {
     std::array<uint32_t, 3> key;  // sorted local ids
     VertexId a, b, c;             // counterclockwise seen from outside the star
-    HalfFace outside;
   };
   std::vector<LinkFace> faces;
   link_.clear();
@@ -980,8 +931,7 @@ bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
     if (mesh_.is_ghost(t)) return false;
     const int iv = mesh_.index_in_tet(t, v);
     const VertexId* w = mesh_.tet_vertices(t);
-    faces.push_back({{0, 0, 0}, w[kFaceVertex[iv][0]], w[kFaceVertex[iv][1]], w[kFaceVertex[iv][2]],
-                     mesh_.adjacent(make_hf(t, iv))});
+    faces.push_back({{0, 0, 0}, w[kFaceVertex[iv][0]], w[kFaceVertex[iv][1]], w[kFaceVertex[iv][2]]});
     for (int j = 0; j < 4; ++j)
       if (j != iv) link_.push_back(w[j]);
   }
@@ -1003,10 +953,10 @@ bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
   std::sort(faces.begin(), faces.end(), [](const LinkFace& x, const LinkFace& y) { return x.key < y.key; });
   for (size_t k = 0; k + 1 < faces.size(); ++k)
     if (faces[k].key == faces[k + 1].key) return false;
-  auto find = [&](const std::array<uint32_t, 3>& key) -> const LinkFace* {
+  auto is_link_face = [&](const std::array<uint32_t, 3>& key) {
     auto it = std::lower_bound(faces.begin(), faces.end(), key,
                                [](const LinkFace& x, const std::array<uint32_t, 3>& k) { return x.key < k; });
-    return it != faces.end() && it->key == key ? &*it : nullptr;
+    return it != faces.end() && it->key == key;
   };
   // Seeds: the tet of DT(link) on the inner side of each link face (the side
   // of v: orient3d(a, b, c, x) > 0 for a face counterclockwise from outside).
@@ -1029,18 +979,14 @@ bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
   inside.erase(std::unique(inside.begin(), inside.end()), inside.end());
   const uint32_t epoch = tmp.next_epoch();
   for (TetId t : inside) tmp.stamp(t, epoch);
-  // Flood fill without crossing link faces; count the link faces met.
-  std::vector<std::array<uint32_t, 3>> met;
+  // Flood fill without crossing link faces.
   for (size_t k = 0; k < inside.size(); ++k) {
     const TetId t = inside[k];
     for (int i = 0; i < 4; ++i) {
       std::array<uint32_t, 3> key = {tmp.vertex(t, kFaceVertex[i][0]), tmp.vertex(t, kFaceVertex[i][1]),
                                      tmp.vertex(t, kFaceVertex[i][2])};
       std::sort(key.begin(), key.end());
-      if (find(key)) {
-        met.push_back(key);
-        continue;
-      }
+      if (is_link_face(key)) continue;
       const TetId n = tmp.neighbor(t, i);
       if (tmp.is_ghost(n)) return false;
       if (!tmp.stamped(n, epoch)) {
@@ -1049,35 +995,18 @@ bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
       }
     }
   }
-  std::sort(met.begin(), met.end());
-  if (met.size() != faces.size()) return false;
-  for (size_t k = 0; k < met.size(); ++k)
-    if (met[k] != faces[k].key) return false;
-
-  // Replace the star.
-  for (TetId t : star_) mesh_.free_tet(t);
-  std::vector<TetId> id(tmp.num_tet_slots(), kNone);
+  // Replace the star; replace_tets checks that the filled tets meet every
+  // link face once. Slots: last star tet first, the order in which
+  // alloc_tet hands them out after the star is freed tet by tet (the
+  // numbering of the output's tets follows the slots).
+  std::vector<std::array<VertexId, 4>> fresh;
   for (TetId t : inside) {
-    const TetId nt = mesh_.alloc_tet();
-    id[t] = nt;
-    mesh_.set_tet(nt, link_[tmp.vertex(t, 0)], link_[tmp.vertex(t, 1)], link_[tmp.vertex(t, 2)],
-                  link_[tmp.vertex(t, 3)]);
-    created.push_back(nt);
+    const VertexId* w = tmp.tet_vertices(t);
+    fresh.push_back({link_[w[0]], link_[w[1]], link_[w[2]], link_[w[3]]});
   }
-  for (TetId t : inside) {
-    for (int i = 0; i < 4; ++i) {
-      const HalfFace hf = tmp.adjacent(make_hf(t, i));
-      if (id[hf_tet(hf)] != kNone) {
-        mesh_.glue(make_hf(id[t], i), make_hf(id[hf_tet(hf)], hf_face(hf)));
-        continue;
-      }
-      std::array<uint32_t, 3> key = {tmp.vertex(t, kFaceVertex[i][0]), tmp.vertex(t, kFaceVertex[i][1]),
-                                     tmp.vertex(t, kFaceVertex[i][2])};
-      std::sort(key.begin(), key.end());
-      mesh_.glue(make_hf(id[t], i), find(key)->outside);
-    }
-    for (int j = 0; j < 4; ++j) mesh_.set_vertex_tet(mesh_.vertex(id[t], j), id[t]);
-  }
+  const std::vector<TetId> old(star_.rbegin(), star_.rend());
+  if (!mesh_.replace_tets(old.data(), old.size(), fresh.data(), fresh.size(), &created))
+    return false;
   mesh_.set_vertex_tet(v, kNone);
   mesh_.vkind[v] = kVertexNotInserted;
   return true;

@@ -96,26 +96,48 @@ PointInserter::in_conflict(TetId t, const double* p, VertexId v) const {
   return pred::incircle_coplanar_sos(a, b, c, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(v)) > 0;
 }
 
+int conflict_sign(const TetMesh& mesh, TetId t, const double* p) {
+  const VertexId* w = mesh.tet_vertices(t);
+  const double *a = mesh.point(w[0]), *b = mesh.point(w[1]), *c = mesh.point(w[2]);
+  if (w[3] != kInfinite) return pred::insphere(a, b, c, mesh.point(w[3]), p);
+  const int o = pred::orient3d(a, b, c, p);
+  return o != 0 ? o : pred::incircle_coplanar(a, b, c, p);
+}
+
+// The cavity search of grow_cavity without the local ids and the prefetches
+// (a probe changes nothing, so it needs neither), plus the vertex beyond
+// each boundary face. The located tet is in conflict without a test, as in
+// grow_cavity (p lies in its closure and is no vertex of it, or strictly
+// beyond its hull face), so its exact test is positive: no tie there.
 bool PointInserter::probe(const double* xyz, TetId hint,
-                          std::vector<std::array<VertexId, 3>>& faces) {
+                          std::vector<std::array<VertexId, 4>>& faces,
+                          const ProbeOptions& options) {
   faces.clear();
   TetMesh& m = mesh_;
-  const Location loc = locate_point(m, xyz, hint, rng_);
+  const Location loc = locate_point(m, xyz, hint, options.walk ? *options.walk : rng_);
   if (loc.kind != LocateKind::InTet && loc.kind != LocateKind::OutsideHull) return false;
-  if (vlocal_.size() < m.num_vertices()) vlocal_.resize(m.num_vertices() + m.num_vertices() / 4, 0);
   const VertexId v = static_cast<VertexId>(m.num_vertices());  // the id it would get
   uint8_t* flag = m.tflag.data();
   cavity_.clear();
   cavity_.push_back(loc.tet);
   flag[loc.tet] |= kTetInCavity;
   std::vector<TetId> tested;
-  for (size_t k = 0; k < cavity_.size(); ++k) {
+  bool tie = false;
+  for (size_t k = 0; k < cavity_.size() && !tie; ++k) {
     const TetId t = cavity_[k];
-    for (int i = 0; i < 4; ++i) {
-      const TetId n = m.neighbor(t, i);
+    for (int i = 0; i < 4 && !tie; ++i) {
+      const HalfFace hf = m.adjacent(make_hf(t, i));
+      const TetId n = hf_tet(hf);
       if (flag[n] & kTetInCavity) continue;
       if (!(flag[n] & kTetTested)) {
-        if (in_conflict(n, xyz, v)) {
+        int s;
+        if (options.fail_on_tie) {
+          s = conflict_sign(m, n, xyz);
+          tie = s == 0;
+        } else {
+          s = in_conflict(n, xyz, v) ? 1 : -1;
+        }
+        if (s > 0) {
           flag[n] |= kTetInCavity;
           cavity_.push_back(n);
           continue;
@@ -123,14 +145,16 @@ bool PointInserter::probe(const double* xyz, TetId hint,
         flag[n] |= kTetTested;
         tested.push_back(n);
       }
-      const VertexId* w = &m.tv[4 * static_cast<size_t>(t)];
-      faces.push_back({w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]});
+      const VertexId* w = m.tet_vertices(t);
+      faces.push_back(
+          {w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]], m.opposite(hf)});
     }
   }
   for (TetId t : tested) flag[t] &= uint8_t(~kTetTested);
   for (TetId t : cavity_) flag[t] &= uint8_t(~kTetInCavity);
   cavity_.clear();
-  return true;
+  if (tie) faces.clear();
+  return !tie;
 }
 
 // Whether coning the cavity boundary to p makes a numerically flat real tet.

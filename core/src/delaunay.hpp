@@ -100,6 +100,18 @@ struct InsertResult {
   bool rejected = false;
 };
 
+/// How PointInserter::probe() walks and decides ties.
+struct ProbeOptions {
+  /// The random face order of the walk (nullptr: the inserter's own). A
+  /// caller passes its own so that its probes do not change where the
+  /// inserter's later walks go.
+  Rng* walk = nullptr;
+  /// Give up (probe() returns false) at a conflict test that is an exact tie
+  /// (conflict_sign() == 0) instead of deciding it by the perturbation: then
+  /// the cavity is the same for the exact and the perturbed point.
+  bool fail_on_tie = false;
+};
+
 /// Inserts points into a Delaunay (under SoS) tetrahedralization: walk to a
 /// tet in conflict, grow the cavity of tets whose circumsphere contains the
 /// point (breadth-first, marked with the transient tflag bits kTetInCavity /
@@ -124,11 +136,14 @@ class PointInserter {
                       InsertResult* result = nullptr);
 
   /// What inserting `xyz` would do, without doing it: fills `faces` with the
-  /// boundary faces of its cavity (the new tets would be these faces coned
-  /// to the point; kInfinite may appear). False when the point equals a
-  /// vertex or the walk fails. The point is perturbed as a new vertex (the
-  /// largest id); not available with set_sos_ids.
-  bool probe(const double* xyz, TetId hint, std::vector<std::array<VertexId, 3>>& faces);
+  /// boundary faces of its cavity, each as (a, b, c, beyond): (a, b, c)
+  /// counterclockwise seen from outside the cavity (the new tet would be
+  /// (a, b, c, point)) and `beyond` the vertex of the tet on the other side;
+  /// kInfinite may appear. False when the point equals a vertex, the walk
+  /// fails, or (fail_on_tie) a conflict test ties. The point is perturbed as
+  /// a new vertex (the largest id); not available with set_sos_ids.
+  bool probe(const double* xyz, TetId hint, std::vector<std::array<VertexId, 4>>& faces,
+             const ProbeOptions& options = {});
 
   /// Tets created by the last insertion (real and ghost). Their slots may
   /// include ids from removed_tets(), which were reused.
@@ -197,6 +212,13 @@ class PointInserter {
   std::vector<EdgeRec> recs_;
 };
 
+/// The exact, unperturbed sign of the test by which Bowyer–Watson insertion
+/// takes tet t into the cavity of point p: insphere for a real tet; for a
+/// ghost tet, orient3d against its hull face (positive beyond it), and in
+/// the face's plane the incircle test. Positive: in conflict; 0: a tie, which
+/// PointInserter decides by the perturbation.
+int conflict_sign(const TetMesh& mesh, TetId t, const double* p);
+
 /// One-shot convenience: inserts `xyz` (as a new vertex of kind
 /// kVertexSteiner unless duplicate) starting the walk at `hint`; fills
 /// *new_tets with the created tets. For many points keep a PointInserter.
@@ -207,10 +229,11 @@ Status insert_point(TetMesh& mesh, const double* xyz, TetId hint, InsertResult* 
 // Reading and writing point files for the CLI (delaunay_io.cpp)
 // ---------------------------------------------------------------------------
 
-/// Points of a TetGen .node text: "<n> <dim=3> <#attributes> <#markers>" then
-/// n lines "<index> <x> <y> <z> [attributes] [marker]"; '#' starts a comment.
-/// Indices may start at 0 or 1 (*first_index gets the first one); points are
-/// kept in file order. Errors carry the 1-based line.
+/// Points of a TetGen .node text: "<n> [dim=3] [#attributes] [#markers]" then
+/// n records "<index> <x> <y> <z> [attributes] [marker]"; '#' starts a
+/// comment. Indices start at 0 or 1 (*first_index gets the first one) and
+/// are consecutive; points are kept in file order, duplicates included.
+/// Errors are the PLC readers' (io/read_common.hpp) and carry the 1-based line.
 Status parse_node_points(const char* text, size_t size, const std::string& file_name,
                          std::vector<double>& coords, int* first_index = nullptr);
 Status read_node_points_file(const std::string& path, std::vector<double>& coords,

@@ -78,6 +78,18 @@ inline int largest_axis(double nx, double ny, double nz) {
   return ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
 }
 
+/// The three axes in the order a projection should try them for a plane of
+/// normal n: the largest |component| first (largest_axis's choice), then the
+/// next, ties to the lower axis. A caller whose points happen to project
+/// degenerately on the first (the normal is rounded) takes the next.
+inline std::array<int, 3> axes_by_normal(const Vec3& n) {
+  const double a[3] = {std::fabs(n.x), std::fabs(n.y), std::fabs(n.z)};
+  std::array<int, 3> order = {0, 1, 2};
+  std::sort(order.begin(), order.end(),
+            [&](int i, int j) { return a[i] != a[j] ? a[i] > a[j] : i < j; });
+  return order;
+}
+
 /// Newell's normal of a polygon of PLC points (not unit): twice its
 /// vector area, for a planar loop of any shape, convex or not.
 inline Vec3 newell_normal(const Plc& plc, const std::vector<VertexId>& loop) {

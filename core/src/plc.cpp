@@ -2,7 +2,6 @@
 // check_plc), reading a file from disk, and the summary used by `cdt3d info`.
 #include <algorithm>
 #include <cdt3d/cdt3d.hpp>
-#include <cstdio>
 #include <exception>
 #include <new>
 
@@ -114,41 +113,9 @@ Status read_plc_file(const std::string& path, Plc& out, bool check) {
     // Report the extension before touching the file system.
     return read_plc(nullptr, 0, path, out, check);
   }
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) return io::fail(ErrorCode::IoError, "Cannot open the file.", path);
   std::vector<uint8_t> bytes;
-  bool read_error = false;
-#if defined(__cpp_exceptions)
-  try {
-#endif
-    // Read straight into the buffer when the size is known, then in chunks
-    // for whatever remains (pipes, files that grew).
-    if (std::fseek(f, 0, SEEK_END) == 0) {
-      const long end = std::ftell(f);
-      if (end > 0 && std::fseek(f, 0, SEEK_SET) == 0) {
-        bytes.resize(static_cast<size_t>(end));
-        bytes.resize(std::fread(bytes.data(), 1, bytes.size(), f));
-      } else {
-        std::rewind(f);
-      }
-    }
-    uint8_t chunk[1 << 16];
-    for (;;) {
-      const size_t got = std::fread(chunk, 1, sizeof chunk, f);
-      bytes.insert(bytes.end(), chunk, chunk + got);
-      if (got < sizeof chunk) {
-        read_error = std::ferror(f) != 0;
-        break;
-      }
-    }
-#if defined(__cpp_exceptions)
-  } catch (const std::bad_alloc&) {
-    std::fclose(f);
-    return io::fail(ErrorCode::OutOfMemory, "Out of memory while reading the file.", path);
-  }
-#endif
-  std::fclose(f);
-  if (read_error) return io::fail(ErrorCode::IoError, "Reading the file failed.", path);
+  Status s = io::read_file(path, bytes);
+  if (!s.ok()) return s;
   return read_plc(bytes.data(), bytes.size(), path, out, check);
 }
 

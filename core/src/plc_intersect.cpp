@@ -27,17 +27,13 @@
 #include <unordered_map>
 #include <utility>
 
+#include "geometry.hpp"
 #include "predicates.hpp"
 
 namespace cdt3d {
 namespace {
 
-using EdgeKey = uint64_t;
-
-inline EdgeKey edge_key(uint32_t a, uint32_t b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<uint64_t>(a) << 32) | b;
-}
+using EdgeKey = uint64_t;  // geometry.hpp's edge_key
 
 // Coordinates in one flat array: the predicates take const double*.
 class Points {
@@ -149,24 +145,13 @@ struct Tri {
   uint8_t loop_mask;  ///< bit i: edge (v[i], v[i+1]) is a loop edge of the facet
 };
 
-// Exact normal-axis choice: the float normal only orders the axes by how well
-// conditioned the projection is; an axis is accepted when the exact projected
-// orientation of a non-collinear triple is nonzero, which is exactly when the
-// projection maps the plane bijectively.
-int choose_drop(const Points& P, const std::vector<uint32_t>& loop) {
-  double n[3] = {0, 0, 0};
+// Exact normal-axis choice: the float normal (Newell's) only orders the axes
+// by how well conditioned the projection is; an axis is accepted when the
+// exact projected orientation of a non-collinear triple is nonzero, which is
+// exactly when the projection maps the plane bijectively.
+int choose_drop(const Plc& plc, const Points& P, const std::vector<uint32_t>& loop) {
   const size_t m = loop.size();
-  for (size_t i = 0; i < m; ++i) {
-    const double* a = P[loop[i]];
-    const double* b = P[loop[(i + 1) % m]];
-    n[0] += (a[1] - b[1]) * (a[2] + b[2]);
-    n[1] += (a[2] - b[2]) * (a[0] + b[0]);
-    n[2] += (a[0] - b[0]) * (a[1] + b[1]);
-  }
-  int order[3] = {0, 1, 2};
-  std::stable_sort(order, order + 3,
-                   [&](int x, int y) { return std::fabs(n[x]) > std::fabs(n[y]); });
-  for (int d : order) {
+  for (int d : axes_by_normal(newell_normal(plc, loop))) {
     for (size_t j = 1; j + 1 < m; ++j) {
       if (o2(P[loop[0]], P[loop[j]], P[loop[j + 1]], d) != 0) return d;
     }
@@ -506,7 +491,7 @@ void Checker::build_triangles() {
     fv_off_[fi + 1] = static_cast<uint32_t>(fv_.size());
     fe_off_[fi + 1] = static_cast<uint32_t>(fe_.size());
     if (f.loops.empty() || f.loops[0].size() < 3) continue;
-    const int drop = choose_drop(P_, f.loops[0]);
+    const int drop = choose_drop(plc_, P_, f.loops[0]);
     local.clear();
     if (f.loops.size() == 1 && f.loops[0].size() == 3 && f.holes.empty()) {
       local.push_back({f.loops[0][0], f.loops[0][1], f.loops[0][2]});

@@ -123,7 +123,7 @@ class SegmentRecovery {
     return false;
   }
   std::vector<uint32_t> incident_start_, incident_;  // input vertex -> segments (CSR)
-  std::vector<std::array<VertexId, 3>> probe_faces_;
+  std::vector<std::array<VertexId, 4>> probe_faces_;  // (face, vertex beyond)
 };
 
 // The reference point of missing segment ab (§5): among the vertices that
@@ -238,7 +238,7 @@ VertexId SegmentRecovery::reference_point(VertexId a, VertexId b) {
 int SegmentRecovery::split_cost(uint32_t s, VertexId a, VertexId b, const double* q) {
   if (!inserter_.probe(q, mesh_.vtet[a], probe_faces_)) return INT32_MAX;
   clear_ring();
-  for (const auto& f : probe_faces_) add_ring_face(f);
+  for (const auto& f : probe_faces_) add_ring_face({f[0], f[1], f[2]});
   int cost = 4 * (!in_ring(a) + !in_ring(b));
   auto count = [&](uint32_t t, VertexId x) {
     const long i = segs_.chain_position(t, x);

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "geometry.hpp"
+
 namespace cdt3d {
 
 namespace {
@@ -100,64 +102,57 @@ void TetMesh::free_tet(TetId t) {
 
 bool TetMesh::replace_tets(const TetId* old, size_t n_old, const std::array<VertexId, 4>* fresh,
                            size_t n_fresh, std::vector<TetId>* created) {
-  using Key = std::array<VertexId, 3>;
-  auto key = [](VertexId a, VertexId b, VertexId c) {
-    Key k = {a, b, c};
-    std::sort(k.begin(), k.end());
-    return k;
-  };
-  auto is_old = [&](TetId t) { return std::find(old, old + n_old, t) != old + n_old; };
-  // Boundary of the old region: face key -> half-face outside it.
-  std::vector<std::pair<Key, HalfFace>> outer;
+  // Every face to match, keyed by its sorted vertices: each face of the old
+  // region toward the rest of the mesh (kOuter | the half-face beyond it)
+  // and each face of each fresh tet (4 * j + i). Sorted, the fresh side of a
+  // pair comes first; a valid replacement pairs every key exactly once, a
+  // fresh face with an outer one or with another fresh one.
+  constexpr uint64_t kOuter = uint64_t(1) << 32;
+  std::vector<TetId> old_sorted(old, old + n_old);
+  std::sort(old_sorted.begin(), old_sorted.end());
+  std::vector<std::pair<std::array<VertexId, 3>, uint64_t>> sides;
+  sides.reserve(4 * (n_old + n_fresh));
   for (size_t k = 0; k < n_old; ++k)
     for (int i = 0; i < 4; ++i) {
-      const HalfFace out = tadj[4 * static_cast<size_t>(old[k]) + i];
-      if (is_old(hf_tet(out))) continue;
-      const VertexId* w = &tv[4 * static_cast<size_t>(old[k])];
-      outer.push_back({key(w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]), out});
+      const HalfFace out = adjacent(make_hf(old[k], i));
+      if (std::binary_search(old_sorted.begin(), old_sorted.end(), hf_tet(out))) continue;
+      const VertexId* w = tet_vertices(old[k]);
+      sides.push_back(
+          {sorted_triangle(w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]),
+           kOuter | out});
     }
-  // Match every fresh face before touching anything: to an outer face, or
-  // to the face of another fresh tet (by index 4 * j + i).
-  std::vector<uint32_t> match(4 * n_fresh, kNone);
-  std::vector<uint8_t> outer_used(outer.size(), 0);
   for (size_t j = 0; j < n_fresh; ++j)
     for (int i = 0; i < 4; ++i) {
-      const auto& w = fresh[j];
-      const Key k = key(w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]);
-      for (size_t o = 0; o < outer.size() && match[4 * j + i] == kNone; ++o)
-        if (!outer_used[o] && outer[o].first == k) outer_used[o] = 1, match[4 * j + i] = 0x80000000u | uint32_t(o);
-      for (size_t j2 = 0; j2 < n_fresh && match[4 * j + i] == kNone; ++j2)
-        for (int i2 = 0; i2 < 4 && j2 != j; ++i2) {
-          const auto& w2 = fresh[j2];
-          if (key(w2[kFaceVertex[i2][0]], w2[kFaceVertex[i2][1]], w2[kFaceVertex[i2][2]]) == k) {
-            match[4 * j + i] = static_cast<uint32_t>(4 * j2 + i2);
-            break;
-          }
-        }
-      if (match[4 * j + i] == kNone) return false;
+      const std::array<VertexId, 4>& w = fresh[j];
+      sides.push_back(
+          {sorted_triangle(w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]),
+           4 * j + i});
     }
-  for (uint8_t u : outer_used)
-    if (!u) return false;
-  // Rewire.
+  std::sort(sides.begin(), sides.end());
+  if (sides.size() % 2 != 0) return false;
+  for (size_t k = 0; k < sides.size(); k += 2)
+    if (sides[k].first != sides[k + 1].first || (sides[k].second & kOuter) ||
+        (k + 2 < sides.size() && sides[k + 2].first == sides[k].first))
+      return false;
+  // Rewire. Fresh tet j takes slot old[j]; the old slots left over go back
+  // last first, so that the next alloc_tet calls hand them out in the order
+  // of `old`.
   std::vector<TetId> ids(n_fresh);
   for (size_t j = 0; j < n_fresh; ++j) ids[j] = j < n_old ? old[j] : alloc_tet();
-  for (size_t k = n_fresh; k < n_old; ++k) free_tet(old[k]);
+  for (size_t k = n_old; k-- > n_fresh;) free_tet(old[k]);
   for (size_t j = 0; j < n_fresh; ++j) {
     tflag[ids[j]] = 0;
     set_tet(ids[j], fresh[j][0], fresh[j][1], fresh[j][2], fresh[j][3]);
   }
+  auto fresh_hf = [&](uint64_t side) { return make_hf(ids[side / 4], static_cast<int>(side % 4)); };
+  for (size_t k = 0; k < sides.size(); k += 2) {
+    const uint64_t other = sides[k + 1].second;
+    glue(fresh_hf(sides[k].second),
+         other & kOuter ? static_cast<HalfFace>(other & ~kOuter) : fresh_hf(other));
+  }
   for (size_t j = 0; j < n_fresh; ++j)
-    for (int i = 0; i < 4; ++i) {
-      const uint32_t m = match[4 * j + i];
-      const HalfFace me = make_hf(ids[j], i);
-      if (m & 0x80000000u) {
-        glue(me, outer[m & 0x7fffffffu].second);
-      } else {
-        tadj[me] = make_hf(ids[m / 4], static_cast<int>(m % 4));
-      }
-    }
-  for (size_t j = 0; j < n_fresh; ++j)
-    for (int i = 0; i < 4; ++i) vtet[fresh[j][i]] = ids[j];
+    if (fresh[j][3] != kInfinite)
+      for (int i = 0; i < 4; ++i) set_vertex_tet(fresh[j][i], ids[j]);
   if (created) *created = ids;
   return true;
 }

@@ -4,9 +4,9 @@
 // methods (glue, link_one_way, set_vertex_tet, replace_tets, compact) and by
 // the point inserter (delaunay.cpp, whose cavity filling writes tadj in bulk
 // for speed); cavity commits (cavity.cpp), vertex removal (degeneracy.cpp)
-// and the flips (flat_flips.cpp) go through those methods. A step that needs
-// a new mesh operation adds it here. The steps read the mesh through the
-// accessors (vertex, tet_vertices, opposite, adjacent, neighbor,
+// and the flips (flat_flips.cpp) replace tets through replace_tets. A step
+// that needs a new mesh operation adds it here. The steps read the mesh
+// through the accessors (vertex, tet_vertices, opposite, adjacent, neighbor,
 // ring_around_edge), whose preconditions are debug asserts.
 //
 // Invariants (checked by check_mesh):
@@ -178,13 +178,20 @@ struct TetMesh {
     assert(t == kNone || (t < num_tet_slots() && !is_dead(t) && index_in_tet(t, v) >= 0));
     vtet[v] = t;
   }
-  /// Replaces the live tets `old` (n_old of them) by real tets `fresh`
-  /// (n_fresh, each positively oriented) that fill the same region: every
-  /// face on the boundary of `old` must be a face of exactly one fresh tet,
-  /// every other fresh face of exactly two. Rewires adjacency and vtet; the
-  /// fresh tets reuse the old slots first and get tflag 0. Returns false,
-  /// changing nothing, when the faces do not match (a caller's bug). The
-  /// flips of step 4's output (flat_flips.cpp) are built on it.
+  /// Replaces the live tets `old` (n_old of them) by the tets `fresh`
+  /// (n_fresh; real ones positively oriented, ghost ones with kInfinite at
+  /// position 3) that fill the same region. Faces are matched by their
+  /// vertices: every face on the boundary of `old` must be a face of exactly
+  /// one fresh tet, every other fresh face of exactly two. Returns false,
+  /// changing nothing, when they do not match (a caller's bug). Otherwise
+  /// rewires adjacency; fresh tet j takes slot old[j] (then alloc_tet's),
+  /// leftover old slots are freed last first (the next alloc_tet calls get
+  /// them in the order of `old`), and fresh tets get tflag 0. Every vertex of
+  /// a real fresh tet points at the last one that has it (vtet); the others
+  /// are the caller's: a vertex only on fresh ghost tets, or one that left.
+  /// created (if given) receives the fresh tets' ids. Step 4's cavity commit
+  /// (cavity.cpp), vertex removal (degeneracy.cpp) and the flips of step 4's
+  /// output (flat_flips.cpp) are built on it.
   bool replace_tets(const TetId* old, size_t n_old, const std::array<VertexId, 4>* fresh,
                     size_t n_fresh, std::vector<TetId>* created = nullptr);
 

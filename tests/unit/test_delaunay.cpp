@@ -398,6 +398,16 @@ TEST_CASE(".node points: parse and errors", "[delaunay]") {
   const std::string dim2 = "2 2 0 0\n0 0 0\n1 1 1\n";
   CHECK(parse_node_points(dim2.data(), dim2.size(), "d.node", c).error.code == ErrorCode::Parse);
   CHECK(parse_node_points("", 0, "e.node", c).error.code == ErrorCode::Empty);
+  const std::string gap = "2 3 0 0\n0 0 0 0\n2 1 1 1\n";
+  CHECK(parse_node_points(gap.data(), gap.size(), "g.node", c).error.code == ErrorCode::Parse);
+
+  // Duplicates stay (vertex i of the output is point i); -0 reads as +0 and
+  // 17 digits (%.17g) give back the exact double.
+  const std::string dup = "3 3\n0 1 1 1\n1 1 1 1\n2 -0 0.1 0.30000000000000004\n";
+  REQUIRE(parse_node_points(dup.data(), dup.size(), "p.node", c, &first).ok());
+  CHECK(first == 0);
+  CHECK(c == std::vector<double>{1, 1, 1, 1, 1, 1, 0, 0.1, 0.30000000000000004});
+  CHECK_FALSE(std::signbit(c[6]));
 }
 
 TEST_CASE("write_node_ele writes TetGen files numbered from 1", "[delaunay]") {

@@ -208,7 +208,38 @@ TEST_CASE("replace_tets rewires a region and refuses tets that do not fill it", 
   m.vtet[4] = kNone;
   m.vkind[4] = kVertexNotInserted;
   CHECK(created.size() == 1);
+  CHECK(created[0] == kept_copy[0]);  // fresh tet j takes old[j]
   CHECK(m.live_tets == live - 3);
+  const Status st = check_mesh(m);
+  INFO(st.error.message);
+  CHECK(st.ok());
+  // The leftover slots come back out in the order of `old`.
+  CHECK(m.alloc_tet() == kept_copy[1]);
+  CHECK(m.alloc_tet() == kept_copy[2]);
+}
+
+TEST_CASE("replace_tets matches the faces of new ghost tets", "[tet_mesh]") {
+  // The whole mesh (4 tets around the centre and their 4 ghosts) becomes the
+  // unit tet and 4 new ghosts: every face pairs two new tets.
+  TetMesh m = tet_with_center();
+  std::vector<TetId> all;
+  for (TetId t = 0; t < m.num_tet_slots(); ++t)
+    if (!m.is_dead(t)) all.push_back(t);
+  REQUIRE(all.size() == 8);
+  std::array<VertexId, 4> fresh[5] = {{0, 1, 2, 3}};
+  if (pred::orient3d(m.point(0), m.point(1), m.point(2), m.point(3)) < 0)
+    std::swap(fresh[0][0], fresh[0][1]);
+  // Ghost i over face i of the unit tet: that face seen from the other side.
+  for (int i = 0; i < 4; ++i) {
+    const int* f = kFaceVertex[i];
+    fresh[1 + i] = {fresh[0][f[0]], fresh[0][f[2]], fresh[0][f[1]], kInfinite};
+  }
+  std::vector<TetId> created;
+  REQUIRE(m.replace_tets(all.data(), all.size(), fresh, 5, &created));
+  m.vtet[4] = kNone;
+  m.vkind[4] = kVertexNotInserted;
+  CHECK(m.num_real_tets() == 1);
+  CHECK(m.num_ghost_tets() == 4);
   const Status st = check_mesh(m);
   INFO(st.error.message);
   CHECK(st.ok());

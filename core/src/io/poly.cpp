@@ -12,6 +12,8 @@
 // means "nodes in a separate .node file": we read one file, so it is an error.
 // '#' starts a comment. A record may continue on the next line; whatever
 // follows the values we need on a record's last line is ignored.
+#include <cmath>
+
 #include "io/read_common.hpp"
 
 namespace cdt3d {
@@ -28,8 +30,6 @@ class TetgenReader {
         b_(out, file, 0) {}
 
   Status read() {
-    if (r_.at_end())
-      return fail(ErrorCode::Empty, "The file holds only comments and white space.", file_);
     Status s = read_nodes();
     if (!s.ok() || kind_ == FileFormat::Node) return s.ok() ? b_.finish() : s;
     s = read_facets();
@@ -51,61 +51,17 @@ class TetgenReader {
   }
 
   Status read_nodes() {
-    uint64_t n = 0;
     int64_t line = 0;
-    Status s = expect_count(r_, n, line, file_, "node count");
+    Status s = read_node_header(r_, file_, kind_ == FileFormat::Node, nodes_, line);
     if (!s.ok()) return s;
-    int64_t dim = 3;
-    bool present = false;
-    s = optional_int(dim, present, "dimension");
-    if (!s.ok()) return s;
-    if (dim != 3) {
-      return fail(
-          ErrorCode::Parse,
-          "Only 3D node lists are supported (the dimension is " + std::to_string(dim) + ").", file_,
-          line);
-    }
-    r_.skip_line();  // attribute count and marker flag: the values are skipped per node
-    if (n == 0) {
-      if (kind_ == FileFormat::Node)
-        return fail(ErrorCode::Empty, "The node list is empty.", file_, line);
-      return fail(ErrorCode::Parse,
-                  "The node count is 0, which in TetGen means the nodes are in a separate "
-                  ".node file; cdt3d reads a single file, so list the nodes in this one.",
-                  file_, line);
-    }
-    nodes_ = n;
-    b_.reserve_vertices(n, r_.remaining() / 8 + 1, n);
-    for (uint64_t i = 0; i < n; ++i) {
-      int64_t id = 0, id_line = 0;
-      s = expect_int(r_, id, id_line, file_, "node number");
-      if (!s.ok()) return s;
-      if (i == 0) {
-        if (id != 0 && id != 1) {
-          return fail(ErrorCode::Parse,
-                      "The first node is numbered " + std::to_string(id) +
-                          "; TetGen numbering starts at 0 or 1.",
-                      file_, id_line);
-        }
-        base_ = id;
-        b_.set_index_base(base_);
-      } else if (id != base_ + static_cast<int64_t>(i)) {
-        return fail(ErrorCode::Parse,
-                    "Node numbers must be consecutive: expected " +
-                        std::to_string(base_ + static_cast<int64_t>(i)) + ", found " +
-                        std::to_string(id) + ".",
-                    file_, id_line);
-      }
-      const Subject who{"vertex", static_cast<int64_t>(i)};
+    b_.reserve_vertices(nodes_, r_.remaining() / 8 + 1, nodes_);
+    for (uint64_t i = 0; i < nodes_; ++i) {
       double c[3];
-      for (double& x : c) {
-        s = expect_coord(r_, x, file_, who);
-        if (!s.ok()) return s;
-      }
-      s = check_coords(c[0], c[1], c[2], file_, r_.last_line(), -1, who);
-      if (s.ok()) s = b_.add_vertex(c[0], c[1], c[2], id_line, -1);
+      s = read_node(r_, file_, i, base_, c, line);
       if (!s.ok()) return s;
-      r_.skip_line();
+      if (i == 0) b_.set_index_base(base_);
+      s = b_.add_vertex(c[0], c[1], c[2], line, -1);
+      if (!s.ok()) return s;
     }
     return Status::success();
   }
@@ -309,6 +265,71 @@ class TetgenReader {
 };
 
 }  // namespace
+
+Status read_node_header(TextReader& r, const std::string& file, bool node_file, uint64_t& count,
+                        int64_t& line) {
+  if (r.at_end())
+    return fail(ErrorCode::Empty, "The file holds only comments and white space.", file);
+  Status s = expect_count(r, count, line, file, "node count");
+  if (!s.ok()) return s;
+  int64_t dim = 3;
+  Token t;
+  if (r.next_on_line(t)) {
+    s = int_from_token(t, dim, file, "dimension");
+    if (!s.ok()) return s;
+  }
+  if (dim != 3) {
+    return fail(ErrorCode::Parse,
+                "Only 3D node lists are supported (the dimension is " + std::to_string(dim) + ").",
+                file, line);
+  }
+  r.skip_line();  // attribute count and marker flag: the values are skipped per node
+  if (count == 0) {
+    if (node_file) return fail(ErrorCode::Empty, "The node list is empty.", file, line);
+    return fail(ErrorCode::Parse,
+                "The node count is 0, which in TetGen means the nodes are in a separate "
+                ".node file; cdt3d reads a single file, so list the nodes in this one.",
+                file, line);
+  }
+  return Status::success();
+}
+
+// A million-point file has four million tokens: each is parsed here without
+// building a Status; only a token that fails is handed to the function that
+// says what is wrong with it (it parses it again).
+Status read_node(TextReader& r, const std::string& file, uint64_t i, int64_t& base, double xyz[3],
+                 int64_t& line) {
+  Token t;
+  int64_t id = 0;
+  if (!r.next(t)) return expect_token(r, t, file, "node number");  // Truncated
+  line = t.line;
+  if (parse_int(t.p, t.n, id) != NumParse::Ok) return int_from_token(t, id, file, "node number");
+  if (i == 0) {
+    if (id != 0 && id != 1) {
+      return fail(ErrorCode::Parse,
+                  "The first node is numbered " + std::to_string(id) +
+                      "; TetGen numbering starts at 0 or 1.",
+                  file, line);
+    }
+    base = id;
+  } else if (id != base + static_cast<int64_t>(i)) {
+    return fail(ErrorCode::Parse,
+                "Node numbers must be consecutive: expected " +
+                    std::to_string(base + static_cast<int64_t>(i)) + ", found " +
+                    std::to_string(id) + ".",
+                file, line);
+  }
+  const Subject who{"vertex", static_cast<int64_t>(i)};
+  bool in_range = true;
+  for (int k = 0; k < 3; ++k) {
+    if (!r.next(t)) return expect_coord(r, xyz[k], file, who);  // Truncated
+    if (parse_double(t.p, t.n, xyz[k]) != NumParse::Ok) return parse_coord(t, xyz[k], file, who);
+    in_range = in_range && std::fabs(xyz[k]) <= kMaxCoordinate;
+  }
+  if (!in_range) return check_coords(xyz[0], xyz[1], xyz[2], file, r.last_line(), -1, who);
+  r.skip_line();
+  return Status::success();
+}
 
 Status read_tetgen(const uint8_t* data, size_t size, const std::string& file, FileFormat kind,
                    Plc& out) {

@@ -21,6 +21,10 @@ namespace io {
 Status fail(ErrorCode code, std::string message, const std::string& file, int64_t line = -1,
             int64_t record = -1);
 
+/// The whole file at `path` into `bytes`. Errors: IoError (cannot open, or
+/// reading failed), OutOfMemory.
+Status read_file(const std::string& path, std::vector<uint8_t>& bytes);
+
 /// Largest number of distinct points / file vertex records: VertexId is 32-bit
 /// and kNone is reserved.
 inline constexpr uint64_t kMaxItems = 0xfffffffeull;
@@ -212,6 +216,26 @@ class PlcBuilder {
   uint32_t recent_[kRecent] = {kNone, kNone, kNone, kNone, kNone, kNone};
   int recent_next_ = 0;
 };
+
+// ---------------------------------------------------------------------------
+// TetGen node sections (io/poly.cpp): the points of .node, .poly and .smesh,
+// and of the `cdt3d delaunay` command's .node input, which keeps duplicates
+// (delaunay_io.cpp) where the PLC reader welds them.
+// ---------------------------------------------------------------------------
+
+/// The header "<count> [dimension=3] [#attributes] [markers]" (the last two
+/// are skipped: each node's values are). Empty for a file with no token;
+/// a count of 0 is Empty in a .node file (node_file) and a Parse error
+/// otherwise (TetGen would read the nodes from a separate .node file).
+/// `line` gets the header's line.
+Status read_node_header(TextReader& r, const std::string& file, bool node_file, uint64_t& count,
+                        int64_t& line);
+
+/// Node i, "<id> x y z", the rest of its line skipped: the first node's
+/// number (0 or 1) becomes `base`, every other must be base + i. Coordinates
+/// are checked (check_coords, subject "vertex i"); `line` gets the id's line.
+Status read_node(TextReader& r, const std::string& file, uint64_t i, int64_t& base, double xyz[3],
+                 int64_t& line);
 
 // ---------------------------------------------------------------------------
 // Format readers (one file each). They fill `out` from scratch and leave the
