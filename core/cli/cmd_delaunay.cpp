@@ -1,7 +1,7 @@
 // `cdt3d delaunay POINTS [-o PREFIX] [--json]`: Delaunay tetrahedralization
 // of a point set (step 1 alone), for testing and benchmarking.
 //
-// POINTS is a TetGen .node file (read by our own streaming reader, which keeps
+// POINTS is a TetGen .node file (read by the TetGen reader's node-section functions, which keeps
 // duplicate points and counts them) or any model read_plc_file() accepts
 // (only its points are used). With -o, writes PREFIX.node (every input point,
 // in input order, duplicates included) and PREFIX.ele (the tets), both
