@@ -26,7 +26,7 @@ const double* xyz(const Plc& plc, VertexId v) { return &plc.points[v].x; }
 // query covers every point whose coordinates lie in the box.
 class PointGrid {
  public:
-  explicit PointGrid(const Plc& plc) : plc_(plc) {
+  explicit PointGrid(const Plc& plc) {
     std::vector<uint8_t> used(plc.points.size(), 0);
     for (const Facet& f : plc.facets)
       for (const auto& l : f.loops)
@@ -79,7 +79,6 @@ class PointGrid {
     return (static_cast<size_t>(index(p[0], 0)) * n_ + index(p[1], 1)) * n_ + index(p[2], 2);
   }
 
-  const Plc& plc_;
   double lo_[3] = {0, 0, 0}, hi_[3] = {0, 0, 0}, scale_[3] = {0, 0, 0};
   int n_ = 1;
   std::vector<uint32_t> start_;
