@@ -56,6 +56,7 @@
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 ROOT=$PWD
+. tests/bench/bench_lib.sh  # jnum, jmsg, ratio, mib, why, tg_failed, build_cli
 
 CORPUS=${CORPUS:-data}
 TIMEOUT=${BENCH_TIMEOUT:-300}
@@ -87,16 +88,7 @@ if [ -n "${CDT3D_BIN:-}" ]; then
 else
   BIN=$ROOT/.build/bench/core/cdt3d
   LIB=$ROOT/.build/bench/core/libcdt3d.a
-  if [ ! -f .build/bench/CMakeCache.txt ]; then
-    cmake -S . -B .build/bench -DCMAKE_BUILD_TYPE=Release -DCDT3D_BUILD_TESTS=OFF \
-      >.build/bench/bench-build.log 2>&1 || { cat .build/bench/bench-build.log; die "cmake configure failed"; }
-  fi
-  if ! cmake --build .build/bench -j"$(nproc 2>/dev/null || echo 2)" --target cdt3d_cli \
-    >.build/bench/bench-build.log 2>&1; then
-    tail -n 20 .build/bench/bench-build.log
-    [ -x "$BIN" ] || die "building .build/bench/core/cdt3d failed"
-    echo "bench_corpus: WARNING: the build failed; using the existing, possibly stale $BIN" >&2
-  fi
+  build_cli .build/bench "$(nproc 2>/dev/null || echo 2)" -DCDT3D_BUILD_TESTS=OFF
 fi
 [ -x "$BIN" ] || die "$BIN missing"
 CONV=$ROOT/.build/bench/bench/plc_to_poly
@@ -161,31 +153,6 @@ run_best() {  # run_best DIR CMD... -> B_* of the fastest successful run (or the
       B_RC=0 B_WALL=$R_WALL B_USER=$R_USER B_RSS=$R_RSS B_OUT=$R_OUT B_ERR=$R_ERR
     fi
   done
-}
-jnum() {  # jnum KEY JSON -> value of a number/true/false/null key, or "-"
-  local v
-  v=$(sed -n -E "s/.*\"$1\":([-0-9.eE+]+|true|false|null)[,}].*/\1/p" <<<"$2" | head -n 1)
-  echo "${v:--}"
-}
-jmsg() {  # the error code and message of {"ok":false,"error":{...}}
-  local code msg
-  code=$(sed -n 's/.*"code":"\([^"]*\)".*/\1/p' <<<"$1" | head -n 1)
-  msg=$(sed -n 's/.*"message":"\(\([^"\\]\|\\.\)*\)".*/\1/p' <<<"$1" | head -n 1)
-  msg=$(sed -e 's/\\"/"/g' -e 's/\\\\/\\/g' <<<"$msg")
-  echo "${code:-?}: ${msg:-$1}"
-}
-ratio() {  # a / b, or "-" unless both are positive numbers
-  awk -v a="$1" -v b="$2" 'BEGIN{ n = "^[0-9]*[.]?[0-9]+([eE][-+]?[0-9]+)?$";
-    if (a !~ n || b !~ n || b + 0 <= 0) print "-"; else printf "%.2f", a / b }'
-}
-mib() { awk -v k="$1" 'BEGIN{ if (k == "") print "-"; else printf "%.1f", k / 1024 }'; }
-why() {  # why RC -> short failure text
-  case $1 in
-    124) echo "timeout" ;;
-    134) echo "abort" ;;
-    139) echo "segfault" ;;
-    *) echo "exit $1" ;;
-  esac
 }
 tg_steiner() {  # tg_steiner KIND TEXT: sum of "Steiner points <on|in|inside> ...KIND...: N" lines
   awk -v k="$1" 'tolower($0) ~ /steiner points (on|in|inside)/ && tolower($0) ~ k {
@@ -284,10 +251,9 @@ for line in "${MODELS[@]}"; do
       rm -f "$dir/$stem".1.*
       t_kinds=$(printf '%7s %7s %7s %6s %6s' "$t_seg" "$t_fac" "$t_vol" "$t_flat" "$t_nld")
     else
-      t_ok=$(why "$t_rc")
-      [ "$t_rc" -eq 0 ] && t_ok=error
-      msg=$(grep -iE 'error|assert|terminate|warning|self-intersect|intersect' <<<"$B_OUT"$'\n'"$B_ERR" | head -n 3 | tr '\n' ' ')
-      NOTES+=("$name: tetgen $TG_FLAGS: $t_ok ${msg:-$(tail -c 300 <<<"$B_ERR")}")
+      tg_failed "$t_rc" "$B_OUT" "$B_ERR"
+      t_ok=$F_WHY
+      NOTES+=("$name: tetgen $TG_FLAGS: $F_WHY $F_MSG")
     fi
   else
     t_ok="conv"

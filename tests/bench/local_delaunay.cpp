@@ -63,22 +63,9 @@ int main(int argc, char** argv) {
   const long long n = static_cast<long long>(xyz.size() / 3);
   std::vector<std::string> lines;
 
-  lines.clear();
-  if (!read_lines(argv[2], lines) || lines.empty()) return fail(argv[2], "cannot read");
-  long long m = -1;
-  std::istringstream(lines[0]) >> m;
-  if (m < 0 || static_cast<long long>(lines.size()) - 1 < m) return fail(argv[2], "bad header");
-  std::vector<std::array<long long, 4>> tets(static_cast<size_t>(m));
-  for (long long t = 0; t < m; ++t) {
-    std::istringstream s(lines[1 + t]);
-    long long id;
-    auto& v = tets[t];
-    if (!(s >> id >> v[0] >> v[1] >> v[2] >> v[3])) return fail(argv[2], "bad tet line");
-    for (auto& x : v) {
-      x -= first;
-      if (x < 0 || x >= n) return fail(argv[2], "node index out of range");
-    }
-  }
+  std::vector<std::array<long long, 4>> tets;
+  if (const std::string bad = bench::read_tets(argv[2], n, first, tets); !bad.empty()) return fail(argv[2], bad);
+  const long long m = static_cast<long long>(tets.size());
 
   lines.clear();
   if (!read_lines(argv[3], lines) || lines.empty()) return fail(argv[3], "cannot read");
