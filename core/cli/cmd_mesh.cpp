@@ -235,15 +235,31 @@ bool parse_count(const char* text, size_t& out) {
   return true;
 }
 
-}  // namespace
-
-int run_mesh(int argc, char** argv) {
+// The command line of `cdt3d mesh`.
+struct MeshArgs {
   std::string input, prefix, format = "node", stop_name;
   bool json = false, quiet = false, show_quality = false, fix = false;
   Options opt;
+  Phase stop = Phase::Done;
   // Each quality option with its value alone (the other fields at their
   // defaults), checked after parsing so that an error names the option.
   std::vector<std::pair<std::string, QualityOptions>> quality_args;
+};
+
+constexpr int kContinue = -1;
+
+// Reads the words into `m`: kContinue, or the exit code (help, usage error).
+int parse_mesh_args(int argc, char** argv, MeshArgs& m) {
+  std::string& input = m.input;
+  std::string& prefix = m.prefix;
+  std::string& format = m.format;
+  std::string& stop_name = m.stop_name;
+  bool& json = m.json;
+  bool& quiet = m.quiet;
+  bool& show_quality = m.show_quality;
+  bool& fix = m.fix;
+  Options& opt = m.opt;
+  auto& quality_args = m.quality_args;
   for (int i = 0; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "-h" || a == "--help") {
@@ -303,7 +319,17 @@ int run_mesh(int argc, char** argv) {
       return kExitUsage;
     }
   }
-  Phase stop = Phase::Done;
+  return kContinue;
+}
+
+// The checks that need all the words: phase, format, quality values.
+int check_mesh_args(MeshArgs& m) {
+  Phase& stop = m.stop;
+  const std::string& stop_name = m.stop_name;
+  const std::string& input = m.input;
+  std::string& format = m.format;
+  Options& opt = m.opt;
+  const auto& quality_args = m.quality_args;
   if (!stop_name.empty() &&
       (!phase_from_name(stop_name, stop) || stop < Phase::Delaunay || stop > Phase::Facets)) {
     std::fprintf(stderr, "cdt3d mesh: --stop-after takes delaunay, segments, degeneracy or "
@@ -329,9 +355,23 @@ int run_mesh(int argc, char** argv) {
                  quality_args.front().first.c_str());
     return kExitUsage;
   }
-  const bool intermediate = stop != Phase::Done;
-  if (intermediate) format = "node";
+  if (stop != Phase::Done) format = "node";
   opt.stop_after = stop;
+  return kContinue;
+}
+
+}  // namespace
+
+int run_mesh(int argc, char** argv) {
+  MeshArgs m;
+  int code = parse_mesh_args(argc, argv, m);
+  if (code == kContinue) code = check_mesh_args(m);
+  if (code != kContinue) return code;
+  const std::string& input = m.input;
+  const bool fix = m.fix, json = m.json;
+  const Options& opt = m.opt;
+  const Phase stop = m.stop;
+  const bool intermediate = stop != Phase::Done;
   // --validate runs the full validator on complete results; after an
   // intermediate phase it checks the mesh invariants only.
 
@@ -356,7 +396,7 @@ int run_mesh(int argc, char** argv) {
   r.stats.ms_read += ms_read;
   r.stats.ms_total += ms_read;
   const bool validated = opt.validate && !intermediate;
-  if (st.ok() && !prefix.empty()) st = write_result(r, prefix, format, intermediate);
+  if (st.ok() && !m.prefix.empty()) st = write_result(r, m.prefix, m.format, intermediate);
   if (!st.ok()) {
     if (json)
       print_json_error(st.error);
@@ -366,8 +406,8 @@ int run_mesh(int argc, char** argv) {
   }
   if (json) {
     print_json(r, stop, validated, st, fix ? repair_json(report) : std::string());
-  } else if (!quiet) {
-    print_table(input, r, stop, opt.degeneracy, show_quality, opt.quality.enabled, validated);
+  } else if (!m.quiet) {
+    print_table(input, r, stop, opt.degeneracy, m.show_quality, opt.quality.enabled, validated);
     if (fix) std::printf("%s", repair_summary(report).c_str());
   }
   return kExitOk;

@@ -133,6 +133,23 @@ class Validator {
   };
   Status probes_outside(std::vector<Probe>& probes) const;
   Status unconstrained_in_facets();
+  // The parts of unconstrained_in_facets() (check 7).
+  struct Membership {
+    std::vector<std::vector<uint32_t>> seg_facets;    // per segment: facets it lies in
+    std::vector<std::vector<uint32_t>> input_facets;  // per input point: its facets
+    std::vector<std::vector<uint32_t>> segs_at;       // per input point: segments it ends
+    std::vector<std::vector<size_t>> faces_of_facet;  // per facet: its constrained faces
+    std::vector<std::array<uint32_t, 2>> subsegs;     // sorted (lower, higher)
+    std::vector<uint32_t> one[3];                     // facets_of()'s buffers
+  };
+  void build_membership();
+  const std::vector<uint32_t>& facets_of(uint32_t v, int slot);
+  bool flat_in_facet(size_t i, uint32_t f);
+  bool on_segment(uint32_t v, uint32_t s) const;
+  bool along_one_segment(const Tri3& k) const;
+  void project(uint32_t v, int drop, double out[2]) const;
+  bool beyond_subsegment(const Tri3& k, uint32_t f, int drop) const;
+  bool overlaps_facet(const Tri3& k, uint32_t f, int drop) const;
   Status segments();
   Status volume();
   Status delaunay();
@@ -160,6 +177,7 @@ class Validator {
   std::vector<std::vector<uint32_t>> fverts_, fsegs_;
   std::vector<std::vector<Tri3>> ftris_;
   std::vector<int> fdrop_;
+  Membership ms_;
 };
 
 double Validator::tri_area(const Tri3& t) const {
@@ -636,132 +654,167 @@ Status Validator::facets() {
   return probes_outside(probes);
 }
 
-// A face that is not constrained must not lie in a facet: when its three
-// vertices all belong to facet f, its projection must not overlap the
-// interior of any triangle of f (exact orient2d in f's projection; two
-// triangles' interiors are disjoint iff an edge line of one separates them).
-// Rounded Steiner points (§5) put a subsegment a few ulps off its segment's
-// line, so a face on the far side of a subsegment of f can overlap f in a
-// sliver: that is no error when the face overlaps none of f's constrained
-// faces and lies across that subsegment from f's constrained face on it.
-Status Validator::unconstrained_in_facets() {
+// Check 7's tables: which facets each vertex belongs to, which segments
+// each input point ends, the constrained faces per facet, the subsegments.
+void Validator::build_membership() {
   const size_t nfacets = plc_.facets.size();
-  std::vector<std::vector<uint32_t>> seg_facets(segments_.size());
+  Membership& ms = ms_;
+  ms.seg_facets.assign(segments_.size(), {});
   for (uint32_t f = 0; f < nfacets; ++f)
-    for (uint32_t s : fsegs_[f]) seg_facets[s].push_back(f);
-  std::vector<std::vector<uint32_t>> input_facets(r_.input_points);
+    for (uint32_t s : fsegs_[f]) ms.seg_facets[s].push_back(f);
+  ms.input_facets.assign(r_.input_points, {});
   for (uint32_t f = 0; f < nfacets; ++f)
-    for (uint32_t v : fverts_[f]) input_facets[v].push_back(f);
-  std::vector<uint32_t> one[3];
-  auto facets_of = [&](uint32_t v, int slot) -> const std::vector<uint32_t>& {
-    if (v < r_.input_points) return input_facets[v];
-    const size_t i = v - r_.input_points;
-    one[slot].clear();
-    const int64_t p = r_.steiner_parent[i];
-    if (r_.steiner_kind[i] == SteinerKind::Segment) return seg_facets[static_cast<size_t>(p)];
-    if (r_.steiner_kind[i] == SteinerKind::Facet) one[slot].push_back(static_cast<uint32_t>(p));
-    return one[slot];
-  };
-  // A tet whose four vertices all belong to facet f is flat up to the
-  // rounding of Steiner points (§5: they are rounded to doubles): the facet
-  // is only nearly planar there, and both diagonals of the quadrilateral are
-  // faces, one pair constrained, the other not. Such a face is no error.
-  auto belongs = [&](uint32_t v, uint32_t f) {
-    const std::vector<uint32_t>& fv = facets_of(v, 0);
-    return std::binary_search(fv.begin(), fv.end(), f);
-  };
-  // Likewise a face of a numerically flat tet (one the flips of
-  // flat_flips.hpp could not remove, e.g. between several facets whose
-  // planes meet along a segment): it is in f's plane only by rounding.
-  auto flat_in_facet = [&](size_t i, uint32_t f) {
-    for (size_t j = i; j < faces_.size() && faces_[j].key == faces_[i].key; ++j) {
-      const uint32_t* w = &m_.tets[4 * static_cast<size_t>(faces_[j].tet)];
-      if (belongs(w[faces_[j].face], f)) return true;
-      if (numerically_flat(pt(w[0]), pt(w[1]), pt(w[2]), pt(w[3]))) return true;
-    }
-    return false;
-  };
-  // Three vertices on one segment (its ends or its Steiner points) make a
-  // face that is flat along the segment, up to the rounding of Steiner
-  // points: it lies in no facet's interior.
-  std::vector<std::vector<uint32_t>> segs_at(r_.input_points);
+    for (uint32_t v : fverts_[f]) ms.input_facets[v].push_back(f);
+  ms.segs_at.assign(r_.input_points, {});
   for (uint32_t s = 0; s < segments_.size(); ++s)
     for (VertexId v : segments_[s])
-      if (v < r_.input_points) segs_at[v].push_back(s);
-  auto on_segment = [&](uint32_t v, uint32_t s) {
-    if (v < r_.input_points) return std::find(segs_at[v].begin(), segs_at[v].end(), s) != segs_at[v].end();
-    const size_t i = v - r_.input_points;
-    return r_.steiner_kind[i] == SteinerKind::Segment && r_.steiner_parent[i] == static_cast<int64_t>(s);
-  };
-  auto along_one_segment = [&](const Tri3& k) {
-    std::vector<uint32_t> cand;
-    if (k[0] < r_.input_points) {
-      cand = segs_at[k[0]];
-    } else {
-      const size_t i = k[0] - r_.input_points;
-      if (r_.steiner_kind[i] == SteinerKind::Segment) cand.push_back(static_cast<uint32_t>(r_.steiner_parent[i]));
+      if (v < r_.input_points) ms.segs_at[v].push_back(s);
+  ms.faces_of_facet.assign(nfacets, {});
+  for (size_t j = 0; j < nf_; ++j) ms.faces_of_facet[r_.face_facet[j]].push_back(j);
+  ms.subsegs.clear();
+  for (size_t j = 0; j + 1 < r_.edges.size(); j += 2)
+    ms.subsegs.push_back({std::min(r_.edges[j], r_.edges[j + 1]), std::max(r_.edges[j], r_.edges[j + 1])});
+  std::sort(ms.subsegs.begin(), ms.subsegs.end());
+}
+
+// The facets vertex v belongs to (sorted): an input point's facets, a
+// segment Steiner point's segment's facets, a facet Steiner point's facet.
+// `slot` picks one of three buffers, so three results can be held at once.
+const std::vector<uint32_t>& Validator::facets_of(uint32_t v, int slot) {
+  if (v < r_.input_points) return ms_.input_facets[v];
+  const size_t i = v - r_.input_points;
+  ms_.one[slot].clear();
+  const int64_t p = r_.steiner_parent[i];
+  if (r_.steiner_kind[i] == SteinerKind::Segment) return ms_.seg_facets[static_cast<size_t>(p)];
+  if (r_.steiner_kind[i] == SteinerKind::Facet) ms_.one[slot].push_back(static_cast<uint32_t>(p));
+  return ms_.one[slot];
+}
+
+// A tet whose four vertices all belong to facet f is flat up to the
+// rounding of Steiner points (§5: they are rounded to doubles): the facet
+// is only nearly planar there, and both diagonals of the quadrilateral are
+// faces, one pair constrained, the other not. Such a face is no error;
+// neither is a face of a numerically flat tet (one the flips of
+// flat_flips.hpp could not remove, e.g. between several facets whose
+// planes meet along a segment): it is in f's plane only by rounding.
+bool Validator::flat_in_facet(size_t i, uint32_t f) {
+  for (size_t j = i; j < faces_.size() && faces_[j].key == faces_[i].key; ++j) {
+    const uint32_t* w = &m_.tets[4 * static_cast<size_t>(faces_[j].tet)];
+    const std::vector<uint32_t>& fv = facets_of(w[faces_[j].face], 0);
+    if (std::binary_search(fv.begin(), fv.end(), f)) return true;
+    if (numerically_flat(pt(w[0]), pt(w[1]), pt(w[2]), pt(w[3]))) return true;
+  }
+  return false;
+}
+
+bool Validator::on_segment(uint32_t v, uint32_t s) const {
+  if (v < r_.input_points)
+    return std::find(ms_.segs_at[v].begin(), ms_.segs_at[v].end(), s) != ms_.segs_at[v].end();
+  const size_t i = v - r_.input_points;
+  return r_.steiner_kind[i] == SteinerKind::Segment && r_.steiner_parent[i] == static_cast<int64_t>(s);
+}
+
+// Three vertices on one segment (its ends or its Steiner points) make a
+// face that is flat along the segment, up to the rounding of Steiner
+// points: it lies in no facet's interior.
+bool Validator::along_one_segment(const Tri3& k) const {
+  std::vector<uint32_t> cand;
+  if (k[0] < r_.input_points) {
+    cand = ms_.segs_at[k[0]];
+  } else {
+    const size_t i = k[0] - r_.input_points;
+    if (r_.steiner_kind[i] == SteinerKind::Segment) cand.push_back(static_cast<uint32_t>(r_.steiner_parent[i]));
+  }
+  for (uint32_t s : cand)
+    if (on_segment(k[1], s) && on_segment(k[2], s)) return true;
+  return false;
+}
+
+void Validator::project(uint32_t v, int drop, double out[2]) const {
+  const double* p = pt(v);
+  out[0] = p[(drop + 1) % 3], out[1] = p[(drop + 2) % 3];
+}
+
+// Whether an edge line of triangle u (counterclockwise, projected) has all
+// of triangle w on its outer side or on it: then their interiors are disjoint.
+bool separated(const double (*u)[2], const double (*w)[2]) {
+  for (int e = 0; e < 3; ++e) {
+    bool all = true;
+    for (int x = 0; x < 3 && all; ++x) all = pred::orient2d(u[e], u[(e + 1) % 3], w[x]) <= 0;
+    if (all) return true;
+  }
+  return false;
+}
+
+// Rounded Steiner points (§5) put a subsegment a few ulps off its segment's
+// line, so a face on the far side of a subsegment of f can overlap f in a
+// sliver: that is no error when face k shares a subsegment (x, y) with a
+// constrained face of f whose third vertex is on the other side of xy, and
+// overlaps no constrained face of f.
+bool Validator::beyond_subsegment(const Tri3& k, uint32_t f, int drop) const {
+  bool across = false;
+  for (int e = 0; e < 3 && !across; ++e) {
+    const uint32_t x = k[e], y = k[(e + 1) % 3], z = k[(e + 2) % 3];
+    if (!std::binary_search(ms_.subsegs.begin(), ms_.subsegs.end(),
+                            std::array<uint32_t, 2>{std::min(x, y), std::max(x, y)}))
+      continue;
+    for (size_t j : ms_.faces_of_facet[f]) {
+      const uint32_t* c = &m_.faces[3 * j];
+      int at = -1;
+      for (int q = 0; q < 3; ++q)
+        if (c[q] != x && c[q] != y) at = q;
+      if (at < 0 || (c[(at + 1) % 3] != x && c[(at + 2) % 3] != x) ||
+          (c[(at + 1) % 3] != y && c[(at + 2) % 3] != y))
+        continue;
+      double px[2], py[2], pz[2], pw[2];
+      project(x, drop, px), project(y, drop, py), project(z, drop, pz), project(c[at], drop, pw);
+      if (pred::orient2d(px, py, pz) * pred::orient2d(px, py, pw) < 0) across = true;
     }
-    for (uint32_t s : cand)
-      if (on_segment(k[1], s) && on_segment(k[2], s)) return true;
-    return false;
-  };
+  }
+  if (!across) return false;
+  double g[3][2];
+  for (int x = 0; x < 3; ++x) project(k[x], drop, g[x]);
+  if (pred::orient2d(g[0], g[1], g[2]) < 0) std::swap(g[1], g[2]);
+  for (size_t j : ms_.faces_of_facet[f]) {
+    double h[3][2];
+    for (int x = 0; x < 3; ++x) project(m_.faces[3 * j + x], drop, h[x]);
+    if (pred::orient2d(h[0], h[1], h[2]) < 0) std::swap(h[1], h[2]);
+    if (!separated(g, h) && !separated(h, g)) return false;
+  }
+  return true;
+}
+
+// Whether face k (all of whose vertices belong to facet f) overlaps the
+// interior of a triangle of f's input triangulation, in f's projection.
+bool Validator::overlaps_facet(const Tri3& k, uint32_t f, int drop) const {
+  double g[3][2];
+  for (int x = 0; x < 3; ++x) project(k[x], drop, g[x]);
+  if (pred::orient2d(g[0], g[1], g[2]) < 0) std::swap(g[1], g[2]);
+  if (pred::orient2d(g[0], g[1], g[2]) == 0) return false;
+  for (const Tri3& t : ftris_[f]) {
+    double h[3][2];
+    for (int x = 0; x < 3; ++x) {
+      const Vec3& p = plc_.points[t[x]];
+      const double c[3] = {p.x, p.y, p.z};
+      h[x][0] = c[(drop + 1) % 3], h[x][1] = c[(drop + 2) % 3];
+    }
+    if (pred::orient2d(h[0], h[1], h[2]) < 0) std::swap(h[1], h[2]);
+    if (!separated(g, h) && !separated(h, g)) return true;
+  }
+  return false;
+}
+
+// Check 7: a face that is not constrained must not lie in a facet. For
+// every unconstrained face of the mesh whose three vertices all belong to
+// facet f, its projection must not overlap the interior of
+// any triangle of f (exact orient2d in f's projection; two triangles'
+// interiors are disjoint iff an edge line of one separates them), but for
+// the rounding cases above (flat_in_facet, along_one_segment,
+// beyond_subsegment).
+Status Validator::unconstrained_in_facets() {
+  build_membership();
   std::vector<Tri3> keys = constrained_;
   std::sort(keys.begin(), keys.end());
-  std::vector<std::vector<size_t>> faces_of_facet(nfacets);
-  for (size_t j = 0; j < nf_; ++j) faces_of_facet[r_.face_facet[j]].push_back(j);
-  std::vector<std::array<uint32_t, 2>> subsegs;
-  for (size_t j = 0; j + 1 < r_.edges.size(); j += 2)
-    subsegs.push_back({std::min(r_.edges[j], r_.edges[j + 1]), std::max(r_.edges[j], r_.edges[j + 1])});
-  std::sort(subsegs.begin(), subsegs.end());
-  auto proj = [&](uint32_t v, int drop, double out[2]) {
-    const double* p = pt(v);
-    out[0] = p[(drop + 1) % 3], out[1] = p[(drop + 2) % 3];
-  };
-  // The sliver case above: face k shares a subsegment (x, y) with a
-  // constrained face of f whose third vertex is on the other side of xy,
-  // and overlaps no constrained face of f.
-  auto beyond_subsegment = [&](const Tri3& k, uint32_t f, int drop) {
-    double g[3][2];
-    for (int x = 0; x < 3; ++x) proj(k[x], drop, g[x]);
-    bool across = false;
-    for (int e = 0; e < 3 && !across; ++e) {
-      const uint32_t x = k[e], y = k[(e + 1) % 3], z = k[(e + 2) % 3];
-      if (!std::binary_search(subsegs.begin(), subsegs.end(),
-                              std::array<uint32_t, 2>{std::min(x, y), std::max(x, y)}))
-        continue;
-      for (size_t j : faces_of_facet[f]) {
-        const uint32_t* c = &m_.faces[3 * j];
-        int at = -1;
-        for (int q = 0; q < 3; ++q)
-          if (c[q] != x && c[q] != y) at = q;
-        if (at < 0 || (c[(at + 1) % 3] != x && c[(at + 2) % 3] != x) ||
-            (c[(at + 1) % 3] != y && c[(at + 2) % 3] != y))
-          continue;
-        double px[2], py[2], pz[2], pw[2];
-        proj(x, drop, px), proj(y, drop, py), proj(z, drop, pz), proj(c[at], drop, pw);
-        if (pred::orient2d(px, py, pz) * pred::orient2d(px, py, pw) < 0) across = true;
-      }
-    }
-    if (!across) return false;
-    if (pred::orient2d(g[0], g[1], g[2]) < 0) std::swap(g[1], g[2]);
-    for (size_t j : faces_of_facet[f]) {
-      double h[3][2];
-      for (int x = 0; x < 3; ++x) proj(m_.faces[3 * j + x], drop, h[x]);
-      if (pred::orient2d(h[0], h[1], h[2]) < 0) std::swap(h[1], h[2]);
-      bool apart = false;
-      for (const auto* pair : {&g, &h}) {
-        const auto& u = *pair;
-        const auto& w = pair == &g ? h : g;
-        for (int e = 0; e < 3 && !apart; ++e) {
-          bool all = true;
-          for (int x = 0; x < 3 && all; ++x) all = pred::orient2d(u[e], u[(e + 1) % 3], w[x]) <= 0;
-          apart = all;
-        }
-      }
-      if (!apart) return false;
-    }
-    return true;
-  };
   std::vector<uint32_t> ab, abc;
   for (size_t i = 0; i < faces_.size(); ++i) {
     if (i > 0 && faces_[i].key == faces_[i - 1].key) continue;
@@ -778,37 +831,12 @@ Status Validator::unconstrained_in_facets() {
     std::set_intersection(ab.begin(), ab.end(), fc.begin(), fc.end(), std::back_inserter(abc));
     for (uint32_t f : abc) {
       const int drop = fdrop_[f];
-      double g[3][2];
-      for (int x = 0; x < 3; ++x) {
-        const double* p = pt(k[x]);
-        g[x][0] = p[(drop + 1) % 3], g[x][1] = p[(drop + 2) % 3];
-      }
-      if (pred::orient2d(g[0], g[1], g[2]) < 0) std::swap(g[1], g[2]);
-      if (pred::orient2d(g[0], g[1], g[2]) == 0) continue;
-      for (const Tri3& t : ftris_[f]) {
-        double h[3][2];
-        for (int x = 0; x < 3; ++x) {
-          const Vec3& p = plc_.points[t[x]];
-          const double c[3] = {p.x, p.y, p.z};
-          h[x][0] = c[(drop + 1) % 3], h[x][1] = c[(drop + 2) % 3];
-        }
-        if (pred::orient2d(h[0], h[1], h[2]) < 0) std::swap(h[1], h[2]);
-        auto separates = [](const double (*u)[2], const double (*w)[2]) {
-          for (int e = 0; e < 3; ++e) {
-            bool all = true;
-            for (int x = 0; x < 3 && all; ++x)
-              all = pred::orient2d(u[e], u[(e + 1) % 3], w[x]) <= 0;
-            if (all) return true;
-          }
-          return false;
-        };
-        if (!separates(g, h) && !separates(h, g) && !flat_in_facet(i, f) &&
-            !along_one_segment(k) && !beyond_subsegment(k, f, drop))
-          return fail("face " + tri_name(k) + " lies in facet " + std::to_string(f) +
-                      " but is not constrained.")
-              .facet(f)
-              .vertex(k[0]);
-      }
+      if (overlaps_facet(k, f, drop) && !flat_in_facet(i, f) && !along_one_segment(k) &&
+          !beyond_subsegment(k, f, drop))
+        return fail("face " + tri_name(k) + " lies in facet " + std::to_string(f) +
+                    " but is not constrained.")
+            .facet(f)
+            .vertex(k[0]);
     }
   }
   return Status::success();
