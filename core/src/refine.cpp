@@ -23,13 +23,15 @@
 // Termination: a bad tet's circumcentre c is inserted when it encroaches
 // upon no subsegment and no subface of its cavity's boundary and lies in the
 // domain; otherwise the encroached (or blocking) constraint is split instead,
-// but only when its split point lies at least the bad tet's shortest edge
-// from the constraint's vertices (the insertion radius rule of Shewchuk's
-// proof, without its angle assumptions): no insertion then comes closer to
-// an existing vertex than the shortest edge of the mesh it was triggered
-// by, so the edge lengths are bounded below and refinement stops. Bad tets
-// that would need a closer split are left (counted in refine_skipped);
-// they are the ones near small input angles, which TetGen leaves too.
+// but only when the new point lies at least a fixed fraction of the bad
+// tet's shortest edge from the vertices nearest to it (the insertion radius
+// rule of Shewchuk's proof, without its angle assumptions; kFloorFactor,
+// kSplitFloorFactor): insertions then keep a distance to existing vertices
+// tied to the mesh they were triggered by, and refinement stopped on every
+// model of tests/data (the point cap, max_points, guards the rest). Bad
+// tets that would need a closer point are left (counted in
+// refine_skipped); they are the ones near small input angles and between
+// coplanar facets, which TetGen leaves in part too.
 #include "refine.hpp"
 
 #include <algorithm>
