@@ -28,6 +28,7 @@
 #include <cmath>
 #include <map>
 
+#include "geometry.hpp"
 #include "predicates.hpp"
 #include "repair.hpp"
 
@@ -515,12 +516,14 @@ class Crossings {
     return chain;
   }
 
+  // geometry.hpp's triangle normal; ties go to the last axis (largest_axis
+  // sends them to the first): any axis of a largest component projects the
+  // triangle without degeneracy, and keeping this order keeps repaired PLCs
+  // identical to those of earlier versions (the 2D triangulations depend on
+  // the projection).
   int projection_axis(const Tri& t) const {
-    const double *a = xyz(w_.plc, t[0]), *b = xyz(w_.plc, t[1]), *c = xyz(w_.plc, t[2]);
-    double n[3];
-    n[0] = (b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]);
-    n[1] = (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]);
-    n[2] = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    const Vec3 v = triangle_normal(xyz(w_.plc, t[0]), xyz(w_.plc, t[1]), xyz(w_.plc, t[2]));
+    const double n[3] = {v.x, v.y, v.z};
     int drop = 2;
     for (int k = 0; k < 2; ++k)
       if (std::fabs(n[k]) > std::fabs(n[drop])) drop = k;

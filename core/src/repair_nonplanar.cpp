@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geometry.hpp"
 #include "predicates.hpp"
 #include "repair.hpp"
 
@@ -36,18 +37,8 @@ bool planar(const Plc& plc, const Facet& f) {
 }
 
 int projection_axis(const Plc& plc, const std::vector<VertexId>& loop) {
-  double n[3] = {0, 0, 0};
-  for (size_t i = 0; i < loop.size(); ++i) {
-    const double* p = xyz(plc, loop[i]);
-    const double* q = xyz(plc, loop[(i + 1) % loop.size()]);
-    n[0] += (p[1] - q[1]) * (p[2] + q[2]);
-    n[1] += (p[2] - q[2]) * (p[0] + q[0]);
-    n[2] += (p[0] - q[0]) * (p[1] + q[1]);
-  }
-  int drop = 0;
-  for (int k = 1; k < 3; ++k)
-    if (std::fabs(n[k]) > std::fabs(n[drop])) drop = k;
-  return drop;
+  const Vec3 n = newell_normal(plc, loop);
+  return largest_axis(n.x, n.y, n.z);
 }
 
 // Orientation of the projected polygon: the sign of the corner at its
