@@ -103,7 +103,7 @@ if [ ! -x "$FLAT" ] || [ tests/bench/flat_tets.cpp -nt "$FLAT" ] || [ tests/benc
 fi
 LD=$ROOT/.build/bench/bench/local_delaunay
 if [ ! -x "$LD" ] || [ tests/bench/local_delaunay.cpp -nt "$LD" ] || [ tests/bench/tetgen_lines.hpp -nt "$LD" ] || [ "$LIB" -nt "$LD" ]; then
-  c++ -O2 -std=c++17 -I core/include -I core/src tests/bench/local_delaunay.cpp "$LIB" -o "$LD" ||
+  c++ -O2 -std=c++17 -I core/include -I core/src/geometry -I core/src/mesh tests/bench/local_delaunay.cpp "$LIB" -o "$LD" ||
     die "cannot build tests/bench/local_delaunay.cpp"
 fi
 

@@ -10,7 +10,7 @@
 //
 // usage: local_delaunay MESH.node MESH.ele MESH.face
 // Build (bench_corpus.sh does this; needs the library for the predicates):
-//   c++ -O2 -std=c++17 -Icore/include -Icore/src tests/bench/local_delaunay.cpp
+//   c++ -O2 -std=c++17 -Icore/include -Icore/src/geometry -Icore/src/mesh tests/bench/local_delaunay.cpp
 //       .build/bench/core/libcdt3d.a -o .build/bench/bench/local_delaunay   (one line)
 //
 // Output, one line: "<violations> <unconstrained interior faces> <constrained faces>".
