@@ -43,6 +43,19 @@ double tet_volume(const TetMeshData& m, size_t t) {
                    u[2] * (v[0] * w[1] - v[1] * w[0])) / 6;
 }
 
+// Model `file` of tests/data meshed with quality refinement at its
+// defaults, validated.
+Result refined(const std::string& file) {
+  Plc plc;
+  const Status read = read_plc_file(corpus::kData + "/" + file, plc);
+  INFO(read.error.to_string());
+  REQUIRE(read.ok());
+  Options o;
+  o.quality.enabled = true;
+  o.validate = true;
+  return tetrahedralize(plc, o);
+}
+
 // Tets with radius-edge ratio >= 2 (histogram bins from [2, 3) on).
 size_t ratio_two_or_more(const std::array<size_t, 10>& h) {
   size_t n = 0;
@@ -129,12 +142,7 @@ TEST_CASE("refinement: progress reports the refine phase and cancellation stops 
 }
 
 TEST_CASE("refinement: bunny gets fewer bad tets and stays a CDT", "[refine]") {
-  Plc plc;
-  REQUIRE(read_plc_file(corpus::kData + "/bunny.off", plc).ok());
-  Options o;
-  o.quality.enabled = true;
-  o.validate = true;
-  const Result r = tetrahedralize(plc, o);
+  const Result r = refined("bunny.off");
   INFO(r.status.error.to_string());
   REQUIRE(r.status.ok());
   const Statistics& s = r.stats;
@@ -156,12 +164,7 @@ TEST_CASE("corpus: refinement validates, terminates and leaves no flat tet", "[.
     models = corpus::valid_models();
   for (const std::string& file : models) {
     INFO(file);
-    Plc plc;
-    REQUIRE(read_plc_file(corpus::kData + "/" + file, plc).ok());
-    Options o;
-    o.quality.enabled = true;
-    o.validate = true;
-    const Result r = tetrahedralize(plc, o);
+    const Result r = refined(file);
     INFO(r.status.error.to_string());
     REQUIRE(r.status.ok());
     CHECK(r.stats.refine_capped == 0);

@@ -162,6 +162,23 @@ inline bool has_flat_quadruple(const double* const p[5]) {
   return false;
 }
 
+/// Centre of the circle through a, b, c, in their plane; not finite when
+/// they are (nearly) collinear. Floating point: it places points (Steiner
+/// points of steps 3 and refinement), it decides nothing.
+inline Vec3 circle_center(Vec3 a, Vec3 b, Vec3 c) {
+  const Vec3 u = b - a, w = c - a, n = cross(u, w);
+  const double d = 2 * dot(n, n);
+  return a + (1 / d) * (dot(u, u) * cross(w, n) + dot(w, w) * cross(n, u));
+}
+
+/// Centre of the sphere through a, b, c, d; not finite when they are
+/// (nearly) coplanar. Floating point, like circle_center.
+inline Vec3 sphere_center(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
+  const Vec3 u = b - a, v = c - a, w = d - a;
+  const double den = 2 * dot(u, cross(v, w));
+  return a + (1 / den) * (dot(u, u) * cross(v, w) + dot(v, v) * cross(w, u) + dot(w, w) * cross(u, v));
+}
+
 /// A point of the open segment (u, w) exactly on its line (collinear by the
 /// exact test) at a dyadic fraction g = k / 2^n near f, for n from max_bits
 /// down to min_bits (|g - f| <= 2^-(n+1)); the point is evaluated in doubles

@@ -74,11 +74,8 @@ void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
     if (!(det > kFlatTetRatio * longest * longest * longest)) ++stats.flat_tets;
     double ratio = HUGE_VAL;
     if (det != 0 && shortest > 0) {
-      const Vec3 bc = cross(b, c), ca = cross(c, a), ab = cross(a, b);
-      const double la = dot(a, a), lb = dot(b, b), lc = dot(c, c);
-      const Vec3 num = {la * bc.x + lb * ca.x + lc * ab.x, la * bc.y + lb * ca.y + lc * ab.y,
-                        la * bc.z + lb * ca.z + lc * ab.z};
-      ratio = norm(num) / (2 * std::fabs(det)) / shortest;
+      const Vec3 o = sphere_center(p[0], p[1], p[2], p[3]);
+      if (finite(o)) ratio = dist(o, p[0]) / shortest;
     }
     size_t bin = 0;
     while (bin < 9 && ratio >= kRatioBins[bin]) ++bin;

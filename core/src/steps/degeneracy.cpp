@@ -55,24 +55,9 @@ constexpr double kBallSlack = 1e-6;
 // point, and the break point is drawn around the centroid instead.
 constexpr double kMaxCenterDistance = 1e3;
 
-// Floating-point constructions (circle and sphere centers) only place points
-// and rank candidates; every topological decision uses the exact predicates.
-
-// Center of the circle through a, b, c (in their plane); non-finite when
-// they are (nearly) collinear.
-Vec3 circle_center(Vec3 a, Vec3 b, Vec3 c) {
-  const Vec3 u = b - a, w = c - a, n = cross(u, w);
-  const double d = 2 * dot(n, n);
-  return a + (1 / d) * (dot(u, u) * cross(w, n) + dot(w, w) * cross(n, u));
-}
-
-// Center of the sphere through a, b, c, d; non-finite when they are (nearly)
-// coplanar.
-Vec3 sphere_center(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
-  const Vec3 u = b - a, v = c - a, w = d - a;
-  const double den = 2 * dot(u, cross(v, w));
-  return a + (1 / den) * (dot(u, u) * cross(v, w) + dot(v, v) * cross(w, u) + dot(w, w) * cross(u, v));
-}
+// Floating-point constructions (circle_center and sphere_center of
+// geometry.hpp) only place points and rank candidates; every topological
+// decision uses the exact predicates.
 
 // Four points on one circle in one plane. `q` holds 4 points; the circle is
 // taken through a non-collinear triple. Four collinear points: false.

@@ -118,17 +118,11 @@ struct TetShape {
 
 TetShape tet_shape(const double* p0, const double* p1, const double* p2, const double* p3) {
   TetShape s;
-  const Vec3 d = to_vec(p3);
-  const Vec3 a = to_vec(p0) - d, b = to_vec(p1) - d, c = to_vec(p2) - d;
-  const double det = dot(a, cross(b, c));
-  s.volume = std::fabs(det) / 6;
-  const Vec3 bc = cross(b, c), ca = cross(c, a), ab = cross(a, b);
-  const double la = dot(a, a), lb = dot(b, b), lc = dot(c, c);
-  const Vec3 num = la * bc + lb * ca + lc * ab;
-  const double inv = det != 0 ? 1 / (2 * det) : 0;
-  const Vec3 o = d + inv * num;
+  const Vec3 a = to_vec(p0);
+  s.volume = std::fabs(dot(to_vec(p1) - a, cross(to_vec(p2) - a, to_vec(p3) - a))) / 6;
+  const Vec3 o = sphere_center(a, to_vec(p1), to_vec(p2), to_vec(p3));
   s.center[0] = o.x, s.center[1] = o.y, s.center[2] = o.z;
-  s.radius = det != 0 ? norm(num) * std::fabs(inv) : HUGE_VAL;
+  s.radius = finite(o) ? dist(o, a) : HUGE_VAL;
   const double* p[4] = {p0, p1, p2, p3};
   s.shortest = HUGE_VAL;
   for (int i = 0; i < 4; ++i)
@@ -138,14 +132,9 @@ TetShape tet_shape(const double* p0, const double* p1, const double* p2, const d
 
 // Circumcentre and circumradius of triangle (a, b, c) in its plane.
 bool triangle_circle(const double* pa, const double* pb, const double* pc, Vec3& center, double& r) {
-  const Vec3 a = to_vec(pa), ab = to_vec(pb) - a, ac = to_vec(pc) - a;
-  const Vec3 n = cross(ab, ac);
-  const double n2 = dot(n, n);
-  if (!(n2 > 0)) return false;
-  const Vec3 off = (1 / (2 * n2)) * (dot(ab, ab) * cross(ac, n) + dot(ac, ac) * cross(n, ab));
-  center = a + off;
-  r = norm(off);
-  return std::isfinite(r);
+  center = circle_center(to_vec(pa), to_vec(pb), to_vec(pc));
+  r = dist(center, to_vec(pa));
+  return finite(center) && std::isfinite(r);
 }
 
 // p strictly inside the diametral sphere of triangle (a, b, c): the smallest
@@ -1036,10 +1025,11 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
   if (cap == 0) {
     double volume = 0, limit = q_.max_volume > 0 ? q_.max_volume : HUGE_VAL;
     for (const auto& r : region_limits_) limit = std::min(limit, r.second);
-    for (TetId t = 0; t < m_.num_tet_slots(); ++t) {
-      const VertexId* v = m_.tet_vertices(t);
-      volume += tet_shape(pt(v[0]), pt(v[1]), pt(v[2]), pt(v[3])).volume;
-    }
+    if (std::isfinite(limit))
+      for (TetId t = 0; t < m_.num_tet_slots(); ++t) {
+        const VertexId* v = m_.tet_vertices(t);
+        volume += tet_shape(pt(v[0]), pt(v[1]), pt(v[2]), pt(v[3])).volume;
+      }
     const double by_volume = std::isfinite(limit) ? std::min(1e9, 6 * volume / limit) : 0;
     cap = 100 * old_points_ + 100000 + static_cast<size_t>(by_volume);
   }
