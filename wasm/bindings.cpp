@@ -275,6 +275,7 @@ val stats_js(const cdt3d::Statistics& s) {
   n("refineFacet", s.refine_facet), n("refineVolume", s.refine_volume);
   n("refineSkipped", s.refine_skipped), n("refineCapped", s.refine_capped);
   n("improveFlips", s.improve_flips), n("improveSmooths", s.improve_smooths);
+  n("improvePoints", s.improve_points);
   n("msRead", s.ms_read), n("msDelaunay", s.ms_delaunay), n("msSegments", s.ms_segments);
   n("msDegeneracy", s.ms_degeneracy), n("msFacets", s.ms_facets), n("msCarve", s.ms_carve);
   n("msRefine", s.ms_refine), n("msTotal", s.ms_total), n("flatFlips", s.flat_flips);
@@ -340,6 +341,7 @@ val result_js(const cdt3d::Result& r) {
   for (size_t i = 0; i < parents.size(); ++i) parents[i] = static_cast<int32_t>(r.steiner_parent[i]);
   o.set("steinerKinds", to_js(kinds));
   o.set("steinerParents", to_js(parents));
+  o.set("delaunay", val(r.delaunay));
   o.set("stats", stats_js(r.stats));
   return o;
 }
@@ -478,6 +480,9 @@ void result_from_js(const val& res, cdt3d::Result& r) {
   from_js(res["steinerParents"], parents);
   for (uint8_t k : kinds) r.steiner_kind.push_back(static_cast<cdt3d::SteinerKind>(k));
   for (int32_t p : parents) r.steiner_parent.push_back(p);
+  // Results from before the improvement pass existed have no flag: Delaunay.
+  const val delaunay = res["delaunay"];
+  r.delaunay = delaunay.isUndefined() || delaunay.as<bool>();
 }
 
 val validate_js(val input, val result) {

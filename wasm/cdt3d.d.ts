@@ -219,8 +219,10 @@ export interface QualityOptions {
   maxVolume?: number;
   /**
    * Afterwards raise the smallest dihedral angle towards this many degrees
-   * (0-70) by flips and vertex smoothing (tetgen -O). Default 0: no such pass.
-   * The pass is not available yet: a value above 0 throws "invalid-argument".
+   * (0-70) by flips, vertex moves and, where neither helps, a few new points
+   * inside the volume (like tetgen -O). Default 0: no such pass. The result
+   * then covers every facet and segment but is no longer Delaunay
+   * (`MeshResult.delaunay` false).
    */
   minDihedral?: number;
   /** Stop refining after this many added points (stats.refineCapped is then 1). Default 0: the core's limit. */
@@ -333,8 +335,10 @@ export interface MeshStatistics {
   refineCapped: number;
   /** Improvement pass (quality.minDihedral): flips made. */
   improveFlips: number;
-  /** Improvement pass (quality.minDihedral): vertices smoothed. */
+  /** Improvement pass (quality.minDihedral): vertices moved. */
   improveSmooths: number;
+  /** Improvement pass (quality.minDihedral): points added inside the volume (counted in `steinerVolume` too). */
+  improvePoints: number;
   /** Milliseconds per phase (msRead: reading and input checks; msRefine: 0 without `quality`). */
   msRead: number;
   msDelaunay: number;
@@ -390,6 +394,12 @@ export interface MeshResult {
   steinerKinds: Uint8Array;
   /** Per Steiner point: its input segment or facet, -1 for volume points. */
   steinerParents: Int32Array;
+  /**
+   * True for a constrained Delaunay tetrahedralization. False when the improvement pass
+   * (`quality.minDihedral`) flipped tets or moved points: every facet and segment is still
+   * covered, but faces need not be locally Delaunay, and validate() does not check that.
+   */
+  delaunay: boolean;
   stats: MeshStatistics;
   /** {ok: true} when options.validate was set (a failed validation throws), else null. */
   validation: ValidationResult | null;

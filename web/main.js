@@ -511,7 +511,11 @@ function showStats(result, refined) {
 // histograms of the core before and after it.
 function showRefinement(s) {
   for (const key of ['refineSegment', 'refineFacet', 'refineVolume', 'refineSkipped']) setStat(key, s[key]);
-  setStat('improve', `${s.improveFlips}/${s.improveSmooths}`, `${fmt.format(s.improveFlips)} / ${fmt.format(s.improveSmooths)}`);
+  setStat(
+    'improve',
+    `${s.improveFlips}/${s.improveSmooths}/${s.improvePoints}`,
+    `${fmt.format(s.improveFlips)} / ${fmt.format(s.improveSmooths)} / ${fmt.format(s.improvePoints)}`,
+  );
   setStat('minDihedralBefore', s.minDihedralBefore, `${s.minDihedralBefore.toFixed(2)}°`);
   $('refine-capped').hidden = !s.refineCapped;
   drawCompare($('re-compare'), s.radiusEdgeHistogramBefore, s.radiusEdgeHistogram, RATIO_BINS, RATIO_RANGES);

@@ -60,8 +60,8 @@ void usage(std::FILE* out) {
       "                    like tetgen -q); -q stays \"quiet\"\n"
       "  --max-volume V    largest tet volume, > 0 (like tetgen -a); regions' own bounds apply too\n"
       "  --min-dihedral D  then raise the smallest dihedral angle towards D degrees (0-70) by\n"
-      "                    flips and vertex smoothing (like tetgen -O); not available yet:\n"
-      "                    only 0 is accepted\n"
+      "                    flips, vertex moves and a few new points (like tetgen -O); the\n"
+      "                    mesh then covers every facet but is no longer Delaunay\n"
       "  --max-points N    stop refining after N added points (default 0: 100 times the CDT's\n"
       "                    points plus 1e6; the statistics say when it stopped there)\n"
       "exit codes: 0 success, 1 input or meshing error, 2 usage error\n");
@@ -111,7 +111,8 @@ void print_json(const Result& r, Phase stop, bool validated, const Status& valid
                 const std::string& repair) {
   const Statistics& s = r.stats;
   std::string out = "{\"ok\":true,\"phase\":" + json_string(phase_name(stop)) +
-                    ",\"edges\":" + std::to_string(r.edges.size() / 2);
+                    ",\"edges\":" + std::to_string(r.edges.size() / 2) +
+                    ",\"delaunay\":" + (r.delaunay ? "true" : "false");
   for (const StatisticsField& f : kStatisticsFields) {
     out += ",\"" + std::string(f.name) + "\":";
     if (f.count) {
@@ -181,8 +182,8 @@ void print_table(const std::string& input, const Result& r, Phase stop, Degenera
                 s.refine_segment + s.refine_facet + s.refine_volume, s.refine_segment,
                 s.refine_facet, s.refine_volume, s.refine_skipped,
                 s.refine_capped ? "; stopped at the point limit (--max-points)" : "");
-    std::printf("  Sliver improvement:        %zu flips, %zu vertex smoothings\n", s.improve_flips,
-                s.improve_smooths);
+    std::printf("  Sliver improvement:        %zu flips, %zu vertex moves, %zu points added\n",
+                s.improve_flips, s.improve_smooths, s.improve_points);
   }
   std::printf("  Flat tetrahedra:           %zu in the output, %zu removed by flips\n",
               s.flat_tets, s.flat_flips);
@@ -210,7 +211,9 @@ void print_table(const std::string& input, const Result& r, Phase stop, Degenera
       print_histogram("Min dihedral/tet (deg):", angle_bins, s.dihedral_histogram);
     }
   }
-  if (validated) std::printf("  Validation:                passed\n");
+  if (validated)
+    std::printf("  Validation:                passed%s\n",
+                r.delaunay ? "" : " (not Delaunay after the improvement pass: not checked)");
 }
 
 // A whole command-line word as a double ("1.5", "-1", "1e-3", "inf");

@@ -218,11 +218,20 @@ TEST_CASE("cdt3d mesh --quality on bunny: more tets and quality no worse than be
   CHECK(validate(plc, r).ok());
 }
 
-TEST_CASE("cdt3d mesh --min-dihedral says the improvement pass is not available yet", "[cli][refine]") {
-  const cli_run::Run run = cli_run::run({"mesh", kCube, "--min-dihedral", "10"}, true);
-  CHECK(run.status == 2);
-  CHECK(run.output.find("--min-dihedral") != std::string::npos);
-  CHECK(run.output.find("not available yet") != std::string::npos);
+TEST_CASE("cdt3d mesh --min-dihedral runs the improvement pass and reports it", "[cli][refine]") {
+  const Result r = mesh(kBunny, quality(2.0, -1, 15));
+  REQUIRE(r.status.ok());
+  const std::string json = mesh_json(kBunny, {"--quality", "--min-dihedral", "15"});
+  CHECK(json_value(json, "improveFlips") == std::to_string(r.stats.improve_flips));
+  CHECK(json_value(json, "improveSmooths") == std::to_string(r.stats.improve_smooths));
+  CHECK(json_value(json, "improvePoints") == std::to_string(r.stats.improve_points));
+  CHECK(r.stats.improve_flips > 0);
+  const cli_run::Run run = cli_run::run({"mesh", kBunny, "--min-dihedral", "15", "--stats", "--validate"});
+  REQUIRE(run.status == 0);
+  CHECK(run.output.find("Sliver improvement:        " + std::to_string(r.stats.improve_flips) + " flips") !=
+        std::string::npos);
+  CHECK(run.output.find("Validation:                passed") != std::string::npos);
+  // Without a quality option the target alone turns refinement on, like --max-volume.
   CHECK(mesh_json(kCube, {"--min-dihedral", "0"}).find("\"ok\":true") != std::string::npos);
 }
 
@@ -240,7 +249,8 @@ TEST_CASE("cdt3d mesh --stats shows the refinement counters and times and the qu
             ", volume " + std::to_string(s.refine_volume) + "); " + std::to_string(s.refine_skipped) +
             " bad tets left"));
   CHECK(has("  Sliver improvement:        " + std::to_string(s.improve_flips) + " flips, " +
-            std::to_string(s.improve_smooths) + " vertex smoothings"));
+            std::to_string(s.improve_smooths) + " vertex moves, " + std::to_string(s.improve_points) +
+            " points added"));
   CHECK(has(", carve "));
   CHECK(has(", refine "));
   CHECK(has("(before refinement "));

@@ -237,10 +237,11 @@ struct QualityOptions {
   bool enabled = false;       ///< run the Refine phase (CLI --quality, JS quality: {...})
   double radius_edge = 2.0;   ///< bound on circumradius / shortest edge, >= 1 (tetgen -q)
   double max_volume = -1;     ///< largest tet volume, -1: none (tetgen -a); Region::max_volume also applies
-  /// Improvement pass after refinement (flips and vertex smoothing against
-  /// slivers, like tetgen -O): raise the smallest dihedral angle towards
-  /// this many degrees; 0 = no pass. At most 70. Not available yet: a value
-  /// above 0 is rejected with InvalidArgument.
+  /// Improvement pass after refinement (edge removal, 2-3 flips and moves
+  /// of free vertices against slivers, like tetgen -O): raise the smallest
+  /// dihedral angle towards this many degrees; 0 = no pass. At most 70. The
+  /// result is then a constrained tetrahedralization of the refined PLC but
+  /// no longer a Delaunay one (Result::delaunay).
   double min_dihedral = 0;
   /// Stop refining after this many added points (0: 100 times the points
   /// of the CDT plus 100000, plus 6 per smallest volume bound's worth of
@@ -304,7 +305,10 @@ struct Statistics {
   /// input angle (or would create a numerically flat tet).
   size_t refine_skipped = 0;
   size_t refine_capped = 0;   ///< 1 when QualityOptions::max_points stopped refinement
-  size_t improve_flips = 0, improve_smooths = 0;  ///< improvement pass (min_dihedral)
+  /// Improvement pass (min_dihedral): flips (edge removals and 2-3 flips),
+  /// vertex moves, and vertices added inside the volume (counted in
+  /// steiner_volume too).
+  size_t improve_flips = 0, improve_smooths = 0, improve_points = 0;
   double ms_read = 0, ms_delaunay = 0, ms_segments = 0, ms_degeneracy = 0, ms_facets = 0,
          ms_carve = 0, ms_refine = 0, ms_total = 0;
   double min_dihedral = 0, max_dihedral = 0;  ///< degrees, over the output tets
@@ -333,6 +337,11 @@ struct Result {
   size_t input_points = 0;
   std::vector<SteinerKind> steiner_kind;  ///< per Steiner point (index - input_points)
   std::vector<int64_t> steiner_parent;    ///< input segment (Segment) or facet (Facet) index, -1 (Volume)
+  /// True for a constrained Delaunay tetrahedralization. False when the
+  /// improvement pass (QualityOptions::min_dihedral) flipped tets or moved
+  /// vertices: every facet and segment is still covered, but faces need not
+  /// be locally Delaunay, and validate() does not check that.
+  bool delaunay = true;
   Statistics stats;
   /// Pairs of input facets that intersect improperly (filled when the status
   /// is SelfIntersection; all pairs found, for highlighting).
@@ -422,7 +431,8 @@ std::string write_poly(const Plc& plc);
 /// tetrahedralization (positive tets, face-adjacency consistent, no gaps
 /// inside the domain), every input facet exactly covered by constrained
 /// faces, every segment a chain of edges, constrained Delaunay property
-/// (every interior face that is not constrained is locally Delaunay).
+/// (every interior face that is not constrained is locally Delaunay), the
+/// last only when result.delaunay (see Result::delaunay).
 Status validate(const Plc& plc, const Result& result);
 
 }  // namespace cdt3d

@@ -121,6 +121,47 @@ inline int projection_axis(const double* a, const double* b, const double* c) {
   return largest_axis(n.x, n.y, n.z);
 }
 
+/// Cosines of the smallest and largest dihedral angle of tet p[0..3], in
+/// doubles: for statistics and for ranking tets, never for a topological
+/// decision. A face of zero area counts as a zero angle (cosine 1).
+inline void dihedral_cosines(const Vec3 p[4], double& cos_min_angle, double& cos_max_angle) {
+  // Face normals (face i opposite vertex i), all turned outward: the
+  // dihedral angle at the edge of faces i and j is 180 degrees minus the
+  // angle between their normals, so its cosine is -n_i.n_j / |n_i||n_j|.
+  Vec3 nrm[4];
+  double len[4];
+  for (int i = 0; i < 4; ++i) {
+    const Vec3 a = p[(i + 1) % 4], b = p[(i + 2) % 4], c = p[(i + 3) % 4];
+    Vec3 m = cross(b - a, c - a);
+    if (dot(m, p[i] - a) > 0) m = {-m.x, -m.y, -m.z};
+    nrm[i] = m;
+    len[i] = norm(m);
+  }
+  cos_min_angle = -1, cos_max_angle = 1;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) {
+      const double d = len[i] * len[j];
+      const double c = d == 0 ? 1 : std::max(-1.0, std::min(1.0, -dot(nrm[i], nrm[j]) / d));
+      cos_min_angle = std::max(cos_min_angle, c), cos_max_angle = std::min(cos_max_angle, c);
+    }
+}
+
+/// Smallest and largest dihedral angle (degrees) of tet p[0..3], in doubles
+/// (see dihedral_cosines).
+inline void dihedral_range(const Vec3 p[4], double& lo, double& hi) {
+  const double deg = 180 / 3.14159265358979323846;
+  double c_lo, c_hi;
+  dihedral_cosines(p, c_lo, c_hi);
+  lo = std::acos(c_lo) * deg, hi = std::acos(c_hi) * deg;
+}
+
+/// The smallest dihedral angle (degrees) of tet p[0..3], in doubles.
+inline double min_dihedral_angle(const Vec3 p[4]) {
+  double c_lo, c_hi;
+  dihedral_cosines(p, c_lo, c_hi);
+  return std::acos(c_lo) * (180 / 3.14159265358979323846);
+}
+
 /// 6V / l_max^3 of tet (a, b, c, d) in doubles: 6V = (a - d) . ((b - d) x
 /// (c - d)) evaluated in floating point, l_max its longest edge. Positive for
 /// a positively oriented tet (tet_mesh.hpp), up to rounding.

@@ -147,8 +147,11 @@ bool TetMesh::replace_tets(const TetId* old, size_t n_old, const std::array<Vert
   auto fresh_hf = [&](uint64_t side) { return make_hf(ids[side / 4], static_cast<int>(side % 4)); };
   for (size_t k = 0; k < sides.size(); k += 2) {
     const uint64_t other = sides[k + 1].second;
-    glue(fresh_hf(sides[k].second),
-         other & kOuter ? static_cast<HalfFace>(other & ~kOuter) : fresh_hf(other));
+    const HalfFace beyond = other & kOuter ? static_cast<HalfFace>(other & ~kOuter) : fresh_hf(other);
+    if (beyond == kNoHalfFace)
+      open_face(fresh_hf(sides[k].second));  // the open boundary of a carved mesh
+    else
+      glue(fresh_hf(sides[k].second), beyond);
   }
   for (size_t j = 0; j < n_fresh; ++j)
     if (fresh[j][3] != kInfinite)

@@ -189,9 +189,11 @@ struct TetMesh {
   /// them in the order of `old`), and fresh tets get tflag 0. Every vertex of
   /// a real fresh tet points at the last one that has it (vtet); the others
   /// are the caller's: a vertex only on fresh ghost tets, or one that left.
+  /// A boundary face of `old` that is open (kNoHalfFace) stays open.
   /// created (if given) receives the fresh tets' ids. Step 4's cavity commit
-  /// (cavity.cpp), vertex removal (degeneracy.cpp) and the flips of step 4's
-  /// output (flat_flips.cpp) are built on it.
+  /// (cavity.cpp), vertex removal (degeneracy.cpp), the flips of step 4's
+  /// output (flat_flips.cpp) and of the improvement pass (improve.cpp) are
+  /// built on it.
   bool replace_tets(const TetId* old, size_t n_old, const std::array<VertexId, 4>* fresh,
                     size_t n_fresh, std::vector<TetId>* created = nullptr);
 

@@ -20,7 +20,6 @@ constexpr double kDihedralBins[9] = {1, 5, 10, 15, 20, 30, 40, 50, 60};
 }  // namespace
 
 void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
-  const double pi = 3.14159265358979323846;
   double min_dihedral = 180, max_dihedral = 0;
   stats.radius_edge_histogram.fill(0);
   stats.dihedral_histogram.fill(0);
@@ -32,30 +31,10 @@ void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
       const double* c = &mesh.points[3 * static_cast<size_t>(mesh.tets[4 * t + i])];
       p[i] = to_vec(c);
     }
-    // Face normals (face i opposite vertex i), all pointing outward or all
-    // inward: the dihedral angle at the edge shared by faces i and j is
-    // pi minus the angle between their normals.
-    Vec3 nrm[4];
-    for (int i = 0; i < 4; ++i) {
-      const Vec3 a = p[(i + 1) % 4], b = p[(i + 2) % 4], c = p[(i + 3) % 4];
-      Vec3 m = cross(b - a, c - a);
-      if (dot(m, p[i] - a) > 0) m = {-m.x, -m.y, -m.z};  // outward
-      nrm[i] = m;
-    }
-    double tet_min = 180;
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) {
-        const double d = norm(nrm[i]) * norm(nrm[j]);
-        if (d == 0) {
-          tet_min = 0;
-          continue;
-        }
-        const double c = std::max(-1.0, std::min(1.0, dot(nrm[i], nrm[j]) / d));
-        const double angle = 180 - std::acos(c) * 180 / pi;
-        tet_min = std::min(tet_min, angle);
-        min_dihedral = std::min(min_dihedral, angle);
-        max_dihedral = std::max(max_dihedral, angle);
-      }
+    double tet_min, tet_max;
+    dihedral_range(p, tet_min, tet_max);
+    min_dihedral = std::min(min_dihedral, tet_min);
+    max_dihedral = std::max(max_dihedral, tet_max);
     size_t dbin = 0;
     while (dbin < 9 && tet_min >= kDihedralBins[dbin]) ++dbin;
     ++stats.dihedral_histogram[dbin];

@@ -57,6 +57,7 @@ inline constexpr StatisticsField kStatisticsFields[] = {
     {"refineCapped", &Statistics::refine_capped, nullptr, nullptr},
     {"improveFlips", &Statistics::improve_flips, nullptr, nullptr},
     {"improveSmooths", &Statistics::improve_smooths, nullptr, nullptr},
+    {"improvePoints", &Statistics::improve_points, nullptr, nullptr},
     {"msRead", nullptr, &Statistics::ms_read, nullptr},
     {"msDelaunay", nullptr, &Statistics::ms_delaunay, nullptr},
     {"msSegments", nullptr, &Statistics::ms_segments, nullptr},

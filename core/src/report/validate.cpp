@@ -44,7 +44,8 @@
 //     constrained is locally Delaunay: insphere of the opposite vertex <= 0
 //     (exact, unperturbed; co-spherical allowed), unless four of its five
 //     points are numerically flat (a flat tet flipped away, flat_flips.hpp)
-//     (delaunay).
+//     (delaunay). Skipped when Result::delaunay is false (the improvement
+//     pass of quality refinement, improve.hpp, trades it for angles).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -958,7 +959,7 @@ Status Validator::run() {
   if (st.ok()) st = facets();
   if (st.ok()) st = unconstrained_in_facets();
   if (st.ok()) st = volume();
-  if (st.ok()) st = delaunay();
+  if (st.ok() && r_.delaunay) st = delaunay();  // not after the improvement pass
   return st;
 }
 

@@ -1,10 +1,8 @@
 // Quality refinement of a carved CDT (refine.hpp): constrained Delaunay
 // refinement (Shewchuk 1998, Si 2015) on the kept tets alone.
 //
-// The mesh: the Result's tets in a TetMesh without ghost tets; a face with
-// no tet beyond it is open (kNoHalfFace). Constrained faces carry a tag per
-// half-face (facet + 1, or kHullTag for a boundary face that is no facet, in
-// keep-hull domains); subsegments live in a hash map edge -> segment.
+// The mesh: the Result's tets without ghosts, constraint tags per half-face
+// and subsegments in a hash map (constrained_mesh.hpp).
 //
 // Insertion (constrained Bowyer-Watson): the cavity of a new point p is
 // grown from the tets that contain it (or, for a point on a facet or a
@@ -42,7 +40,9 @@
 #include <unordered_map>
 #include <vector>
 
+#include "constrained_mesh.hpp"
 #include "geometry.hpp"
+#include "improve.hpp"
 #include "predicates.hpp"
 #include "spatial_sort.hpp"
 #include "status.hpp"
@@ -63,20 +63,11 @@ Status check_quality_options(const QualityOptions& q) {
     return make_error(ErrorCode::InvalidArgument,
                       "The dihedral angle target must be between 0 and 70 degrees (got " +
                           std::to_string(q.min_dihedral) + ").");
-  // The improvement pass (flips and smoothing against slivers) is not built
-  // yet; an option that silently did nothing would mislead.
-  if (q.min_dihedral > 0)
-    return make_error(ErrorCode::InvalidArgument,
-                      "The dihedral angle target needs the sliver improvement pass, which is not "
-                      "available yet: leave it at 0 (got " +
-                          std::to_string(q.min_dihedral) + ").");
   return Status::success();
 }
 
 namespace {
 
-constexpr uint32_t kNoTag = 0;
-constexpr uint32_t kHullTag = 0xffffffffu;  // boundary face of a keep-hull domain, no facet
 
 // Split points of subsegments lie exactly on their segment's line when a
 // dyadic fraction with this many bits (down to the second) gives one
@@ -104,8 +95,6 @@ constexpr int kMaxSplitDepth = 6;
 // Bound on the tets a walk or an edge rotation visits before giving up (a
 // broken mesh; never reached on a valid one).
 constexpr size_t kMaxWalk = 1u << 20;
-
-enum class Where : uint8_t { Input, Segment, Facet, Volume };
 
 // Floating-point geometry: it places points and ranks tets; no topological
 // decision rests on it (those use the exact predicates).
@@ -169,26 +158,25 @@ class Refiner {
   // What a cavity check found: fine, a constraint to split first, or no go.
   enum class Verdict { Ok, SplitSubface, SplitSubsegment, Reject };
 
-  // --- set-up and output ---
-  Status build();
-  void write_result();
-  // --- per-tet-slot and per-vertex arrays that follow TetMesh's growth ---
-  TetId new_tet();
-  VertexId new_vertex(const double* p, Where where, int64_t parent);
+  // --- the mesh (constrained_mesh.hpp) ---
+  TetId new_tet() { return cm_.new_tet(); }
+  VertexId new_vertex(const double* p, Where where, int64_t parent) {
+    return cm_.new_vertex(p, where, parent);
+  }
+  uint32_t tag(HalfFace hf) const { return cm_.tag(hf); }
+  std::array<VertexId, 3> face_of(HalfFace hf) const { return cm_.face_of(hf); }
+  const double* pt(VertexId v) const { return cm_.pt(v); }
+  bool is_subsegment(VertexId a, VertexId b) const { return cm_.is_subsegment(a, b); }
+  bool edge_ring(TetId t0, VertexId x, VertexId y, std::vector<TetId>& out) const {
+    return cm_.edge_ring(t0, x, y, out);
+  }
+  int facet_axis(uint32_t tag, const std::array<VertexId, 3>& v) const {
+    return cm_.facet_axis(tag, v);
+  }
 
   // --- queries ---
-  uint32_t tag(HalfFace hf) const { return hfc_[hf]; }
-  std::array<VertexId, 3> face_of(HalfFace hf) const {
-    const VertexId* t = m_.tet_vertices(hf_tet(hf));
-    const int i = hf_face(hf);
-    return {t[kFaceVertex[i][0]], t[kFaceVertex[i][1]], t[kFaceVertex[i][2]]};
-  }
-  const double* pt(VertexId v) const { return m_.point(v); }
-  bool is_subsegment(VertexId a, VertexId b) const { return subseg_.count(edge_key(a, b)) != 0; }
-  bool edge_ring(TetId t0, VertexId x, VertexId y, std::vector<TetId>& out) const;
   bool subface_across(const Subface& s, VertexId x, VertexId y, Subface& out);
   void subfaces_at_edge(VertexId a, VertexId b, TetId t0, std::vector<Subface>& out);
-  int facet_axis(uint32_t tag, const std::array<VertexId, 3>& v) const;
   Walk locate(TetId start, const double* p, TetId& found, HalfFace& blocked);
   Walk locate_in_facet(const Subface& start, const double* p, Subface& found, VertexId& sa,
                        VertexId& sb);
@@ -222,16 +210,14 @@ class Refiner {
   const Plc& plc_;
   const QualityOptions& q_;
   Result& res_;
-  TetMesh m_;
-  std::vector<uint32_t> hfc_;     // per half-face: constraint tag
-  std::vector<double> attr_;      // per tet slot: region attribute
-  std::vector<Where> where_;      // per vertex
-  std::vector<int64_t> parent_;   // per vertex: segment or facet, -1
-  std::unordered_map<uint64_t, uint32_t> subseg_;  // subsegment -> input segment
-  std::vector<int8_t> facet_drop_;                 // per facet: projection axis
-  std::vector<int8_t> facet_side_;                 // per facet: orientation of its output faces
+  ConstrainedMesh cm_;
+  // Short names for the mesh's parts, used throughout.
+  TetMesh& m_ = cm_.m;
+  std::vector<uint32_t>& hfc_ = cm_.hfc;
+  std::vector<double>& attr_ = cm_.attr;
+  std::vector<Where>& where_ = cm_.where;
+  std::unordered_map<uint64_t, uint32_t>& subseg_ = cm_.subseg;
   std::vector<std::pair<double, double>> region_limits_;  // (attribute, max volume)
-  size_t old_points_ = 0;
   Rng rng_{0x7265666e65ull};
 
   // Insertion buffers.
@@ -258,198 +244,9 @@ class Refiner {
 // Set-up and output
 // ---------------------------------------------------------------------------
 
-TetId Refiner::new_tet() {
-  const TetId t = m_.alloc_tet();
-  if (hfc_.size() < 4 * m_.num_tet_slots()) {
-    hfc_.resize(4 * m_.num_tet_slots(), kNoTag);
-    attr_.resize(m_.num_tet_slots(), 0);
-  }
-  for (int i = 0; i < 4; ++i) hfc_[4 * static_cast<size_t>(t) + i] = kNoTag;
-  return t;
-}
-
-VertexId Refiner::new_vertex(const double* p, Where where, int64_t parent) {
-  const VertexId v = m_.add_vertex(p, kVertexSteiner);
-  where_.push_back(where);
-  parent_.push_back(parent);
-  return v;
-}
-
-Status Refiner::build() {
-  const TetMeshData& md = res_.mesh;
-  const size_t nv = md.points.size() / 3, nt = md.tets.size() / 4;
-  old_points_ = nv;
-  m_.reserve(nv, nt);
-  for (size_t v = 0; v < nv; ++v) m_.add_vertex(&md.points[3 * v], kVertexInput);
-  where_.assign(nv, Where::Input);
-  parent_.assign(nv, -1);
-  for (size_t i = 0; i < res_.steiner_kind.size(); ++i) {
-    const size_t v = res_.input_points + i;
-    if (v >= nv) break;
-    const SteinerKind k = res_.steiner_kind[i];
-    where_[v] = k == SteinerKind::Segment ? Where::Segment
-                : k == SteinerKind::Facet ? Where::Facet
-                                          : Where::Volume;
-    parent_[v] = res_.steiner_parent[i];
-  }
-  // Tets, then their adjacency by matching sorted face keys.
-  std::vector<std::pair<std::array<VertexId, 3>, HalfFace>> keys;
-  keys.reserve(4 * nt);
-  for (size_t k = 0; k < nt; ++k) {
-    const TetId t = new_tet();
-    const uint32_t* v = &md.tets[4 * k];
-    m_.set_tet(t, v[0], v[1], v[2], v[3]);
-    attr_[t] = md.tet_attributes.size() == nt ? md.tet_attributes[k] : 0;
-    for (int i = 0; i < 4; ++i) {
-      m_.set_vertex_tet(v[i], t);
-      const HalfFace hf = make_hf(t, i);
-      keys.push_back({sorted_triangle(face_of(hf)), hf});
-    }
-  }
-  std::sort(keys.begin(), keys.end());
-  for (size_t i = 0; i < keys.size();) {
-    if (i + 1 < keys.size() && keys[i + 1].first == keys[i].first) {
-      if (i + 2 < keys.size() && keys[i + 2].first == keys[i].first)
-        return make_error(ErrorCode::Internal, "Refinement: a face is shared by three tets.");
-      m_.glue(keys[i].second, keys[i + 1].second);
-      i += 2;
-    } else {
-      m_.open_face(keys[i].second);
-      ++i;
-    }
-  }
-  // Constrained faces; open faces that are no facet bound a kept hull.
-  facet_side_.assign(plc_.facets.size(), 0);
-  for (size_t i = 0; i < md.faces.size() / 3; ++i) {
-    const std::array<VertexId, 3> f = {md.faces[3 * i], md.faces[3 * i + 1], md.faces[3 * i + 2]};
-    const uint32_t facet = res_.face_facet[i];
-    auto it = std::lower_bound(keys.begin(), keys.end(), std::make_pair(sorted_triangle(f), HalfFace(0)));
-    for (; it != keys.end() && it->first == sorted_triangle(f); ++it) hfc_[it->second] = facet + 1;
-    if (facet < facet_side_.size() && facet_side_[facet] == 0)
-      facet_side_[facet] = static_cast<int8_t>(
-          pred::orient2d_projected(pt(f[0]), pt(f[1]), pt(f[2]), facet_axis(facet + 1, f)));
-  }
-  for (const auto& k : keys)
-    if (m_.adjacent(k.second) == kNoHalfFace && hfc_[k.second] == kNoTag) hfc_[k.second] = kHullTag;
-  for (size_t i = 0; i < res_.edge_segment.size(); ++i)
-    subseg_[edge_key(res_.edges[2 * i], res_.edges[2 * i + 1])] = res_.edge_segment[i];
-  // Per-region volume bounds (Region::max_volume), by attribute.
-  for (const Region& r : plc_.regions)
-    if (r.max_volume > 0) region_limits_.push_back({r.attribute, r.max_volume});
-  return Status::success();
-}
-
-int Refiner::facet_axis(uint32_t tag, const std::array<VertexId, 3>& v) const {
-  if (tag != kHullTag && tag != kNoTag && tag - 1 < facet_drop_.size() && facet_drop_[tag - 1] >= 0)
-    return facet_drop_[tag - 1];
-  return projection_axis(pt(v[0]), pt(v[1]), pt(v[2]));
-}
-
-void Refiner::write_result() {
-  TetMeshData& md = res_.mesh;
-  const size_t nv = m_.num_vertices();
-  md.points = m_.coords;
-  const bool attributes = !md.tet_attributes.empty();
-  md.tets.clear();
-  md.tet_attributes.clear();
-  md.faces.clear();
-  md.face_markers.clear();
-  res_.face_facet.clear();
-  for (TetId t = 0; t < m_.num_tet_slots(); ++t) {
-    if (m_.is_dead(t)) continue;
-    const VertexId* v = m_.tet_vertices(t);
-    md.tets.insert(md.tets.end(), v, v + 4);
-    if (attributes) md.tet_attributes.push_back(attr_[t]);
-  }
-  for (TetId t = 0; t < m_.num_tet_slots(); ++t) {
-    if (m_.is_dead(t)) continue;
-    for (int i = 0; i < 4; ++i) {
-      const HalfFace hf = make_hf(t, i);
-      const uint32_t g = tag(hf);
-      if (g == kNoTag || g == kHullTag) continue;
-      const HalfFace nb = m_.adjacent(hf);
-      if (nb != kNoHalfFace && hf_tet(nb) < t) continue;  // listed from the other side
-      std::array<VertexId, 3> f = face_of(hf);
-      const uint32_t facet = g - 1;
-      // The faces of a facet keep one orientation in its plane (validate()).
-      const int side = facet < facet_side_.size() ? facet_side_[facet] : 0;
-      if (side != 0 &&
-          pred::orient2d_projected(pt(f[0]), pt(f[1]), pt(f[2]), facet_axis(g, f)) != side)
-        std::swap(f[1], f[2]);
-      md.faces.insert(md.faces.end(), f.begin(), f.end());
-      res_.face_facet.push_back(facet);
-      md.face_markers.push_back(facet < plc_.facets.size() ? plc_.facets[facet].marker : 0);
-    }
-  }
-  std::vector<std::array<uint32_t, 3>> edges;
-  edges.reserve(subseg_.size());
-  for (const auto& e : subseg_)
-    edges.push_back({e.second, static_cast<uint32_t>(e.first >> 32), static_cast<uint32_t>(e.first)});
-  std::sort(edges.begin(), edges.end());
-  res_.edges.clear();
-  res_.edge_segment.clear();
-  for (const auto& e : edges) {
-    res_.edges.push_back(e[1]);
-    res_.edges.push_back(e[2]);
-    res_.edge_segment.push_back(e[0]);
-  }
-  for (size_t v = old_points_; v < nv; ++v) {
-    const Where w = where_[v];
-    res_.steiner_kind.push_back(w == Where::Segment ? SteinerKind::Segment
-                                : w == Where::Facet ? SteinerKind::Facet
-                                                    : SteinerKind::Volume);
-    res_.steiner_parent.push_back(parent_[v]);
-  }
-  Statistics& s = res_.stats;
-  s.points = nv;
-  s.tets = md.tets.size() / 4;
-  s.faces = md.faces.size() / 3;
-  s.steiner_segment = s.steiner_facet = s.steiner_volume = 0;
-  for (SteinerKind k : res_.steiner_kind) {
-    if (k == SteinerKind::Segment) ++s.steiner_segment;
-    if (k == SteinerKind::Facet) ++s.steiner_facet;
-    if (k == SteinerKind::Volume) ++s.steiner_volume;
-  }
-}
-
 // ---------------------------------------------------------------------------
 // Queries
 // ---------------------------------------------------------------------------
-
-// The tets around edge xy, starting at t0 (which has it): rotates across the
-// faces through xy one way until the ring closes or meets the domain
-// boundary, then the other way from t0. False on a broken mesh.
-bool Refiner::edge_ring(TetId t0, VertexId x, VertexId y, std::vector<TetId>& out) const {
-  out.clear();
-  out.push_back(t0);
-  const VertexId* v0 = m_.tet_vertices(t0);
-  VertexId w[2];
-  for (int i = 0, k = 0; i < 4; ++i)
-    if (v0[i] != x && v0[i] != y) {
-      if (k == 2) return false;
-      w[k++] = v0[i];
-    }
-  for (int dir = 0; dir < 2; ++dir) {
-    TetId t = t0;
-    VertexId came = w[dir];  // we "entered" t across the face opposite this vertex
-    for (size_t steps = 0;; ++steps) {
-      if (steps > kMaxWalk) return false;
-      const VertexId* tv = m_.tet_vertices(t);
-      int exit_pos = -1;
-      for (int i = 0; i < 4; ++i)
-        if (tv[i] != x && tv[i] != y && tv[i] != came) exit_pos = i;
-      if (exit_pos < 0) return false;
-      const HalfFace nb = m_.adjacent(make_hf(t, exit_pos));
-      if (nb == kNoHalfFace) break;
-      const TetId u = hf_tet(nb);
-      if (u == t0) return dir == 0;  // closed: every tet seen
-      came = m_.opposite(nb);
-      t = u;
-      out.push_back(t);
-    }
-  }
-  return true;
-}
 
 // The subface of s's facet on the other side of its edge xy (not a
 // subsegment: exactly two subfaces of the facet share it).
@@ -1010,13 +807,11 @@ bool Refiner::fix_bad_tet(TetId t, const TetShape& shape) {
 }
 
 Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress) {
-  facet_drop_.assign(plc_.facets.size(), -1);
-  for (size_t f = 0; f < plc_.facets.size(); ++f) {
-    const Vec3 n = newell_normal(plc_, plc_.facets[f].loops[0]);
-    facet_drop_[f] = static_cast<int8_t>(largest_axis(n.x, n.y, n.z));
-  }
-  Status st = build();
+  Status st = cm_.build(plc_, res_);
   if (!st.ok()) return st;
+  // Per-region volume bounds (Region::max_volume), by attribute.
+  for (const Region& r : plc_.regions)
+    if (r.max_volume > 0) region_limits_.push_back({r.attribute, r.max_volume});
   // Default bound on added points: far above what the radius-edge bound
   // needs on the models of tests/data (at most 50 per point of the CDT
   // measured: thin_plate, 46), plus room for the volume bound (about one
@@ -1031,7 +826,7 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
         volume += tet_shape(pt(v[0]), pt(v[1]), pt(v[2]), pt(v[3])).volume;
       }
     const double by_volume = std::isfinite(limit) ? std::min(1e9, 6 * volume / limit) : 0;
-    cap = 100 * old_points_ + 100000 + static_cast<size_t>(by_volume);
+    cap = 100 * cm_.old_points + 100000 + static_cast<size_t>(by_volume);
   }
 
   for (TetId t = 0; t < m_.num_tet_slots(); ++t)
@@ -1069,7 +864,17 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
   }
   res_.stats.refine_skipped = left;
 
-  write_result();
+  if (q_.min_dihedral > 0) {
+    ImproveCounts counts;
+    st = improve_mesh(cm_, q_.min_dihedral, cancel, counts);
+    if (!st.ok()) return st;
+    res_.stats.improve_flips = counts.flips;
+    res_.stats.improve_smooths = counts.smooths;
+    res_.stats.improve_points = counts.inserts;
+    if (counts.flips + counts.smooths + counts.inserts > 0) res_.delaunay = false;
+  }
+
+  cm_.write(plc_, res_);
   return Status::success();
 }
 

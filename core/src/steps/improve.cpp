@@ -1,0 +1,440 @@
+// The improvement pass against slivers (improve.hpp).
+#include "improve.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <utility>
+#include <vector>
+#include <cstdio>
+#include <cstdlib>
+
+#include "geometry.hpp"
+#include "predicates.hpp"
+
+namespace cdt3d {
+
+namespace {
+
+// Largest ring edge removal looks at: rings around sliver edges hold 3 to 7
+// tets; the dynamic programme grows with the cube of the size.
+constexpr size_t kMaxRing = 10;
+// An operation must raise the smallest angle of the tets it replaces by this
+// many degrees: every step then makes a measurable gain, and the pass ends.
+constexpr double kGain = 1e-3;
+// Rounds over the tets below the target; a round that changes nothing ends
+// the pass early.
+constexpr int kRounds = 4;
+// A new vertex's cavity holds at most this many tets.
+constexpr size_t kMaxCavity = 32;
+// Heights (in mean edges of the sliver) inward of its centroid where a new
+// vertex is tried.
+constexpr double kInsertHeights[] = {0.3, 0.5, 0.8};
+// Moves tried per target point when smoothing: fractions of the way there.
+constexpr double kSteps[] = {1.0, 0.5, 0.25, 0.1};
+
+using Tet = std::array<VertexId, 4>;
+
+// The smallest dihedral angle of tet (p0, p1, p2, p3) in degrees, or -1
+// when it is not positive by the exact orientation test or is numerically
+// flat: the measure every operation maximises.
+double quality_of(const double* p0, const double* p1, const double* p2, const double* p3) {
+  const double* p[4] = {p0, p1, p2, p3};
+  if (pred::orient3d(p[0], p[1], p[2], p[3]) <= 0 || numerically_flat(p[0], p[1], p[2], p[3]))
+    return -1;
+  const Vec3 v[4] = {to_vec(p[0]), to_vec(p[1]), to_vec(p[2]), to_vec(p[3])};
+  return min_dihedral_angle(v);
+}
+
+class Improver {
+ public:
+  Improver(ConstrainedMesh& cm, double target) : cm_(cm), m_(cm.m), target_(target) {}
+  Status run(const volatile bool* cancel, ImproveCounts& counts);
+
+ private:
+  double quality(const Tet& t) const;
+  double quality(TetId t) const;
+  bool improve_tet(TetId t);
+  bool remove_edge(TetId t, VertexId a, VertexId b);
+  bool flip23(TetId t, int face);
+  bool smooth(VertexId v);
+  bool star_cavity(TetId t, const double* p);
+  bool insert_point(TetId t);
+  bool free_vertex(VertexId v, const std::vector<TetId>& star) const;
+  double star_quality(const std::vector<TetId>& star) const;
+  bool replace(const std::vector<TetId>& old, const std::vector<Tet>& fresh);
+
+  ConstrainedMesh& cm_;
+  TetMesh& m_;
+  double target_;
+  ImproveCounts counts_;
+  std::vector<TetId> queue_;
+  // Buffers.
+  std::vector<TetId> ring_, star_, created_, cavity_;
+  std::vector<std::array<VertexId, 3>> faces_;
+  std::vector<Tet> fresh_;
+  std::vector<std::pair<std::array<VertexId, 3>, uint32_t>> outer_;
+};
+
+double Improver::quality(const Tet& t) const {
+  return quality_of(cm_.pt(t[0]), cm_.pt(t[1]), cm_.pt(t[2]), cm_.pt(t[3]));
+}
+
+double Improver::quality(TetId t) const {
+  const VertexId* v = m_.tet_vertices(t);
+  return quality(Tet{v[0], v[1], v[2], v[3]});
+}
+
+// Replaces the live tets `old` by `fresh` (the same region): constraint tags
+// of the region's outer faces are carried over, the fresh tets inherit the
+// region attribute and go on the queue.
+bool Improver::replace(const std::vector<TetId>& old, const std::vector<Tet>& fresh) {
+  const double attribute = cm_.attr[old[0]];
+  for (TetId t : old)
+    if (cm_.attr[t] != attribute) return false;  // across a region border: keep it
+  outer_.clear();
+  for (TetId t : old)
+    for (int i = 0; i < 4; ++i) {
+      const HalfFace hf = make_hf(t, i);
+      const HalfFace nb = m_.adjacent(hf);
+      if (nb != kNoHalfFace && std::find(old.begin(), old.end(), hf_tet(nb)) != old.end()) continue;
+      outer_.push_back({sorted_triangle(cm_.face_of(hf)), cm_.tag(hf)});
+    }
+  std::sort(outer_.begin(), outer_.end());
+  if (!m_.replace_tets(old.data(), old.size(), fresh.data(), fresh.size(), &created_)) return false;
+  cm_.sync_slots();
+  for (TetId t : created_) {
+    cm_.attr[t] = attribute;
+    for (int i = 0; i < 4; ++i) {
+      const HalfFace hf = make_hf(t, i);
+      const auto key = sorted_triangle(cm_.face_of(hf));
+      auto it = std::lower_bound(outer_.begin(), outer_.end(), std::make_pair(key, uint32_t(0)));
+      cm_.hfc[hf] = it != outer_.end() && it->first == key ? it->second : kNoTag;
+    }
+    queue_.push_back(t);
+  }
+  return true;
+}
+
+// Edge removal of edge ab of tet t: the ring around ab (closed, every face
+// through ab unconstrained, ab no subsegment) gives the polygon r_0..r_n-1;
+// each triangle (r_i, r_k, r_j) of a triangulation of it makes two tets, one
+// with a and one with b. The best triangulation (largest smallest angle) by
+// dynamic programming over sub-polygons r_i..r_j.
+bool Improver::remove_edge(TetId t, VertexId a, VertexId b) {
+  if (cm_.is_subsegment(a, b)) return false;
+  bool closed = false;
+  if (!cm_.edge_ring(t, a, b, ring_, &closed) || !closed || ring_.size() < 3 ||
+      ring_.size() > kMaxRing)
+    return false;
+  const size_t n = ring_.size();
+  double old_q = HUGE_VAL;
+  for (TetId u : ring_) {
+    const VertexId* tv = m_.tet_vertices(u);
+    for (int i = 0; i < 4; ++i)
+      if (tv[i] != a && tv[i] != b && cm_.tag(make_hf(u, i)) != kNoTag) return false;
+    old_q = std::min(old_q, quality(u));
+  }
+  // r[k]: the vertex ring_[k] and ring_[k + 1] share besides a and b.
+  std::array<VertexId, kMaxRing> r{};
+  for (size_t k = 0; k < n; ++k) {
+    const VertexId* x = m_.tet_vertices(ring_[k]);
+    const VertexId* y = m_.tet_vertices(ring_[(k + 1) % n]);
+    r[k] = kNone;
+    for (int i = 0; i < 4; ++i)
+      if (x[i] != a && x[i] != b && std::find(y, y + 4, x[i]) != y + 4) r[k] = x[i];
+    if (r[k] == kNone) return false;
+  }
+  // The ring turns one way around ab: orient3d(a, b, r_k, r_k+1) has one
+  // sign s for all k (ring tet k + 1 holds r_k and r_k+1). For ring-ordered
+  // i < k < j, b then lies on the side s of (r_i, r_k, r_j) and a on the
+  // other; the tets are written so that they are positive exactly then.
+  const int s = pred::orient3d(cm_.pt(a), cm_.pt(b), cm_.pt(r[0]), cm_.pt(r[1]));
+  auto tets_of = [&](size_t i, size_t k, size_t j, Tet& ta, Tet& tb) {
+    if (s > 0)
+      tb = {r[i], r[k], r[j], b}, ta = {r[k], r[i], r[j], a};
+    else
+      tb = {r[k], r[i], r[j], b}, ta = {r[i], r[k], r[j], a};
+  };
+  double best[kMaxRing][kMaxRing];
+  size_t pick[kMaxRing][kMaxRing];
+  for (size_t len = 1; len < n; ++len)
+    for (size_t i = 0; i + len < n; ++i) {
+      const size_t j = i + len;
+      best[i][j] = len == 1 ? HUGE_VAL : -1;
+      for (size_t k = i + 1; k < j; ++k) {
+        const double sub = std::min(best[i][k], best[k][j]);
+        if (sub <= best[i][j]) continue;
+        Tet ta, tb;
+        tets_of(i, k, j, ta, tb);
+        const double q = std::min({sub, quality(ta), quality(tb)});
+        if (q > best[i][j]) best[i][j] = q, pick[i][j] = k;
+      }
+    }
+  if (!(best[0][n - 1] > old_q + kGain)) return false;
+  fresh_.clear();
+  std::vector<std::pair<size_t, size_t>> todo = {{0, n - 1}};
+  while (!todo.empty()) {
+    const auto [i, j] = todo.back();
+    todo.pop_back();
+    if (j - i < 2) continue;
+    const size_t k = pick[i][j];
+    Tet ta, tb;
+    tets_of(i, k, j, ta, tb);
+    fresh_.push_back(ta), fresh_.push_back(tb);
+    todo.push_back({i, k}), todo.push_back({k, j});
+  }
+  const std::vector<TetId> old = ring_;
+  if (!replace(old, fresh_)) return false;
+  ++counts_.flips;
+  return true;
+}
+
+// The 2-3 flip across face `face` of t (not constrained, a tet beyond): the
+// two tets become three around the edge joining their apexes. Each new tet
+// is t with one vertex of the face replaced by the other apex; all three
+// positive means that edge crosses the face inside.
+bool Improver::flip23(TetId t, int face) {
+  const HalfFace hf = make_hf(t, face);
+  const HalfFace nb = m_.adjacent(hf);
+  if (nb == kNoHalfFace || cm_.tag(hf) != kNoTag) return false;
+  const TetId u = hf_tet(nb);
+  const VertexId e = m_.opposite(nb);
+  const VertexId* tv = m_.tet_vertices(t);
+  const double old_q = std::min(quality(t), quality(u));
+  double new_q = HUGE_VAL;
+  fresh_.clear();
+  for (int k = 0; k < 3 && new_q > old_q + kGain; ++k) {
+    Tet n{tv[0], tv[1], tv[2], tv[3]};
+    n[kFaceVertex[face][k]] = e;
+    new_q = std::min(new_q, quality(n));
+    fresh_.push_back(n);
+  }
+  if (!(new_q > old_q + kGain)) return false;
+  if (!replace({t, u}, fresh_)) return false;
+  ++counts_.flips;
+  return true;
+}
+
+// A vertex that may move: a Steiner point inside the volume whose faces are
+// all unconstrained and inner (so it lies on no facet and no hull face).
+bool Improver::free_vertex(VertexId v, const std::vector<TetId>& star) const {
+  if (cm_.where[v] != Where::Volume || star.empty()) return false;
+  for (TetId t : star) {
+    const int iv = m_.index_in_tet(t, v);
+    for (int i = 0; i < 4; ++i) {
+      if (i == iv) continue;
+      const HalfFace hf = make_hf(t, i);
+      if (cm_.tag(hf) != kNoTag || m_.adjacent(hf) == kNoHalfFace) return false;
+    }
+  }
+  return true;
+}
+
+double Improver::star_quality(const std::vector<TetId>& star) const {
+  double q = HUGE_VAL;
+  for (TetId t : star) q = std::min(q, quality(t));
+  return q;
+}
+
+// Moves free vertex v to the best of a few candidate points (rounded to
+// doubles; every tet of its star re-tested exactly), if that raises the
+// smallest angle of its star.
+bool Improver::smooth(VertexId v) {
+  m_.vertex_star(v, star_);
+  if (!free_vertex(v, star_)) return false;
+  const Vec3 home = to_vec(cm_.pt(v));
+  const double old_q = star_quality(star_);
+  // Target points: the centroid of the star's other vertices, and the point
+  // above the face opposite v in its worst tet at the height of a regular
+  // tet on that face.
+  Vec3 centroid{0, 0, 0};
+  size_t count = 0;
+  TetId worst = star_[0];
+  double worst_q = HUGE_VAL;
+  for (TetId t : star_) {
+    const VertexId* tv = m_.tet_vertices(t);
+    for (int i = 0; i < 4; ++i)
+      if (tv[i] != v) centroid = centroid + to_vec(cm_.pt(tv[i])), ++count;
+    const double q = quality(t);
+    if (q < worst_q) worst_q = q, worst = t;
+  }
+  std::vector<Vec3> targets = {(1.0 / static_cast<double>(count)) * centroid};
+  {
+    const int iv = m_.index_in_tet(worst, v);
+    const auto f = cm_.face_of(make_hf(worst, iv));
+    const Vec3 pa = to_vec(cm_.pt(f[0])), pb = to_vec(cm_.pt(f[1])), pc = to_vec(cm_.pt(f[2]));
+    const Vec3 nrm = cross(pb - pa, pc - pa);  // counterclockwise from outside: points away from v
+    const double len = norm(nrm);
+    const double edge = (dist(pa, pb) + dist(pb, pc) + dist(pc, pa)) / 3;
+    if (len > 0)
+      targets.push_back((1.0 / 3) * (pa + pb + pc) - (std::sqrt(2.0 / 3) * edge / len) * nrm);
+  }
+  double* xyz = &m_.coords[3 * static_cast<size_t>(v)];
+  Vec3 best = home;
+  double best_q = old_q;
+  for (const Vec3& target : targets) {
+    if (!finite(target)) continue;
+    for (double step : kSteps) {
+      const Vec3 p = home + step * (target - home);
+      xyz[0] = p.x, xyz[1] = p.y, xyz[2] = p.z;
+      const double q = star_quality(star_);
+      if (q > best_q) best_q = q, best = p;
+    }
+  }
+  xyz[0] = best.x, xyz[1] = best.y, xyz[2] = best.z;
+  if (!(best_q > old_q + kGain)) {
+    xyz[0] = home.x, xyz[1] = home.y, xyz[2] = home.z;
+    return false;
+  }
+  for (TetId t : star_) queue_.push_back(t);
+  ++counts_.smooths;
+  return true;
+}
+
+// The cavity of a new vertex at p, grown from t: the tets whose faces p
+// does not see from inside (not positive or numerically flat with p), added
+// across such faces until every boundary face is seen, so that the cone of
+// the boundary to p is a valid filling. False when a face p does not see is
+// constrained, open or a region border, or the cavity grows past kMaxCavity.
+// faces_ gets the boundary (counterclockwise from outside: p goes fourth).
+bool Improver::star_cavity(TetId t, const double* p) {
+  cavity_.assign(1, t);
+  for (;;) {
+    faces_.clear();
+    bool grown = false;
+    for (size_t k = 0; k < cavity_.size() && !grown; ++k)
+      for (int i = 0; i < 4 && !grown; ++i) {
+        const HalfFace hf = make_hf(cavity_[k], i);
+        const HalfFace nb = m_.adjacent(hf);
+        if (nb != kNoHalfFace &&
+            std::find(cavity_.begin(), cavity_.end(), hf_tet(nb)) != cavity_.end())
+          continue;
+        const auto f = cm_.face_of(hf);
+        if (pred::orient3d(cm_.pt(f[0]), cm_.pt(f[1]), cm_.pt(f[2]), p) > 0 &&
+            !numerically_flat(cm_.pt(f[0]), cm_.pt(f[1]), cm_.pt(f[2]), p)) {
+          faces_.push_back(f);
+          continue;
+        }
+        if (nb == kNoHalfFace || cm_.tag(hf) != kNoTag || cm_.attr[hf_tet(nb)] != cm_.attr[t] ||
+            cavity_.size() >= kMaxCavity)
+          return false;
+        cavity_.push_back(hf_tet(nb));
+        grown = true;
+      }
+    if (!grown) return true;
+  }
+}
+
+// The last resort for a sliver no flip or move fixes, typically one on the
+// boundary whose two constrained faces lie on nearly coplanar facets (any tet
+// holding both is flat, so a vertex inside must see them apart): a new
+// vertex at a point inward of t (from its centroid, away from its
+// constrained and open faces, by a fraction of its mean edge), joined to the
+// boundary of its star cavity. The candidate whose new tets have the
+// largest smallest angle goes in, if that beats the cavity's tets;
+// smoothing may move it on later, as it is free.
+bool Improver::insert_point(TetId t) {
+  const VertexId* tv = m_.tet_vertices(t);
+  Vec3 centre{0, 0, 0}, inward{0, 0, 0};
+  double edge = 0;
+  for (int i = 0; i < 4; ++i) {
+    centre = centre + 0.25 * to_vec(cm_.pt(tv[i]));
+    for (int j = i + 1; j < 4; ++j) edge += dist(to_vec(cm_.pt(tv[i])), to_vec(cm_.pt(tv[j]))) / 6;
+    const HalfFace hf = make_hf(t, i);
+    if (cm_.tag(hf) == kNoTag && m_.adjacent(hf) != kNoHalfFace) continue;
+    const auto f = cm_.face_of(hf);
+    const Vec3 a = to_vec(cm_.pt(f[0]));
+    const Vec3 n = cross(to_vec(cm_.pt(f[1])) - a, to_vec(cm_.pt(f[2])) - a);  // outward
+    const double len = norm(n);
+    if (len > 0) inward = inward - (1 / len) * n;
+  }
+  const double len = norm(inward);
+  if (!(len > 0)) return false;  // no boundary face: flips and moves are the tools there
+  inward = (1 / len) * inward;
+  double best_q = -1, best_gain = 0;
+  Vec3 best{};
+  for (double h : kInsertHeights) {
+    const Vec3 c = centre + (h * edge) * inward;
+    const double p[3] = {c.x, c.y, c.z};
+    if (!star_cavity(t, p)) continue;
+    double old_q = HUGE_VAL, q = HUGE_VAL;
+    for (TetId u : cavity_) old_q = std::min(old_q, quality(u));
+    for (const auto& f : faces_) q = std::min(q, quality_of(cm_.pt(f[0]), cm_.pt(f[1]), cm_.pt(f[2]), p));
+    if (q > old_q + kGain && q > best_q) best_q = q, best = c, best_gain = q - old_q;
+  }
+  if (!(best_gain > 0)) return false;
+  const double xyz[3] = {best.x, best.y, best.z};
+  if (!star_cavity(t, xyz)) return false;
+  const VertexId v = cm_.new_vertex(xyz, Where::Volume, -1);
+  fresh_.clear();
+  for (const auto& f : faces_) fresh_.push_back({f[0], f[1], f[2], v});
+  const std::vector<TetId> old = cavity_;
+  if (!replace(old, fresh_)) {
+    // Not done (never on a valid mesh: one region, faces matched): drop the
+    // vertex again.
+    m_.coords.resize(3 * static_cast<size_t>(v));
+    m_.vkind.pop_back(), m_.vtet.pop_back(), cm_.where.pop_back(), cm_.parent.pop_back();
+    return false;
+  }
+  ++counts_.inserts;
+  return true;
+}
+
+// Tries the operations on tet t until one succeeds: removal of each of its
+// edges, the 2-3 flip across each face, a move of each free vertex, a new
+// vertex.
+bool Improver::improve_tet(TetId t) {
+  const VertexId* tv = m_.tet_vertices(t);
+  const Tet v{tv[0], tv[1], tv[2], tv[3]};
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j)
+      if (remove_edge(t, v[i], v[j])) return true;
+  for (int f = 0; f < 4; ++f)
+    if (flip23(t, f)) return true;
+  for (int i = 0; i < 4; ++i)
+    if (smooth(v[i])) return true;
+  return insert_point(t);
+}
+
+Status Improver::run(const volatile bool* cancel, ImproveCounts& counts) {
+  for (int round = 0; round < kRounds; ++round) {
+    queue_.clear();
+    for (TetId t = 0; t < m_.num_tet_slots(); ++t)
+      if (!m_.is_dead(t) && quality(t) < target_) queue_.push_back(t);
+    const size_t done_before = counts_.flips + counts_.smooths + counts_.inserts;
+    // Tets made by an operation join the queue; the budget bounds a round.
+    const size_t budget = 20 * queue_.size() + 1000;
+    for (size_t head = 0; head < queue_.size() && head < budget; ++head) {
+      if ((head & 1023) == 0 && cancel && *cancel)
+        return make_error(ErrorCode::Cancelled, "Cancelled during the improvement pass.");
+      const TetId t = queue_[head];
+      if (m_.is_dead(t) || !(quality(t) < target_)) continue;
+      improve_tet(t);
+    }
+    if (counts_.flips + counts_.smooths + counts_.inserts == done_before) break;
+  }
+  counts = counts_;
+  if (getenv("IMPDBG"))
+    for (TetId t = 0; t < m_.num_tet_slots(); ++t)
+      if (!m_.is_dead(t) && quality(t) < 1) {
+        const VertexId* tv = m_.tet_vertices(t);
+        int nc = 0, open = 0;
+        for (int i = 0; i < 4; ++i) nc += cm_.tag(make_hf(t, i)) != kNoTag, open += m_.adjacent(make_hf(t, i)) == kNoHalfFace;
+        int nseg = 0;
+        for (int i = 0; i < 4; ++i) for (int j = i + 1; j < 4; ++j) nseg += cm_.is_subsegment(tv[i], tv[j]);
+        fprintf(stderr, "bad tet q=%.3f constrained=%d open=%d subsegs=%d where=%d%d%d%d\n", quality(t), nc, open, nseg,
+                (int)cm_.where[tv[0]], (int)cm_.where[tv[1]], (int)cm_.where[tv[2]], (int)cm_.where[tv[3]]);
+      }
+  return Status::success();
+}
+
+}  // namespace
+
+Status improve_mesh(ConstrainedMesh& cm, double target, const volatile bool* cancel,
+                    ImproveCounts& counts) {
+  Improver improver(cm, target);
+  return improver.run(cancel, counts);
+}
+
+}  // namespace cdt3d

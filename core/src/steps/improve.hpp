@@ -1,0 +1,46 @@
+// The improvement pass after quality refinement (QualityOptions::
+// min_dihedral): local changes that raise the smallest dihedral angle of the
+// tets, like TetGen's -O, within the same exact predicates.
+//
+// Delaunay refinement bounds the radius-edge ratio, which does not rule out
+// slivers: four nearly coplanar points with a good radius-edge ratio, on the
+// boundary (two subfaces of nearly coplanar facets) and inside. They go by
+// three operations, each done only when it raises the smallest dihedral
+// angle of the tets it touches:
+//  * edge removal: the ring of tets around an edge that is no subsegment and
+//    lies in no facet is replaced by the best triangulation of the ring's
+//    polygon joined to the edge's ends (dynamic programming over the
+//    polygon's triangulations; the 3-2 and 4-4 flips are its smallest cases;
+//    Shewchuk, "Two discrete optimization algorithms for the topological
+//    improvement of tetrahedral meshes", 2002);
+//  * the 2-3 flip across a face that is not constrained;
+//  * smoothing: a free vertex (a Steiner point inside the volume, on no
+//    constrained face) moves towards the centre of its star, or away from
+//    the face opposite it in its worst tet;
+//  * as the last resort, a new vertex inside the union of the tet and its
+//    neighbours across unconstrained faces (a Steiner point in the volume).
+// A new tet must be positive by the exact orientation test and not
+// numerically flat; constrained faces and subsegments are never removed, so
+// the mesh stays a constrained tetrahedralization of the PLC (every facet
+// and segment still covered), but no longer a Delaunay one.
+#pragma once
+
+#include <cstddef>
+
+#include "constrained_mesh.hpp"
+#include "status.hpp"
+
+namespace cdt3d {
+
+struct ImproveCounts {
+  size_t flips = 0;    ///< edge removals and 2-3 flips done
+  size_t smooths = 0;  ///< vertex moves done
+  size_t inserts = 0;  ///< vertices added (Where::Volume)
+};
+
+/// Raises the smallest dihedral angle of cm's tets towards `target`
+/// degrees. Errors: Cancelled when *cancel becomes true.
+Status improve_mesh(ConstrainedMesh& cm, double target, const volatile bool* cancel,
+                    ImproveCounts& counts);
+
+}  // namespace cdt3d
