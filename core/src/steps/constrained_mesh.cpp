@@ -18,6 +18,52 @@ constexpr size_t kMaxRing = 1u << 20;
 
 }  // namespace
 
+void EdgeMap::set(uint64_t key, uint32_t value) {
+  if (2 * (size_ + 1) > keys_.size()) grow();
+  size_t i = slot(key);
+  while (keys_[i] != kEmpty && keys_[i] != key) i = (i + 1) & mask_;
+  if (keys_[i] == kEmpty) ++size_;
+  keys_[i] = key;
+  values_[i] = value;
+}
+
+void EdgeMap::erase(uint64_t key) {
+  if (keys_.empty()) return;
+  size_t i = slot(key);
+  while (keys_[i] != key) {
+    if (keys_[i] == kEmpty) return;
+    i = (i + 1) & mask_;
+  }
+  // Backward shift: move later entries of the probe run into the hole when
+  // their home slot does not lie (cyclically) between the hole and them.
+  for (size_t j = (i + 1) & mask_; keys_[j] != kEmpty; j = (j + 1) & mask_) {
+    const size_t home = slot(keys_[j]);
+    if (((j - home) & mask_) >= ((j - i) & mask_)) {
+      keys_[i] = keys_[j];
+      values_[i] = values_[j];
+      i = j;
+    }
+  }
+  keys_[i] = kEmpty;
+  --size_;
+}
+
+void EdgeMap::grow() {
+  std::vector<uint64_t> keys;
+  std::vector<uint32_t> values;
+  keys.swap(keys_);
+  values.swap(values_);
+  const size_t capacity = keys.empty() ? 64 : 2 * keys.size();
+  keys_.assign(capacity, kEmpty);
+  values_.assign(capacity, 0);
+  mask_ = capacity - 1;
+  shift_ = 64;
+  for (size_t c = capacity; c > 1; c >>= 1) --shift_;
+  size_ = 0;
+  for (size_t i = 0; i < keys.size(); ++i)
+    if (keys[i] != kEmpty) set(keys[i], values[i]);
+}
+
 TetId ConstrainedMesh::new_tet() {
   const TetId t = m.alloc_tet();
   sync_slots();
@@ -101,7 +147,7 @@ Status ConstrainedMesh::build(const Plc& plc, const Result& res) {
   for (const auto& k : keys)
     if (m.adjacent(k.second) == kNoHalfFace && hfc[k.second] == kNoTag) hfc[k.second] = kHullTag;
   for (size_t i = 0; i < res.edge_segment.size(); ++i)
-    subseg[edge_key(res.edges[2 * i], res.edges[2 * i + 1])] = res.edge_segment[i];
+    subseg.set(edge_key(res.edges[2 * i], res.edges[2 * i + 1]), res.edge_segment[i]);
   return Status::success();
 }
 
@@ -149,8 +195,9 @@ void ConstrainedMesh::write(const Plc& plc, Result& res) const {
   }
   std::vector<std::array<uint32_t, 3>> edges;
   edges.reserve(subseg.size());
-  for (const auto& e : subseg)
-    edges.push_back({e.second, static_cast<uint32_t>(e.first >> 32), static_cast<uint32_t>(e.first)});
+  subseg.for_each([&edges](uint64_t key, uint32_t segment) {
+    edges.push_back({segment, static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key)});
+  });
   std::sort(edges.begin(), edges.end());
   res.edges.clear();
   res.edge_segment.clear();

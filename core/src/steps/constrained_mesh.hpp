@@ -15,7 +15,6 @@
 
 #include <array>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include "geometry.hpp"
@@ -31,13 +30,51 @@ enum class Where : uint8_t { Input, Segment, Facet, Volume };
 inline constexpr uint32_t kNoTag = 0;
 inline constexpr uint32_t kHullTag = 0xffffffffu;
 
+/// Map from edge keys (edge_key) to input segments: open addressing with
+/// linear probing, a power-of-two table at most half full, backward-shift
+/// erase. Subsegment lookups are the most frequent map queries of
+/// refinement; std::unordered_map spends a division and a pointer chase on
+/// each.
+class EdgeMap {
+ public:
+  /// The segment of edge `key`, or nullptr.
+  const uint32_t* find(uint64_t key) const {
+    if (keys_.empty()) return nullptr;
+    for (size_t i = slot(key);; i = (i + 1) & mask_) {
+      if (keys_[i] == key) return &values_[i];
+      if (keys_[i] == kEmpty) return nullptr;
+    }
+  }
+  bool contains(uint64_t key) const { return find(key) != nullptr; }
+  void set(uint64_t key, uint32_t value);
+  void erase(uint64_t key);
+  size_t size() const { return size_; }
+  /// Calls f(key, segment) for every entry, in table order.
+  template <class F>
+  void for_each(F f) const {
+    for (size_t i = 0; i < keys_.size(); ++i)
+      if (keys_[i] != kEmpty) f(keys_[i], values_[i]);
+  }
+
+ private:
+  static constexpr uint64_t kEmpty = ~uint64_t(0);  // no edge_key: ids stay below 2^32 - 1
+  size_t slot(uint64_t key) const {
+    return static_cast<size_t>((key * 0x9e3779b97f4a7c15ull) >> shift_) & mask_;
+  }
+  void grow();
+  std::vector<uint64_t> keys_;
+  std::vector<uint32_t> values_;
+  size_t size_ = 0, mask_ = 0;
+  int shift_ = 64;
+};
+
 struct ConstrainedMesh {
   TetMesh m;
   std::vector<uint32_t> hfc;     ///< per half-face: constraint tag
   std::vector<double> attr;      ///< per tet slot: region attribute
   std::vector<Where> where;      ///< per vertex
   std::vector<int64_t> parent;   ///< per vertex: segment or facet, -1
-  std::unordered_map<uint64_t, uint32_t> subseg;  ///< subsegment -> input segment
+  EdgeMap subseg;                                 ///< subsegment -> input segment
   std::vector<int8_t> facet_drop;                 ///< per facet: projection axis
   std::vector<int8_t> facet_side;                 ///< per facet: orientation of its output faces
   size_t old_points = 0;                          ///< points of the Result it was built from
@@ -63,7 +100,12 @@ struct ConstrainedMesh {
     return {t[kFaceVertex[i][0]], t[kFaceVertex[i][1]], t[kFaceVertex[i][2]]};
   }
   const double* pt(VertexId v) const { return m.point(v); }
-  bool is_subsegment(VertexId a, VertexId b) const { return subseg.count(edge_key(a, b)) != 0; }
+  /// Only input points and points on segments end subsegments: the test of
+  /// where[] spares most hash lookups.
+  bool is_subsegment(VertexId a, VertexId b) const {
+    return where[a] <= Where::Segment && where[b] <= Where::Segment &&
+           subseg.contains(edge_key(a, b));
+  }
   /// The projection axis of facet `tag`'s plane (its Newell normal's largest
   /// component), or of triangle v for a hull face.
   int facet_axis(uint32_t tag, const std::array<VertexId, 3>& v) const;

@@ -6,8 +6,6 @@
 #include <cmath>
 #include <utility>
 #include <vector>
-#include <cstdio>
-#include <cstdlib>
 
 #include "geometry.hpp"
 #include "predicates.hpp"
@@ -415,17 +413,6 @@ Status Improver::run(const volatile bool* cancel, ImproveCounts& counts) {
     if (counts_.flips + counts_.smooths + counts_.inserts == done_before) break;
   }
   counts = counts_;
-  if (getenv("IMPDBG"))
-    for (TetId t = 0; t < m_.num_tet_slots(); ++t)
-      if (!m_.is_dead(t) && quality(t) < 1) {
-        const VertexId* tv = m_.tet_vertices(t);
-        int nc = 0, open = 0;
-        for (int i = 0; i < 4; ++i) nc += cm_.tag(make_hf(t, i)) != kNoTag, open += m_.adjacent(make_hf(t, i)) == kNoHalfFace;
-        int nseg = 0;
-        for (int i = 0; i < 4; ++i) for (int j = i + 1; j < 4; ++j) nseg += cm_.is_subsegment(tv[i], tv[j]);
-        fprintf(stderr, "bad tet q=%.3f constrained=%d open=%d subsegs=%d where=%d%d%d%d\n", quality(t), nc, open, nseg,
-                (int)cm_.where[tv[0]], (int)cm_.where[tv[1]], (int)cm_.where[tv[2]], (int)cm_.where[tv[3]]);
-      }
   return Status::success();
 }
 

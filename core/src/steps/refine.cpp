@@ -185,7 +185,7 @@ class Refiner {
 
   // --- insertion ---
   bool grow_subface_region(const double* p, VertexId pid, VertexId sa, VertexId sb);
-  void grow_cavity(const double* p, VertexId pid);
+  bool grow_cavity(const double* p, VertexId pid, Where where);
   bool removed(HalfFace hf) const {  // removed_ is sorted once the region is known
     return !removed_.empty() && std::binary_search(removed_.begin(), removed_.end(), hf);
   }
@@ -200,6 +200,9 @@ class Refiner {
   bool insert(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb,
               double floor, Verdict* verdict);
   double nearest_vertex(const double* p) const;
+  using SplitKey = std::array<VertexId, 3>;  // a subface, or a subsegment and kNone
+  void remember_failure(Verdict verdict);
+  bool known_failure(const SplitKey& key, Verdict& verdict);
 
   // --- the three kinds of split ---
   bool split_subsegment(VertexId a, VertexId b, double lmin, int depth = 0);
@@ -216,7 +219,7 @@ class Refiner {
   std::vector<uint32_t>& hfc_ = cm_.hfc;
   std::vector<double>& attr_ = cm_.attr;
   std::vector<Where>& where_ = cm_.where;
-  std::unordered_map<uint64_t, uint32_t>& subseg_ = cm_.subseg;
+  EdgeMap& subseg_ = cm_.subseg;
   std::vector<std::pair<double, double>> region_limits_;  // (attribute, max volume)
   Rng rng_{0x7265666e65ull};
 
@@ -238,6 +241,27 @@ class Refiner {
   std::vector<SideRec> sides_;
   bool fault_ = false;  // cone_is_delaunay() named a constrained face
   std::vector<std::pair<uint64_t, uint32_t>> rim_;  // region_boundary(): (edge, tag)
+  // Failed splits of subsegments and subfaces (remember_failure): the
+  // verdict, the constraint it named, the cavity's vertices, and when
+  // (commits_ then). attempt_ is the split under way (kNoAttempt: a
+  // circumcentre).
+  struct Failure {
+    uint32_t time = 0;
+    Verdict verdict = Verdict::Reject;
+    Subface fault{};
+    VertexId split_a = kNone, split_b = kNone;
+    std::vector<VertexId> vertices;
+  };
+  struct SplitKeyHash {
+    size_t operator()(const SplitKey& k) const {
+      return std::hash<uint64_t>()(edge_key(k[0], k[1]) * 0x9e3779b97f4a7c15ull ^ k[2]);
+    }
+  };
+  std::unordered_map<SplitKey, Failure, SplitKeyHash> failures_;
+  static constexpr SplitKey kNoAttempt{kNone, kNone, kNone};
+  SplitKey attempt_ = kNoAttempt;
+  std::vector<uint32_t> touched_;  // per vertex: the commit that last changed its star
+  uint32_t commits_ = 0;
 };
 
 // ---------------------------------------------------------------------------
@@ -417,12 +441,22 @@ bool Refiner::grow_subface_region(const double* p, VertexId pid, VertexId sa, Ve
 
 // Bowyer-Watson growth from the seeds in cav_ (already marked) across faces
 // that are not constrained (or are removed subfaces) to tets in conflict.
-void Refiner::grow_cavity(const double* p, VertexId pid) {
+// A circumcentre (Volume) that encroaches upon a constrained face the cavity
+// meets is not inserted (check_constraints' first rule): the growth stops
+// there, with that face in split_face_, and returns false.
+bool Refiner::grow_cavity(const double* p, VertexId pid, Where where) {
   for (size_t i = 0; i < cav_.size(); ++i) {
     const TetId t = cav_[i];
     for (int f = 0; f < 4; ++f) {
       const HalfFace hf = make_hf(t, f);
       const HalfFace nb = m_.adjacent(hf);
+      if (where == Where::Volume && tag(hf) != kNoTag) {
+        const auto v = face_of(hf);
+        if (encroaches_triangle(pt(v[0]), pt(v[1]), pt(v[2]), p)) {
+          split_face_ = {hf, tag(hf), v};
+          return false;
+        }
+      }
       if (nb == kNoHalfFace) continue;
       const TetId u = hf_tet(nb);
       if (m_.tflag[u] & kTetInCavity) continue;
@@ -437,6 +471,7 @@ void Refiner::grow_cavity(const double* p, VertexId pid) {
       cav_.push_back(u);
     }
   }
+  return true;
 }
 
 void Refiner::collect_boundary() {
@@ -590,6 +625,10 @@ void Refiner::clear_cavity() {
 // Replaces the cavity by the cone of its boundary to the new vertex.
 VertexId Refiner::commit(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb) {
   const VertexId v = new_vertex(p, where, parent);
+  ++commits_;
+  touched_.resize(m_.num_vertices(), 0);
+  for (const BoundaryFace& f : bnd_) touched_[f.a] = touched_[f.b] = touched_[f.c] = commits_;
+  touched_[v] = commits_;
   for (TetId t : cav_) m_.free_tet(t);
   cav_.clear();
   struct Pending {
@@ -635,10 +674,10 @@ VertexId Refiner::commit(const double* p, Where where, int64_t parent, VertexId 
     for (int k = 0; k < 4; ++k) m_.set_vertex_tet(m_.vertex(t, k), t);
   }
   if (where == Where::Segment) {
-    const uint32_t seg = subseg_[edge_key(sa, sb)];
+    const uint32_t seg = *subseg_.find(edge_key(sa, sb));
     subseg_.erase(edge_key(sa, sb));
-    subseg_[edge_key(sa, v)] = seg;
-    subseg_[edge_key(v, sb)] = seg;
+    subseg_.set(edge_key(sa, v), seg);
+    subseg_.set(edge_key(v, sb), seg);
   }
   region_.clear();
   removed_.clear();
@@ -662,6 +701,7 @@ double Refiner::nearest_vertex(const double* p) const {
 bool Refiner::insert(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb,
                      double floor, Verdict* verdict) {
   *verdict = Verdict::Reject;
+  bool floor_rejected = false;
   const VertexId pid = static_cast<VertexId>(m_.num_vertices());
   if (!region_.empty() && !grow_subface_region(p, pid, sa, sb)) {
     clear_cavity();
@@ -671,7 +711,11 @@ bool Refiner::insert(const double* p, Where where, int64_t parent, VertexId sa, 
     const TetId t = hf_tet(hf);
     if (!(m_.tflag[t] & kTetInCavity)) m_.tflag[t] |= kTetInCavity, cav_.push_back(t);
   }
-  grow_cavity(p, pid);
+  if (!grow_cavity(p, pid, where)) {
+    *verdict = Verdict::SplitSubface;
+    clear_cavity();
+    return false;
+  }
   collect_boundary();
   *verdict = check_constraints(p, where, sa, sb);
   if (*verdict == Verdict::Ok) {
@@ -683,13 +727,47 @@ bool Refiner::insert(const double* p, Where where, int64_t parent, VertexId sa, 
     else if (!cone_is_delaunay(p))  // a constrained face of the cavity is encroached
       *verdict = fault_ ? Verdict::SplitSubface : Verdict::Reject;
     else if (nearest_vertex(p) < kFloorFactor * floor)
-      *verdict = Verdict::Reject;
+      *verdict = Verdict::Reject, floor_rejected = true;
   }
   if (*verdict != Verdict::Ok) {
+    if (attempt_ != kNoAttempt && !floor_rejected) remember_failure(*verdict);
     clear_cavity();
     return false;
   }
   commit(p, where, parent, sa, sb);
+  return true;
+}
+
+// A split of a subsegment or subface that failed for a reason other than
+// the radius rule fails again, with the same verdict, as long as no
+// insertion has touched a vertex of its cavity: the cavity's tets and the
+// tets beyond its boundary are then the same, and every test but the radius
+// rule looks at those alone. Bad tets near one small feature ask for the
+// same splits again and again (on bunny, 46,000 of 84,000 insertion
+// attempts were repeats of failed subsegment splits), so the verdict is
+// kept with the cavity's vertices and the time.
+void Refiner::remember_failure(Verdict verdict) {
+  Failure& f = failures_[attempt_];
+  f.time = commits_;
+  f.verdict = verdict;
+  f.fault = split_face_;
+  f.split_a = split_a_, f.split_b = split_b_;
+  f.vertices.clear();
+  for (const BoundaryFace& bf : bnd_) f.vertices.insert(f.vertices.end(), {bf.a, bf.b, bf.c});
+  for (const Subface& r : region_) f.vertices.insert(f.vertices.end(), r.v.begin(), r.v.end());
+}
+
+// The remembered verdict of a split, if it still holds (split_face_,
+// split_a_ and split_b_ are set as the failed insertion set them).
+bool Refiner::known_failure(const SplitKey& key, Verdict& verdict) {
+  const auto it = failures_.find(key);
+  if (it == failures_.end()) return false;
+  const Failure& f = it->second;
+  for (VertexId v : f.vertices)
+    if (v < touched_.size() && touched_[v] > f.time) return false;
+  verdict = f.verdict;
+  split_face_ = f.fault;
+  split_a_ = f.split_a, split_b_ = f.split_b;
   return true;
 }
 
@@ -703,8 +781,8 @@ bool Refiner::insert(const double* p, Where where, int64_t parent, VertexId sa, 
 // angle are then split at the same distances and stop encroaching on each
 // other). Not when the split point would come closer than lmin to a or b.
 bool Refiner::split_subsegment(VertexId a, VertexId b, double lmin, int depth) {
-  const auto it = subseg_.find(edge_key(a, b));
-  if (it == subseg_.end()) return false;
+  const uint32_t* segment = subseg_.find(edge_key(a, b));
+  if (!segment) return false;
   const double len = dist(to_vec(pt(a)), to_vec(pt(b)));
   double f = 0.5;
   const bool ia = where_[a] == Where::Input, ib = where_[b] == Where::Input;
@@ -714,6 +792,11 @@ bool Refiner::split_subsegment(VertexId a, VertexId b, double lmin, int depth) {
     if (g > 0.25 && g < 0.75) f = ia ? g : 1 - g;
   }
   if (std::min(f, 1 - f) * len < kSplitFloorFactor * lmin) return false;
+  const SplitKey key = {std::min(a, b), std::max(a, b), kNone};
+  Verdict known;
+  if (known_failure(key, known))
+    return known == Verdict::SplitSubface && depth < kMaxSplitDepth &&
+           split_subface(Subface(split_face_), lmin, depth + 1);
   Vec3 q;
   double tf;
   double xyz[3];
@@ -734,7 +817,10 @@ bool Refiner::split_subsegment(VertexId a, VertexId b, double lmin, int depth) {
   }
   for (TetId t : ring_) m_.tflag[t] |= kTetInCavity, cav_.push_back(t);
   Verdict verdict;
-  if (!insert(xyz, Where::Segment, it->second, a, b, lmin, &verdict))
+  attempt_ = key;
+  const bool done = insert(xyz, Where::Segment, *segment, a, b, lmin, &verdict);
+  attempt_ = kNoAttempt;
+  if (!done)
     return verdict == Verdict::SplitSubface && depth < kMaxSplitDepth &&
            split_subface(Subface(split_face_), lmin, depth + 1);
   ++res_.stats.refine_segment;
@@ -756,13 +842,19 @@ bool Refiner::split_subface(const Subface& s, double lmin, int depth) {
   if (w != Walk::InTet) return false;
   for (VertexId v : at.v)
     if (pt(v)[0] == xyz[0] && pt(v)[1] == xyz[1] && pt(v)[2] == xyz[2]) return false;
-  region_.assign(1, at);
+  const SplitKey key = sorted_triangle(s.v);
   Verdict verdict;
-  const int64_t parent = s.tag == kHullTag ? -1 : static_cast<int64_t>(s.tag - 1);
-  const Where where = s.tag == kHullTag ? Where::Volume : Where::Facet;
-  if (insert(xyz, where, parent, kNone, kNone, lmin, &verdict)) {
-    ++(where == Where::Facet ? res_.stats.refine_facet : res_.stats.refine_volume);
-    return true;
+  if (!known_failure(key, verdict)) {
+    region_.assign(1, at);
+    const int64_t parent = s.tag == kHullTag ? -1 : static_cast<int64_t>(s.tag - 1);
+    const Where where = s.tag == kHullTag ? Where::Volume : Where::Facet;
+    attempt_ = key;
+    const bool done = insert(xyz, where, parent, kNone, kNone, lmin, &verdict);
+    attempt_ = kNoAttempt;
+    if (done) {
+      ++(where == Where::Facet ? res_.stats.refine_facet : res_.stats.refine_volume);
+      return true;
+    }
   }
   if (verdict == Verdict::SplitSubsegment) return split_subsegment(split_a_, split_b_, lmin, depth);
   if (verdict == Verdict::SplitSubface && depth < kMaxSplitDepth &&
