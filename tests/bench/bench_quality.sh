@@ -15,10 +15,10 @@
 #                                                 (tetgen cannot read OBJ; tests/bench/plc_to_poly.cpp)
 #   tetgen -pq1.414Q M.poly                       timed (wall, user CPU, peak RSS); writes M.1.*
 #   mesh_quality M.1.node M.1.ele                 tets, radius-edge > 2, min dihedral, flat tets
-#   cdt3d mesh MODEL --quality 1.414 --json -o C  timed; writes C.node/.ele/... like tetgen does,
+#   cdt3d mesh MODEL --quality 1.414 --min-dihedral 15 --json -o C  timed; writes C.node/.ele/... like tetgen does,
 #                                                 so both timed runs include writing the mesh
 #   mesh_quality C.node C.ele                     the same numbers for cdt3d's mesh
-#   cdt3d mesh MODEL --quality 1.414 --json --validate   the validator's verdict (untimed)
+#   cdt3d mesh MODEL --quality 1.414 --min-dihedral 15 --json --validate   the validator's verdict (untimed)
 # Every process runs under `timeout` (BENCH_TIMEOUT, default 600 s); a hang or
 # crash becomes a row that says so. Everything runs in .build/bench/quality/;
 # the meshes are deleted after measuring (BENCH_KEEP=1 keeps them).
@@ -32,6 +32,8 @@
 #   SHARED_MODELS="classic/bunny.off classic/armadillo.obj"   paths in the shared corpus;
 #                            a model whose file is identical to one already listed is skipped
 #   QUALITY=1.414            radius-edge bound of both programs (tetgen -qQUALITY, cdt3d --quality)
+#   MIN_DIHEDRAL=15          cdt3d's improvement pass (--min-dihedral; 0: none), the counterpart
+#                            of the mesh optimisation tetgen -q runs by default (-O2/7)
 #   BENCH_TIMEOUT=600        seconds per process
 #   BENCH_JOBS=2             parallel jobs when (re)building .build/native
 #   BENCH_KEEP=0             1: keep the meshes in .build/bench/quality/MODEL/
@@ -44,6 +46,7 @@ ROOT=$PWD
 
 CORPUS=${CORPUS:-auto}
 QUALITY=${QUALITY:-1.414}
+MIN_DIHEDRAL=${MIN_DIHEDRAL:-15}
 TIMEOUT=${BENCH_TIMEOUT:-600}
 JOBS=${BENCH_JOBS:-2}
 KEEP=${BENCH_KEEP:-0}
@@ -181,14 +184,14 @@ for line in "${MODELS[@]}"; do
   printf '\rbench_quality: %d/%d %-30s cdt3d    ' "$i" "$total" "$name" >&2
   c_wall=- c_user=- c_rss=- c_json="" valid=-
   cq=(- - - - - - - -)
-  run "$dir" "$BIN" mesh "$path" --quality "$QUALITY" --json -o "$dir/cdt3d"
+  run "$dir" "$BIN" mesh "$path" --quality "$QUALITY" --min-dihedral "$MIN_DIHEDRAL" --json -o "$dir/cdt3d"
   if [ "$R_RC" -eq 0 ]; then
     c_wall=$R_WALL c_user=$R_USER c_rss=$R_RSS c_json=$R_OUT
     measure "$dir/cdt3d.node" "$dir/cdt3d.ele"
     cq=("$Q_TETS" "$Q_SHARE" "$(deg "$Q_MIND")" "$Q_FLAT" "$Q_MAXR" "$Q_POINTS" "$Q_BAD" "$Q_MIND")
     [ -n "$Q_MSG" ] && NOTES+=("$name: mesh_quality on cdt3d's mesh: $Q_MSG")
     printf '\rbench_quality: %d/%d %-30s validate ' "$i" "$total" "$name" >&2
-    run "$dir" "$BIN" mesh "$path" --quality "$QUALITY" --json --validate
+    run "$dir" "$BIN" mesh "$path" --quality "$QUALITY" --min-dihedral "$MIN_DIHEDRAL" --json --validate
     if [ "$R_RC" -eq 0 ]; then
       case $(jnum valid "$R_OUT") in true) valid=yes ;; false) valid=NO ;; *) valid=$(jnum valid "$R_OUT") ;; esac
       if [ "$valid" != yes ]; then
@@ -226,7 +229,7 @@ printf '\r%80s\r' '' >&2
 # 5. Tables.
 echo "bench_quality: ${#MODELS[@]} models (CORPUS=$CORPUS), $(nproc 2>/dev/null || echo ?) cores, load $(cut -d' ' -f1-3 /proc/loadavg) at end, $(date -u '+%Y-%m-%d %H:%M UTC')"
 echo "  tetgen $(dpkg-query -W -f='${Version}' tetgen 2>/dev/null) $TG_FLAGS M.poly (plc_to_poly of the model); cdt3d: $BIN (${BUILD_TYPE:-?})"
-echo "  mesh MODEL --quality $QUALITY --json -o PREFIX; both timed runs write their mesh; one run each; timeout ${TIMEOUT}s"
+echo "  mesh MODEL --quality $QUALITY --min-dihedral $MIN_DIHEDRAL --json -o PREFIX; both timed runs write their mesh; one run each; timeout ${TIMEOUT}s"
 echo
 echo "Table 1: quality refinement, cdt3d against tetgen. tets, share and min dihedral measured by mesh_quality on both"
 echo "programs' .node/.ele; share = tets with radius-edge ratio > 2; time = wall s, peak = peak RSS MiB (/usr/bin/time);"

@@ -44,8 +44,11 @@ describe('every valid model: WASM equals native, and validates', { skip: skipNat
       const n = nativeMesh(file);
       assert.equal(n.status, 0);
       for (const k of COUNTS) assert.equal(r.stats[k], n.json[k], `${file}: ${k}`);
-      // The same statistics fields as the native --json (which adds ok, phase, edges, valid, validation).
-      const cliOnly = ['ok', 'phase', 'edges', 'valid', 'validation'];
+      // The same statistics fields as the native --json (which adds ok, phase, edges, delaunay
+      // (the result's flag), valid, validation).
+      const cliOnly = ['ok', 'phase', 'edges', 'delaunay', 'valid', 'validation'];
+      assert.equal(r.delaunay, n.json.delaunay);
+      assert.equal(r.delaunay, true);
       assert.deepEqual(Object.keys(r.stats).sort(), Object.keys(n.json).filter((k) => !cliOnly.includes(k)).sort());
       assert.equal(r.points.length, 3 * r.stats.points);
       assert.equal(r.tets.length, 4 * r.stats.tets);

@@ -22,7 +22,7 @@ const CUBE = 'cube_ascii.stl'; // the unit cube, 12 triangles
 const BUNNY = 'bunny.off';
 const input = (file) => ({ bytes: readFileSync(path.join(dataDir, file)), fileName: file });
 
-const NEW_COUNTS = ['refineSegment', 'refineFacet', 'refineVolume', 'refineSkipped', 'refineCapped', 'improveFlips', 'improveSmooths'];
+const NEW_COUNTS = ['refineSegment', 'refineFacet', 'refineVolume', 'refineSkipped', 'refineCapped', 'improveFlips', 'improveSmooths', 'improvePoints'];
 const HISTOGRAMS = ['radiusEdgeHistogram', 'dihedralHistogram', 'radiusEdgeHistogramBefore', 'dihedralHistogramBefore'];
 const sum = (a) => a.reduce((x, y) => x + y, 0);
 const added = (s) => s.refineSegment + s.refineFacet + s.refineVolume;
@@ -50,7 +50,6 @@ describe('the quality option', () => {
       [{ maxVolume: -3 }, /option quality\.maxVolume: .*got -3/],
       [{ minDihedral: 71 }, /option quality\.minDihedral: .*between 0 and 70 degrees \(got 71/],
       [{ minDihedral: -1 }, /option quality\.minDihedral: /],
-      [{ minDihedral: 5 }, /option quality\.minDihedral: .*not available yet/],
       [{ maxPoints: -1 }, /option "quality\.maxPoints" must be a whole number >= 0/],
       [{ maxPoints: 1.5 }, /option "quality\.maxPoints" must be a whole number >= 0 .*got 1\.5/],
     ]) {
@@ -144,6 +143,26 @@ describe('the statistics', () => {
     assert.deepEqual(r.validation, { ok: true, message: '' });
   });
 
+  test('minDihedral: the improvement pass raises the smallest angle and gives up the Delaunay property', () => {
+    const plain = cdt.tetrahedralize(input(BUNNY), { quality: { radiusEdge: 1.414 } });
+    const r = cdt.tetrahedralize(input(BUNNY), { quality: { radiusEdge: 1.414, minDihedral: 15 }, validate: true });
+    const s = r.stats;
+    assert.equal(plain.delaunay, true);
+    assert.equal(r.delaunay, false);
+    assert.ok(s.improveFlips > 0 && s.improveSmooths > 0 && s.improvePoints > 0, JSON.stringify(s));
+    assert.ok(plain.stats.minDihedral < 0.5, `without the pass ${plain.stats.minDihedral}`);
+    assert.ok(s.minDihedral > 2, `with it ${s.minDihedral}`);
+    assert.equal(s.flatTets, 0);
+    assert.equal(s.steinerVolume, plain.stats.steinerVolume + s.improvePoints);
+    // Facets and segments still covered (validate skips the Delaunay check for such a result) ...
+    assert.deepEqual(r.validation, { ok: true, message: '' });
+    assert.equal(cdt.validate(input(BUNNY), r).ok, true);
+    // ... which would fail if the result claimed to be Delaunay.
+    const claimed = cdt.validate(input(BUNNY), { ...r, delaunay: true });
+    assert.equal(claimed.ok, false);
+    assert.match(claimed.message, /not locally Delaunay/);
+  });
+
   test('maxVolume bounds every tet; maxPoints stops refinement [needs refinement]', () => {
     const plain = cdt.tetrahedralize(input(CUBE));
     const r = cdt.tetrahedralize(input(CUBE), { quality: { maxVolume: 0.01 } });
@@ -171,6 +190,7 @@ describe('the command lines', { skip: skipNative && 'CDT3D_SKIP_NATIVE=1' }, () 
     [CUBE, ['--max-volume', '0.01']],
     [CUBE, ['--quality', '1.5', '--max-volume', '0.002', '--max-points', '30', '--min-dihedral', '0']],
     [BUNNY, ['--quality']],
+    [BUNNY, ['--quality', '1.414', '--min-dihedral', '15']],
   ];
 
   test('WASM, the Node CLI and the native CLI give the same statistics with the quality options', () => {

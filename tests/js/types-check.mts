@@ -175,7 +175,9 @@ void [repairCounts, changedFacets, fromRepaired, meshReport, polyText, report.ch
   cdt.tetrahedralize({ bytes, fileName: 'a.off' }, { quality: {} });
   const s: MeshStatistics = refined.stats;
   const added: number = s.refineSegment + s.refineFacet + s.refineVolume + s.refineSkipped + s.refineCapped +
-    s.improveFlips + s.improveSmooths + s.msRefine + s.minDihedralBefore;
+    s.improveFlips + s.improveSmooths + s.improvePoints + s.msRefine + s.minDihedralBefore;
+  const delaunay: boolean = refined.delaunay;
+  void delaunay;
   const histograms: number[][] = [s.dihedralHistogram, s.radiusEdgeHistogramBefore, s.dihedralHistogramBefore];
   const phase: Phase = 'refine';
   const inWorker: Promise<MeshResult> = meshInWorker(bytes, { quality: { maxVolume: 1 } }, { fileName: 'a.off' });

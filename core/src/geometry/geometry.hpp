@@ -155,13 +155,6 @@ inline void dihedral_range(const Vec3 p[4], double& lo, double& hi) {
   lo = std::acos(c_lo) * deg, hi = std::acos(c_hi) * deg;
 }
 
-/// The smallest dihedral angle (degrees) of tet p[0..3], in doubles.
-inline double min_dihedral_angle(const Vec3 p[4]) {
-  double c_lo, c_hi;
-  dihedral_cosines(p, c_lo, c_hi);
-  return std::acos(c_lo) * (180 / 3.14159265358979323846);
-}
-
 /// 6V / l_max^3 of tet (a, b, c, d) in doubles: 6V = (a - d) . ((b - d) x
 /// (c - d)) evaluated in floating point, l_max its longest edge. Positive for
 /// a positively oriented tet (tet_mesh.hpp), up to rounding.
