@@ -39,7 +39,10 @@ using Tet = std::array<VertexId, 4>;
 // loops), or -1 when it is not positive by the exact orientation test or is
 // numerically flat: the measure every operation maximises.
 double quality_of(const double* p0, const double* p1, const double* p2, const double* p3) {
-  if (pred::orient3d(p0, p1, p2, p3) <= 0 || numerically_flat(p0, p1, p2, p3)) return -1;
+  // The floating-point test first: it turns down the flat candidates, whose
+  // exact orientation would take the slow path, and what it lets through is
+  // far from flat, so the exact test ends in its filter.
+  if (numerically_flat(p0, p1, p2, p3) || pred::orient3d(p0, p1, p2, p3) <= 0) return -1;
   const Vec3 v[4] = {to_vec(p0), to_vec(p1), to_vec(p2), to_vec(p3)};
   double cos_min, cos_max;
   dihedral_cosines(v, cos_min, cos_max);
@@ -65,7 +68,7 @@ class Improver {
   bool star_cavity(TetId t, const double* p);
   bool insert_point(TetId t);
   bool free_vertex(VertexId v, const std::vector<TetId>& star) const;
-  double star_quality(const std::vector<TetId>& star) const;
+  double star_quality(const std::vector<TetId>& star, double floor = -HUGE_VAL) const;
   bool replace(const std::vector<TetId>& old, const std::vector<Tet>& fresh);
 
   ConstrainedMesh& cm_;
@@ -160,22 +163,27 @@ bool Improver::remove_edge(TetId t, VertexId a, VertexId b) {
     else
       tb = {r[k], r[i], r[j], b}, ta = {r[i], r[k], r[j], a};
   };
+  const double bar = old_q + kGain;
   double best[kMaxRing][kMaxRing];
   size_t pick[kMaxRing][kMaxRing];
   for (size_t len = 1; len < n; ++len)
     for (size_t i = 0; i + len < n; ++i) {
       const size_t j = i + len;
-      best[i][j] = len == 1 ? HUGE_VAL : -1;
+      // Only triangulations better than the ring now are of use: that bound
+      // prunes most candidates before their tets are measured.
+      best[i][j] = len == 1 ? HUGE_VAL : bar;
       for (size_t k = i + 1; k < j; ++k) {
         const double sub = std::min(best[i][k], best[k][j]);
         if (sub <= best[i][j]) continue;
         Tet ta, tb;
         tets_of(i, k, j, ta, tb);
-        const double q = std::min({sub, quality(ta), quality(tb)});
+        double q = std::min(sub, quality(ta));
+        if (q <= best[i][j]) continue;
+        q = std::min(q, quality(tb));
         if (q > best[i][j]) best[i][j] = q, pick[i][j] = k;
       }
     }
-  if (!(best[0][n - 1] > old_q + kGain)) return false;
+  if (!(best[0][n - 1] > bar)) return false;
   fresh_.clear();
   std::vector<std::pair<size_t, size_t>> todo = {{0, n - 1}};
   while (!todo.empty()) {
@@ -235,9 +243,14 @@ bool Improver::free_vertex(VertexId v, const std::vector<TetId>& star) const {
   return true;
 }
 
-double Improver::star_quality(const std::vector<TetId>& star) const {
+// The smallest quality of the tets in `star`; stops early once it is at
+// most `floor` (the caller has a better candidate already).
+double Improver::star_quality(const std::vector<TetId>& star, double floor) const {
   double q = HUGE_VAL;
-  for (TetId t : star) q = std::min(q, quality(t));
+  for (TetId t : star) {
+    q = std::min(q, quality(t));
+    if (q <= floor) break;
+  }
   return q;
 }
 
@@ -248,21 +261,23 @@ bool Improver::smooth(VertexId v) {
   m_.vertex_star(v, star_);
   if (!free_vertex(v, star_)) return false;
   const Vec3 home = to_vec(cm_.pt(v));
-  const double old_q = star_quality(star_);
   // Target points: the centroid of the star's other vertices, and the point
   // above the face opposite v in its worst tet at the height of a regular
   // tet on that face.
   Vec3 centroid{0, 0, 0};
-  size_t count = 0;
-  TetId worst = star_[0];
-  double worst_q = HUGE_VAL;
-  for (TetId t : star_) {
-    const VertexId* tv = m_.tet_vertices(t);
+  size_t count = 0, worst_at = 0;
+  double old_q = HUGE_VAL;
+  for (size_t k = 0; k < star_.size(); ++k) {
+    const VertexId* tv = m_.tet_vertices(star_[k]);
     for (int i = 0; i < 4; ++i)
       if (tv[i] != v) centroid = centroid + to_vec(cm_.pt(tv[i])), ++count;
-    const double q = quality(t);
-    if (q < worst_q) worst_q = q, worst = t;
+    const double q = quality(star_[k]);
+    if (q < old_q) old_q = q, worst_at = k;
   }
+  // The worst tet first: a candidate that does not beat the best so far
+  // most often fails there, and star_quality stops.
+  std::swap(star_[0], star_[worst_at]);
+  const TetId worst = star_[0];
   std::vector<Vec3> targets = {(1.0 / static_cast<double>(count)) * centroid};
   {
     const int iv = m_.index_in_tet(worst, v);
@@ -282,7 +297,7 @@ bool Improver::smooth(VertexId v) {
     for (double step : kSteps) {
       const Vec3 p = home + step * (target - home);
       xyz[0] = p.x, xyz[1] = p.y, xyz[2] = p.z;
-      const double q = star_quality(star_);
+      const double q = star_quality(star_, best_q);
       if (q > best_q) best_q = q, best = p;
     }
   }
@@ -402,10 +417,12 @@ bool Improver::improve_tet(TetId t) {
 }
 
 Status Improver::run(const volatile bool* cancel, ImproveCounts& counts) {
-  for (int round = 0; round < kRounds; ++round) {
-    queue_.clear();
-    for (TetId t = 0; t < m_.num_tet_slots(); ++t)
-      if (!m_.is_dead(t) && quality(t) < target_) queue_.push_back(t);
+  std::vector<TetId> left;  // tets below the target after a round: the next round's queue
+  for (TetId t = 0; t < m_.num_tet_slots(); ++t)
+    if (!m_.is_dead(t) && quality(t) < target_) left.push_back(t);
+  for (int round = 0; round < kRounds && !left.empty(); ++round) {
+    queue_.swap(left);
+    left.clear();
     const size_t done_before = counts_.flips + counts_.smooths + counts_.inserts;
     // Tets made by an operation join the queue; the budget bounds a round.
     const size_t budget = 20 * queue_.size() + 1000;
@@ -414,8 +431,13 @@ Status Improver::run(const volatile bool* cancel, ImproveCounts& counts) {
         return make_error(ErrorCode::Cancelled, "Cancelled during the improvement pass.");
       const TetId t = queue_[head];
       if (m_.is_dead(t) || !(quality(t) < target_)) continue;
-      improve_tet(t);
+      if (!improve_tet(t)) left.push_back(t);
     }
+    // Tets queued by operations but not reached within the budget.
+    for (size_t head = std::min(queue_.size(), budget); head < queue_.size(); ++head)
+      left.push_back(queue_[head]);
+    std::sort(left.begin(), left.end());
+    left.erase(std::unique(left.begin(), left.end()), left.end());
     if (counts_.flips + counts_.smooths + counts_.inserts == done_before) break;
   }
   counts = counts_;

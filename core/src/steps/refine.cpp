@@ -193,7 +193,14 @@ class Refiner {
   Verdict check_constraints(const double* p, Where where, VertexId sa, VertexId sb);
   bool cavity_is_star(const double* p);
   void region_boundary(VertexId sa, VertexId sb);
-  bool region_edges_on_boundary() const;
+  bool region_edges_on_boundary();
+  // Whether edge `key` is an edge of the cavity's boundary. Most cavities
+  // never ask (no subsegment among their edges, no split subfaces), so the
+  // edges are sorted on the first question only.
+  bool on_boundary(uint64_t key) {
+    if (!bnd_edges_sorted_) std::sort(bnd_edges_.begin(), bnd_edges_.end()), bnd_edges_sorted_ = true;
+    return std::binary_search(bnd_edges_.begin(), bnd_edges_.end(), key);
+  }
   bool cone_is_delaunay(const double* p);
   void clear_cavity();
   VertexId commit(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb);
@@ -228,7 +235,8 @@ class Refiner {
   std::vector<HalfFace> removed_;  // their half-faces (both sides)
   std::vector<TetId> cav_;
   std::vector<BoundaryFace> bnd_;
-  std::vector<uint64_t> bnd_edges_;
+  std::vector<uint64_t> bnd_edges_;  // edges of bnd_, sorted on first use (on_boundary)
+  bool bnd_edges_sorted_ = false;
   std::vector<TetId> ring_;
   Subface split_face_{};             // what check_constraints asks to split
   VertexId split_a_ = kNone, split_b_ = kNone;
@@ -488,7 +496,7 @@ void Refiner::collect_boundary() {
       for (int k = 0; k < 3; ++k) bnd_edges_.push_back(edge_key(v[k], v[(k + 1) % 3]));
     }
   }
-  std::sort(bnd_edges_.begin(), bnd_edges_.end());
+  bnd_edges_sorted_ = false;
 }
 
 // Shewchuk's rejection rules: a circumcentre (Volume) is not inserted when it
@@ -517,7 +525,7 @@ Refiner::Verdict Refiner::check_constraints(const double* p, Where where, Vertex
           split_a_ = a, split_b_ = b;
           return Verdict::SplitSubsegment;
         }
-        if (!std::binary_search(bnd_edges_.begin(), bnd_edges_.end(), edge_key(a, b)))
+        if (!on_boundary(edge_key(a, b)))
           return Verdict::Reject;
       }
   }
@@ -571,9 +579,9 @@ void Refiner::region_boundary(VertexId sa, VertexId sb) {
 
 // Every rim edge must be an edge of the cavity boundary, so that the new
 // subface through it and p exists.
-bool Refiner::region_edges_on_boundary() const {
+bool Refiner::region_edges_on_boundary() {
   for (const auto& e : rim_)
-    if (!std::binary_search(bnd_edges_.begin(), bnd_edges_.end(), e.first)) return false;
+    if (!on_boundary(e.first)) return false;
   return true;
 }
 
