@@ -27,8 +27,9 @@ constexpr int kRounds = 4;
 // A new vertex's cavity holds at most this many tets.
 constexpr size_t kMaxCavity = 32;
 // Heights (in mean edges of the sliver) inward of its centroid where a new
-// vertex is tried.
-constexpr double kInsertHeights[] = {0.3, 0.5, 0.8};
+// vertex is tried (five heights instead of three: elephant's smallest angle
+// 7.1 -> 13.4 degrees at target 15, bunny 20 -> 17 tets below 10 degrees).
+constexpr double kInsertHeights[] = {0.2, 0.35, 0.5, 0.7, 1.0};
 // Moves tried per target point when smoothing: fractions of the way there.
 constexpr double kSteps[] = {1.0, 0.5, 0.25, 0.1};
 
