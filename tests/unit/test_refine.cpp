@@ -144,6 +144,45 @@ TEST_CASE("refinement: progress reports the refine phase and cancellation stops 
   CHECK(std::string(phase_name(Phase::Refine)) == "refine");
 }
 
+TEST_CASE("improvement pass: progress goes on through it and cancellation stops it", "[refine]") {
+  Plc plc;
+  REQUIRE(read_plc_file(corpus::kData + "/bunny.off", plc).ok());
+  struct Rec {
+    double last = -1, before_end = -1, cancel_at = 2;
+    size_t reports = 0;
+    bool monotone = true;
+    volatile bool cancel = false;
+  };
+  auto run = [&plc](Rec& rec) {
+    Options o;
+    o.quality.enabled = true;
+    o.quality.min_dihedral = 15;
+    o.progress = [](void* user, Phase phase, double f) {
+      auto* r = static_cast<Rec*>(user);
+      if (phase != Phase::Refine) return;
+      r->monotone = r->monotone && f >= r->last;
+      r->last = f, ++r->reports;
+      if (f < 1) r->before_end = f;
+      if (f >= r->cancel_at) r->cancel = true;
+    };
+    o.progress_user = &rec;
+    o.cancel = &rec.cancel;
+    return tetrahedralize(plc, o);
+  };
+  Rec full;
+  REQUIRE(run(full).status.ok());
+  CHECK(full.monotone);
+  CHECK(full.reports > 2);
+  // The last report before the phase's end (1) comes from the improvement
+  // pass; cancelling there stops it.
+  CHECK(full.last == 1);
+  Rec stopped;
+  stopped.cancel_at = full.before_end;
+  const Result r = run(stopped);
+  CHECK(r.status.error.code == ErrorCode::Cancelled);
+  CHECK(r.status.error.message.find("improvement pass") != std::string::npos);
+}
+
 TEST_CASE("refinement: bunny gets fewer bad tets and stays a CDT", "[refine]") {
   const Result r = refined("bunny.off");
   INFO(r.status.error.to_string());

@@ -57,7 +57,7 @@ class Improver {
  public:
   Improver(ConstrainedMesh& cm, double target)
       : cm_(cm), m_(cm.m), target_(quality_of_angle(target)) {}
-  Status run(const volatile bool* cancel, ImproveCounts& counts);
+  Status run(const volatile bool* cancel, const ImproveProgress& progress, ImproveCounts& counts);
 
  private:
   double quality(const Tet& t) const;
@@ -417,7 +417,10 @@ bool Improver::improve_tet(TetId t) {
   return insert_point(t);
 }
 
-Status Improver::run(const volatile bool* cancel, ImproveCounts& counts) {
+// Rounds over the tets below the target; progress counts rounds (a round's
+// share split by its queue position).
+Status Improver::run(const volatile bool* cancel, const ImproveProgress& progress,
+                     ImproveCounts& counts) {
   std::vector<TetId> left;  // tets below the target after a round: the next round's queue
   for (TetId t = 0; t < m_.num_tet_slots(); ++t)
     if (!m_.is_dead(t) && quality(t) < target_) left.push_back(t);
@@ -428,8 +431,14 @@ Status Improver::run(const volatile bool* cancel, ImproveCounts& counts) {
     // Tets made by an operation join the queue; the budget bounds a round.
     const size_t budget = 20 * queue_.size() + 1000;
     for (size_t head = 0; head < queue_.size() && head < budget; ++head) {
-      if ((head & 1023) == 0 && cancel && *cancel)
-        return make_error(ErrorCode::Cancelled, "Cancelled during the improvement pass.");
+      if ((head & 1023) == 0) {
+        if (progress.report) {
+          const double f = (round + static_cast<double>(head) / static_cast<double>(queue_.size())) / kRounds;
+          progress.report(progress.user, progress.from + (progress.to - progress.from) * f);
+        }
+        if (cancel && *cancel)  // after the report, which may have asked for it
+          return make_error(ErrorCode::Cancelled, "Cancelled during the improvement pass.");
+      }
       const TetId t = queue_[head];
       if (m_.is_dead(t) || !(quality(t) < target_)) continue;
       if (!improve_tet(t)) left.push_back(t);
@@ -448,9 +457,9 @@ Status Improver::run(const volatile bool* cancel, ImproveCounts& counts) {
 }  // namespace
 
 Status improve_mesh(ConstrainedMesh& cm, double target, const volatile bool* cancel,
-                    ImproveCounts& counts) {
+                    ImproveCounts& counts, const ImproveProgress& progress) {
   Improver improver(cm, target);
-  return improver.run(cancel, counts);
+  return improver.run(cancel, progress, counts);
 }
 
 }  // namespace cdt3d

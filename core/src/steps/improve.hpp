@@ -38,9 +38,16 @@ struct ImproveCounts {
   size_t inserts = 0;  ///< vertices added (Where::Volume)
 };
 
+/// Progress of the pass, reported as from + (to - from) * (its fraction).
+struct ImproveProgress {
+  void (*report)(void* user, double fraction) = nullptr;
+  void* user = nullptr;
+  double from = 0, to = 1;
+};
+
 /// Raises the smallest dihedral angle of cm's tets towards `target`
 /// degrees. Errors: Cancelled when *cancel becomes true.
 Status improve_mesh(ConstrainedMesh& cm, double target, const volatile bool* cancel,
-                    ImproveCounts& counts);
+                    ImproveCounts& counts, const ImproveProgress& progress = {});
 
 }  // namespace cdt3d

@@ -88,6 +88,10 @@ constexpr double kFloorFactor = 0.5;
 // away on decimated_knight (100 times its points).
 constexpr double kSplitFloorFactor = 0.75;
 
+// The share of the Refine phase's progress that refinement reports when the
+// improvement pass follows (which reports the rest).
+constexpr double kRefineShare = 0.8;
+
 // A split point that would leave a constrained face of its cavity non-
 // Delaunay splits that face first, and so on to this depth.
 constexpr int kMaxSplitDepth = 6;
@@ -937,7 +941,9 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
     if ((head & 1023) == 0) {
       if (cancel && *cancel)
         return make_error(ErrorCode::Cancelled, "Cancelled during quality refinement.");
-      const double f = static_cast<double>(head) / static_cast<double>(queue_.size());
+      // With the improvement pass, refinement reports up to kRefineShare.
+      const double share = q_.min_dihedral > 0 ? kRefineShare : 1.0;
+      const double f = share * static_cast<double>(head) / static_cast<double>(queue_.size());
       if (progress.report && f > reported) progress.report(progress.user, reported = f);
     }
     const TetId t = queue_[head];
@@ -966,7 +972,8 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
 
   if (q_.min_dihedral > 0) {
     ImproveCounts counts;
-    st = improve_mesh(cm_, q_.min_dihedral, cancel, counts);
+    st = improve_mesh(cm_, q_.min_dihedral, cancel, counts,
+                      {progress.report, progress.user, kRefineShare, 1.0});
     if (!st.ok()) return st;
     res_.stats.improve_flips = counts.flips;
     res_.stats.improve_smooths = counts.smooths;
