@@ -63,6 +63,9 @@ class Improver {
   double quality(const Tet& t) const;
   double quality(TetId t) const;
   bool improve_tet(TetId t);
+  bool pinned(TetId t) const;
+  void touch(const VertexId* v, size_t n);
+  bool unchanged_since_failure(TetId t) const;
   bool remove_edge(TetId t, VertexId a, VertexId b);
   bool flip23(TetId t, int face);
   bool smooth(VertexId v);
@@ -77,6 +80,12 @@ class Improver {
   double target_;  // as a quality
   ImproveCounts counts_;
   std::vector<TetId> queue_;
+  // Failure memo: touched_[v] is the operation count when v's star last
+  // changed, failed_[t] the count when improve_tet(t) last failed (kNever:
+  // not since the slot was filled).
+  static constexpr uint32_t kNever = 0xffffffffu;
+  uint32_t ops_ = 0;
+  std::vector<uint32_t> touched_, failed_;
   // Buffers.
   std::vector<TetId> ring_, star_, created_, cavity_;
   std::vector<std::array<VertexId, 3>> faces_;
@@ -111,7 +120,11 @@ bool Improver::replace(const std::vector<TetId>& old, const std::vector<Tet>& fr
   std::sort(outer_.begin(), outer_.end());
   if (!m_.replace_tets(old.data(), old.size(), fresh.data(), fresh.size(), &created_)) return false;
   cm_.sync_slots();
+  ++ops_;
+  for (const Tet& f : fresh) touch(f.data(), 4);
   for (TetId t : created_) {
+    if (failed_.size() <= t) failed_.resize(m_.num_tet_slots(), kNever);
+    failed_[t] = kNever;
     cm_.attr[t] = attribute;
     for (int i = 0; i < 4; ++i) {
       const HalfFace hf = make_hf(t, i);
@@ -307,7 +320,8 @@ bool Improver::smooth(VertexId v) {
     xyz[0] = home.x, xyz[1] = home.y, xyz[2] = home.z;
     return false;
   }
-  for (TetId t : star_) queue_.push_back(t);
+  ++ops_;
+  for (TetId t : star_) queue_.push_back(t), touch(m_.tet_vertices(t), 4);
   ++counts_.smooths;
   return true;
 }
@@ -405,6 +419,7 @@ bool Improver::insert_point(TetId t) {
 // edges, the 2-3 flip across each face, a move of each free vertex, a new
 // vertex.
 bool Improver::improve_tet(TetId t) {
+  if (pinned(t) || unchanged_since_failure(t)) return false;
   const VertexId* tv = m_.tet_vertices(t);
   const Tet v{tv[0], tv[1], tv[2], tv[3]};
   for (int i = 0; i < 4; ++i)
@@ -414,7 +429,56 @@ bool Improver::improve_tet(TetId t) {
     if (flip23(t, f)) return true;
   for (int i = 0; i < 4; ++i)
     if (smooth(v[i])) return true;
-  return insert_point(t);
+  if (insert_point(t)) return true;
+  if (failed_.size() <= t) failed_.resize(m_.num_tet_slots(), kNever);
+  failed_[t] = ops_;
+  return false;
+}
+
+// A tet whose smallest dihedral angle lies at the edge of two constrained
+// faces: those two faces fix it (they are subfaces of input facets meeting
+// at that angle, or of one facet folded by rounded points), so no flip,
+// move or new vertex inside changes it. CAD models with sharp input edges
+// have thousands; trying every operation on each cost 2-3 times the
+// refinement's own time (tray_bottom) for nothing.
+bool Improver::pinned(TetId t) const {
+  const VertexId* tv = m_.tet_vertices(t);
+  const Vec3 p[4] = {to_vec(cm_.pt(tv[0])), to_vec(cm_.pt(tv[1])), to_vec(cm_.pt(tv[2])),
+                     to_vec(cm_.pt(tv[3]))};
+  // The dihedral angle at edge (i, j) lies between faces k and l (the faces
+  // opposite the other two vertices); find the smallest by its cosine.
+  double worst = -2;
+  int fk = -1, fl = -1;
+  for (int k = 0; k < 4; ++k)
+    for (int l = k + 1; l < 4; ++l) {
+      int i = 0;
+      while (i == k || i == l) ++i;
+      const int j = 6 - i - k - l;  // the edge's other end
+      const Vec3 e = p[j] - p[i];
+      const Vec3 nk = cross(e, p[k] - p[i]), nl = cross(e, p[l] - p[i]);
+      const double d = norm(nk) * norm(nl);
+      const double c = d > 0 ? dot(nk, nl) / d : 1;  // cosine of the angle at edge ij
+      if (c > worst) worst = c, fk = k, fl = l;
+    }
+  return cm_.tag(make_hf(t, fk)) != kNoTag && cm_.tag(make_hf(t, fl)) != kNoTag;
+}
+
+void Improver::touch(const VertexId* v, size_t n) {
+  for (size_t i = 0; i < n; ++i) {
+    if (touched_.size() <= v[i]) touched_.resize(m_.num_vertices(), 0);
+    touched_[v[i]] = ops_;
+  }
+}
+
+// improve_tet(t) failed and no operation has changed the star of any of its
+// vertices since: it would fail again (the tets it looks at are the same,
+// but for a new vertex's cavity, which may reach further).
+bool Improver::unchanged_since_failure(TetId t) const {
+  if (t >= failed_.size() || failed_[t] == kNever) return false;
+  const VertexId* tv = m_.tet_vertices(t);
+  for (int i = 0; i < 4; ++i)
+    if (tv[i] < touched_.size() && touched_[tv[i]] > failed_[t]) return false;
+  return true;
 }
 
 // Rounds over the tets below the target; progress counts rounds (a round's
