@@ -463,6 +463,19 @@ test('quality: the controls reach the worker, the panel shows the histograms bef
     assert.equal(steps.at(-1), 'refine', `progress steps: ${steps}`);
     await shot('quality');
 
+    // The dihedral field runs the improvement pass; its counts reach the panel.
+    await page.fill('#opt-min-dihedral', '15');
+    const improved = { radiusEdge: 1.8, minDihedral: 15 };
+    assert.equal(await openFile(REGIONS), 'done', await page.textContent('#error'));
+    assert.deepEqual(await page.evaluate(() => window.cdt3dDemo.quality), improved);
+    const withPass = cdt.tetrahedralize({ bytes, fileName: path.basename(REGIONS) }, { ...PAGE_OPTIONS, quality: improved }).stats;
+    assert.deepEqual(comparable(await pageStats()), comparable(withPass));
+    assert.equal(
+      await page.textContent('#stat-improve'),
+      `${en.format(withPass.improveFlips)} / ${en.format(withPass.improveSmooths)} / ${en.format(withPass.improvePoints)}`,
+    );
+    await page.fill('#opt-min-dihedral', '0');
+
     // A bad value: the core's message, naming the field, in the error panel.
     await page.fill('#opt-radius-edge', '0.5');
     assert.equal(await openFile(SMALL), 'error');

@@ -4,6 +4,7 @@
 // multiple of 3 or 4) are ignored; per-element arrays are used only when their
 // size matches the element count.
 #include <cdt3d/cdt3d.hpp>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -19,22 +20,29 @@ class Out {
     s_ += t;
     return *this;
   }
+  // Numbers through std::to_chars, which skips printf's format parsing and
+  // locale (writing the mesh took a tenth of a refined bunny's run).
   Out& u(uint64_t v) {
     char buf[24];
-    const int n = std::snprintf(buf, sizeof buf, "%llu", static_cast<unsigned long long>(v));
-    s_.append(buf, static_cast<size_t>(n));
+    s_.append(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
     return *this;
   }
   Out& i(int64_t v) {
     char buf[24];
-    const int n = std::snprintf(buf, sizeof buf, "%lld", static_cast<long long>(v));
-    s_.append(buf, static_cast<size_t>(n));
+    s_.append(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
     return *this;
   }
   Out& d(double v) {
     char buf[32];
+#if defined(__cpp_lib_to_chars) && __cpp_lib_to_chars >= 201611L
+    // The same text as %.17g: the standard defines to_chars with a format
+    // and a precision as printf with the matching conversion.
+    s_.append(buf, std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 17).ptr);
+#else
+    // Standard libraries without floating-point to_chars (Emscripten's).
     const int n = std::snprintf(buf, sizeof buf, "%.17g", v);
     s_.append(buf, static_cast<size_t>(n));
+#endif
     return *this;
   }
   Out& sp() {
