@@ -492,11 +492,18 @@ Status SegmentRecovery::run(const volatile bool* cancel) {
 
 }  // namespace
 
-// Position of v in the chain of segment s, or -1. Chains are ordered by
-// parameter, so a binary search finds the spot; equal parameters (possible
-// only after rounding on extremely short subsegments) fall back to a scan.
+// Position of v in the chain of segment s, or -1. The endpoints are the
+// chain's ends, and a Steiner vertex lies in the chain of its own segment
+// only, which answers the many queries for vertices of other segments at
+// once. Chains are ordered by parameter, so a binary search finds the spot;
+// equal parameters (possible only after rounding on extremely short
+// subsegments) fall back to a scan.
 long SegmentSet::chain_position(uint32_t s, VertexId v) const {
   const std::vector<VertexId>& c = chain[s];
+  if (v == input[s][0]) return 0;
+  if (v == input[s][1]) return static_cast<long>(c.size()) - 1;
+  if (const SegmentVertex* sv = on_segment(v))
+    if (sv->segment != s) return -1;
   const double t = param(s, v);
   size_t lo = 0, hi = c.size();
   while (lo < hi) {
