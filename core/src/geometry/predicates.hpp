@@ -373,6 +373,12 @@ inline int detail::orient2d_xy(double ax, double ay, double bx, double by, doubl
   if (decided) return sign_of(det);
   // Three points on one axis-parallel line: a zero column (see orient3d).
   if (zero_column(acx, bcx, 0, 0) | zero_column(acy, bcy, 0, 0)) return 0;
+  // Two equal points (a computed difference is 0 exactly when the two
+  // coordinates are equal; equal differences do not make equal points):
+  // callers ask about triangles that share a vertex (the self-intersection
+  // test), nearly all the exact calls there.
+  if (zero_column(acx, acy, 0, 0) | zero_column(bcx, bcy, 0, 0) | ((ax == bx) & (ay == by)))
+    return 0;
   return orient2d_exact(ax, ay, bx, by, cx, cy);
 }
 
