@@ -42,20 +42,31 @@ void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
       if (dot(m, p[i] - a) > 0) m = {-m.x, -m.y, -m.z};  // outward
       nrm[i] = m;
     }
-    double tet_min = 180;
+    // The angle 180 - acos(c) * 180 / pi grows with the cosine c between
+    // the normals (each step is monotonic), so the tet's smallest and
+    // largest angles are those of its smallest and largest c: two acos
+    // calls per tet instead of six (they were ~5% of a run).
+    double len[4];
+    for (int i = 0; i < 4; ++i) len[i] = norm(nrm[i]);
+    double c_lo = HUGE_VAL, c_hi = -HUGE_VAL;
+    bool degenerate = false;
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j) {
-        const double d = norm(nrm[i]) * norm(nrm[j]);
+        const double d = len[i] * len[j];
         if (d == 0) {
-          tet_min = 0;
+          degenerate = true;
           continue;
         }
         const double c = std::max(-1.0, std::min(1.0, dot(nrm[i], nrm[j]) / d));
-        const double angle = 180 - std::acos(c) * 180 / pi;
-        tet_min = std::min(tet_min, angle);
-        min_dihedral = std::min(min_dihedral, angle);
-        max_dihedral = std::max(max_dihedral, angle);
+        c_lo = std::min(c_lo, c), c_hi = std::max(c_hi, c);
       }
+    auto angle = [&](double c) { return 180 - std::acos(c) * 180 / pi; };
+    double tet_min = degenerate ? 0 : 180;
+    if (c_lo <= c_hi) {
+      tet_min = std::min(tet_min, angle(c_lo));
+      min_dihedral = std::min(min_dihedral, angle(c_lo));
+      max_dihedral = std::max(max_dihedral, angle(c_hi));
+    }
     size_t dbin = 0;
     while (dbin < 9 && tet_min >= kDihedralBins[dbin]) ++dbin;
     ++stats.dihedral_histogram[dbin];
