@@ -168,6 +168,11 @@ int orient3d_exact(const double* a, const double* b, const double* c, const doub
 int insphere_exact(const double* a, const double* b, const double* c, const double* d,
                    const double* e);
 int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy);
+// P of insphere's second stage (below): its determinant's expression tree
+// on absolute values (the same tree on purpose: the bound counts its
+// roundings), from the rows A..D (a..d minus e) and their lifts as computed
+// there.
+double insphere_permanent(const double (&rows)[4][3], const double (&lifts)[4]);
 inline int orient2d_xy(double ax, double ay, double bx, double by, double cx, double cy);
 
 // Filter constants. Notation: u = 2^-53 (unit roundoff); fl(x op y) =
@@ -222,6 +227,23 @@ inline constexpr double kOrient3dLo = 0x1p-700, kOrient3dHi = 0x1p+300;
 //   the margin 0.37u Mx My Mz sum(l) dominates.
 inline constexpr double kInsphereEps = 1.07e-14;
 inline constexpr double kInsphereLo = 0x1p-187, kInsphereHi = 0x1p+200;
+// Second stage, run only when a filter fails (insphere_permanent, incircle in
+// predicates.cpp): the same error bound with S computed instead of bounded
+// by column sums. P = fl(the expression tree with every difference and
+// product replaced by its absolute value and every subtraction by an
+// addition) expands to sum(|m| prod(1 + t)) with at most k factors, so S <=
+// P (1 - u)^-k. On thin and flat configurations (CAD models: long thin tets,
+// points along a segment, co-spherical neighbours) S lies far below the
+// column-sum bound, and this stage decides what the exact stage would
+// otherwise evaluate in microseconds.
+//   insphere: ((1+u)^16 - 1)(1-u)^-11 < 16.0000001u (1 + 11.01u) < 16.1u, and
+//   fl(C P) loses one more (1 - u): C = 1.9e-15 (17.1u).
+//   Underflow: under the first stage's limits (every s >= kInsphereLo, the
+//   sum <= kInsphereHi) the products of det and of P err by < 2^-466 in
+//   all (40 products, each error <= 2^-1075 amplified by <= 7 (2^200)^3);
+//   requiring P >= 2^-400 keeps the margin 0.9u P above that.
+inline constexpr double kInspherePermanentEps = 1.9e-15;
+inline constexpr double kInspherePermanentLo = 0x1p-400;
 // orient2d: det = Ax By - Ay Bx: k = 2, g = 2, S <= 2 Mx My;
 //   8u(1 + 1e-6) = 8.8818e-16 < 9e-16 (margin 0.1u); as for orient3d, one
 //   test P = fl(sx sy) >= 2^-900 (the two products err by <= 2^-1074 in all).
@@ -326,6 +348,15 @@ inline int insphere(const double* a, const double* b, const double* c, const dou
   if (detail::zero_column(aex, bex, cex, dex) | detail::zero_column(aey, bey, cey, dey) |
       detail::zero_column(aez, bez, cez, dez))
     return 0;
+  if ((sx >= detail::kInsphereLo) & (sy >= detail::kInsphereLo) & (sz >= detail::kInsphereLo) &
+      (sx + sy + sz <= detail::kInsphereHi)) {
+    const double rows[4][3] = {{aex, aey, aez}, {bex, bey, bez}, {cex, cey, cez}, {dex, dey, dez}};
+    const double lifts[4] = {la, lb, lc, ld};
+    const double perm = detail::insphere_permanent(rows, lifts);
+    if ((std::fabs(det) > detail::kInspherePermanentEps * perm) &
+        (perm >= detail::kInspherePermanentLo))
+      return detail::sign_of(det);
+  }
   return detail::insphere_exact(a, b, c, d, e);
 }
 
@@ -342,6 +373,12 @@ inline int detail::orient2d_xy(double ax, double ay, double bx, double by, doubl
   if (decided) return sign_of(det);
   // Three points on one axis-parallel line: a zero column (see orient3d).
   if (zero_column(acx, bcx, 0, 0) | zero_column(acy, bcy, 0, 0)) return 0;
+  // Two equal points (a computed difference is 0 exactly when the two
+  // coordinates are equal; equal differences do not make equal points):
+  // callers ask about triangles that share a vertex (the self-intersection
+  // test), nearly all the exact calls there.
+  if (zero_column(acx, acy, 0, 0) | zero_column(bcx, bcy, 0, 0) | ((ax == bx) & (ay == by)))
+    return 0;
   return orient2d_exact(ax, ay, bx, by, cx, cy);
 }
 

@@ -10,13 +10,19 @@ namespace cdt3d {
 
 namespace {
 
-// Grows a vector's capacity by 1.25x when full: with ~100 MB arrays the
-// standard library's 2x growth would double the peak memory for a moment.
+// Below this many bytes a full array doubles; above, it grows by 1.25x.
+// Each growth copies the array into fresh pages (page faults included), and
+// at 1.25x the small meshes of segment recovery spent ~9% of a CAD model's
+// run there; with ~100 MB arrays the standard library's 2x growth would
+// double the peak memory for a moment.
+constexpr size_t kDoublingBytes = size_t(16) << 20;
+
+// Grows a vector's capacity when full: 2x while small, 1.25x when large.
 template <typename T>
 void grow_gently(std::vector<T>& v, size_t extra) {
   if (v.size() + extra > v.capacity()) {
-    size_t want = v.capacity() + v.capacity() / 4 + extra + 64;
-    v.reserve(want);
+    const size_t step = v.capacity() * sizeof(T) < kDoublingBytes ? v.capacity() : v.capacity() / 4;
+    v.reserve(v.capacity() + step + extra + 64);
   }
 }
 

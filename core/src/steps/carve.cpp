@@ -68,11 +68,10 @@ struct Regions {
 Status constrained_half_faces(TetMesh& mesh, const Subfaces& subfaces,
                               std::vector<uint32_t>& hf_sub, std::vector<HalfFace>& sub_hf) {
   hf_sub.assign(4 * mesh.num_tet_slots(), kNone);
-  sub_hf.assign(subfaces.tri.size(), kNone);
+  subface_half_faces(mesh, subfaces, sub_hf);
   for (size_t i = 0; i < subfaces.tri.size(); ++i) {
     const auto& s = subfaces.tri[i];
-    const HalfFace hf = mesh.find_face(s[0], s[1], s[2]);
-    sub_hf[i] = hf;
+    const HalfFace hf = sub_hf[i];
     if (hf == kNone) {
       return make_error(ErrorCode::Internal,
                         "Subface (" + std::to_string(s[0]) + ", " + std::to_string(s[1]) + ", " +

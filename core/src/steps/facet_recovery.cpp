@@ -139,39 +139,11 @@ class SubfaceIndex {
   size_t mask_ = 0;
 };
 
-// missing[s] = 1 unless subface s is a face of the mesh. Subfaces are
-// grouped by their smallest vertex (counting sort); one pass over the live
-// tets in slot order (memory order) checks each face once against the
-// subfaces of its smallest vertex.
+// missing[s] = 1 unless subface s is a face of the mesh.
 void find_missing(const TetMesh& mesh, const Subfaces& sf, std::vector<uint8_t>& missing) {
-  const size_t n = sf.tri.size(), nv = mesh.num_vertices();
-  std::vector<uint32_t> start(nv + 1, 0), order(n);
-  auto low = [&](uint32_t s) {
-    return std::min(std::min(sf.tri[s][0], sf.tri[s][1]), sf.tri[s][2]);
-  };
-  for (uint32_t s = 0; s < n; ++s) ++start[low(s) + 1];
-  for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  {
-    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
-    for (uint32_t s = 0; s < n; ++s) order[fill[low(s)]++] = s;
-  }
-  std::fill(missing.begin(), missing.end(), 1);
-  const size_t slots = mesh.num_tet_slots();
-  for (TetId t = 0; t < slots; ++t) {
-    if (mesh.is_dead(t)) continue;
-    const VertexId* w = mesh.tet_vertices(t);
-    if (w[3] == kInfinite) continue;  // hull faces are seen from their real tet
-    for (int i = 0; i < 4; ++i) {     // interior faces twice: cheaper than deciding
-      const Triangle key =
-          sorted_triangle({w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]});
-      for (uint32_t j = start[key[0]]; j < start[key[0] + 1]; ++j) {
-        const Triangle& T = sf.tri[order[j]];
-        const VertexId x = T[0] == key[0] ? T[1] : T[0];
-        const VertexId y = T[2] == key[0] ? T[1] : T[2];
-        if ((x == key[1] && y == key[2]) || (x == key[2] && y == key[1])) missing[order[j]] = 0;
-      }
-    }
-  }
+  std::vector<HalfFace> hf;
+  subface_half_faces(mesh, sf, hf);
+  for (size_t s = 0; s < hf.size(); ++s) missing[s] = hf[s] == kNone;
 }
 
 // Diagonal flips of missing facet edges that make the facet triangulation
@@ -449,6 +421,43 @@ Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* sta
           .facet(sf.facet[s]);
     }
   return Status::success();
+}
+
+// Subfaces are grouped by their smallest vertex (counting sort); one pass
+// over the real tets in slot order (memory order) checks each of their faces
+// against the subfaces of its smallest vertex: cheaper than a star walk per
+// subface. Every face with finite vertices belongs to a real tet.
+void subface_half_faces(const TetMesh& mesh, const Subfaces& sf, std::vector<HalfFace>& out) {
+  const size_t n = sf.tri.size(), nv = mesh.num_vertices();
+  std::vector<uint32_t> start(nv + 1, 0), order(n);
+  auto low = [&](uint32_t s) {
+    return std::min(std::min(sf.tri[s][0], sf.tri[s][1]), sf.tri[s][2]);
+  };
+  for (uint32_t s = 0; s < n; ++s) ++start[low(s) + 1];
+  for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  {
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (uint32_t s = 0; s < n; ++s) order[fill[low(s)]++] = s;
+  }
+  out.assign(n, kNone);
+  const size_t slots = mesh.num_tet_slots();
+  for (TetId t = 0; t < slots; ++t) {
+    if (mesh.is_dead(t)) continue;
+    const VertexId* w = mesh.tet_vertices(t);
+    if (w[3] == kInfinite) continue;
+    for (int i = 0; i < 4; ++i) {
+      const Triangle key =
+          sorted_triangle({w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]});
+      for (uint32_t j = start[key[0]]; j < start[key[0] + 1]; ++j) {
+        const uint32_t s = order[j];
+        if (out[s] != kNone) continue;
+        const Triangle& T = sf.tri[s];
+        const VertexId x = T[0] == key[0] ? T[1] : T[0];
+        const VertexId y = T[2] == key[0] ? T[1] : T[2];
+        if ((x == key[1] && y == key[2]) || (x == key[2] && y == key[1])) out[s] = make_hf(t, i);
+      }
+    }
+  }
 }
 
 }  // namespace cdt3d

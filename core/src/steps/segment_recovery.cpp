@@ -9,6 +9,7 @@
 
 #include "delaunay.hpp"
 #include "geometry.hpp"
+#include "point_index.hpp"
 #include "predicates.hpp"
 #include "status.hpp"
 
@@ -35,9 +36,9 @@ constexpr size_t kNumFlatShifts = sizeof(kFlatShifts) / sizeof(kFlatShifts[0]);
 constexpr int kExactLineBits = 24;
 constexpr int kExactLineMinBits = 20;
 
-// Padding of the reference point search's boxes and distance bound, relative
-// to the segment's length: far above the rounding of the few operations that
-// build them, so the search only ever looks at too many tets, never too few.
+// Padding of the reference point search's box, relative to the segment's
+// length: far above the rounding of the few operations that build it, so
+// the search only ever looks at too many vertices, never too few.
 constexpr double kSearchPad = 1e-9;
 
 // Radius of the smallest sphere through a, b and p (the circumcircle of the
@@ -81,6 +82,7 @@ class SegmentRecovery {
  private:
   Status split(uint32_t s, VertexId u, VertexId w);
   VertexId reference_point(VertexId a, VertexId b);
+  void index_vertices();
   double pick_fraction(uint32_t s, VertexId a, VertexId b, VertexId p);
   int split_cost(uint32_t s, VertexId a, VertexId b, const double* q);
   Status insert_on_segment(uint32_t s, VertexId u, VertexId w, Vec3 point, double t,
@@ -92,9 +94,8 @@ class SegmentRecovery {
   SegmentSet& segs_;
   SegmentRecoveryStats& stats_;
   PointInserter inserter_;
-  std::vector<TetId> stack_;
-  std::vector<TetId> star_;
-  std::vector<uint32_t> vertex_mark_;  // per vertex: epoch when last seen
+  PointIndex index_;                  // every vertex of the mesh, for reference_point
+  std::vector<VertexId> candidates_;  // reference_point's query result
   std::vector<VertexId> ring_;         // vertices of the last insertion's new tets, but v
   std::vector<uint32_t> ring_mark_;    // per vertex: ring_epoch_ when in ring_
   uint32_t ring_epoch_ = 0;
@@ -129,104 +130,51 @@ class SegmentRecovery {
 // The reference point of missing segment ab (§5): among the vertices that
 // encroach upon ab (inside or on its diametral sphere, exact test), the one
 // whose smallest circumsphere with a and b is largest; ties go to the smaller
-// vertex id.
+// vertex id, so the answer does not depend on the order of the candidates.
 //
-// Search: the circumradius of (a, b, p) grows with the angle apb, so every
-// vertex that beats the current best lies in the spindle {x : angle axb >
-// angle apb} around ab: a convex body inside the diametral ball and within
-// distance h = R - sqrt(R^2 - |ab|^2 / 4) of the segment (R: the best
-// circumradius so far; before any candidate, h = |ab| / 2). The tets meeting
-// a convex body that touches a form a face-connected set containing a tet of
-// a's star, so a breadth-first search from a's star that enters only tets
-// whose bounding box meets the box of that body finds every better vertex; h
-// only shrinks. The boxes are padded, so rounding only keeps too much; the
-// encroachment test itself is exact.
+// Candidates: the vertices in the bounding box of the diametral ball, from
+// the point index (padded, so rounding only adds candidates; the
+// encroachment test itself is exact).
 VertexId SegmentRecovery::reference_point(VertexId a, VertexId b) {
   const Vec3 pa = to_vec(mesh_.point(a)), pb = to_vec(mesh_.point(b));
   const double len = dist(pa, pb);
-  const double mid[3] = {0.5 * (pa.x + pb.x), 0.5 * (pa.y + pb.y), 0.5 * (pa.z + pb.z)};
-  const double seg_lo[3] = {std::min(pa.x, pb.x), std::min(pa.y, pb.y), std::min(pa.z, pb.z)};
-  const double seg_hi[3] = {std::max(pa.x, pb.x), std::max(pa.y, pb.y), std::max(pa.z, pb.z)};
+  const double pad = kSearchPad * len + kTinyLength;
   double lo[3], hi[3];
-  auto set_box = [&](double reach) {
-    const double pad = kSearchPad * len + kTinyLength;
-    for (int d = 0; d < 3; ++d) {
-      lo[d] = std::max(mid[d] - 0.5 * len, seg_lo[d] - reach) - pad;
-      hi[d] = std::min(mid[d] + 0.5 * len, seg_hi[d] + reach) + pad;
-    }
-  };
-  set_box(0.5 * len);
+  for (int d = 0; d < 3; ++d) {
+    const double mid = 0.5 * (mesh_.point(a)[d] + mesh_.point(b)[d]);
+    lo[d] = mid - 0.5 * len - pad;
+    hi[d] = mid + 0.5 * len + pad;
+  }
+  index_.query(lo, hi, candidates_);
   VertexId best = kNone;
   double best_r = -1;
-
-  double reach = 0.5 * len;
-  // Conservative test "tet t may meet the spindle": its bounding box meets
-  // the search box, and its bounding sphere (centroid, farthest vertex) comes
-  // within reach of the segment.
-  const Vec3 ab = pb - pa;
-  const double len2 = dot(ab, ab);
-  auto may_meet = [&](TetId t) {
-    const VertexId* w = mesh_.tet_vertices(t);
-    if (w[3] == kInfinite) return false;
-    const double* q[4] = {mesh_.point(w[0]), mesh_.point(w[1]), mesh_.point(w[2]), mesh_.point(w[3])};
-    for (int d = 0; d < 3; ++d) {
-      const double tlo = std::min(std::min(q[0][d], q[1][d]), std::min(q[2][d], q[3][d]));
-      const double thi = std::max(std::max(q[0][d], q[1][d]), std::max(q[2][d], q[3][d]));
-      if (tlo > hi[d] || thi < lo[d]) return false;
-    }
-    const Vec3 c = {0.25 * (q[0][0] + q[1][0] + q[2][0] + q[3][0]),
-                    0.25 * (q[0][1] + q[1][1] + q[2][1] + q[3][1]),
-                    0.25 * (q[0][2] + q[1][2] + q[2][2] + q[3][2])};
-    double rad2 = 0;
-    for (int i = 0; i < 4; ++i) {
-      const Vec3 e = {q[i][0] - c.x, q[i][1] - c.y, q[i][2] - c.z};
-      rad2 = std::max(rad2, dot(e, e));
-    }
-    // Squared distance from the centroid to the segment.
-    const Vec3 ac = c - pa;
-    const double f = len2 > 0 ? std::min(1.0, std::max(0.0, dot(ac, ab) / len2)) : 0;
-    const Vec3 e = {ac.x - f * ab.x, ac.y - f * ab.y, ac.z - f * ab.z};
-    const double limit =
-        std::sqrt(rad2) + reach * (1 + kSearchPad) + kSearchPad * len + kTinyLength;
-    return dot(e, e) <= limit * limit;
-  };
-  mesh_.vertex_star(a, star_);
-  const uint32_t epoch = mesh_.next_epoch();
-  stack_.clear();
-  for (TetId t : star_) {
-    mesh_.stamp(t, epoch);
-    stack_.push_back(t);
-  }
-  if (vertex_mark_.size() < mesh_.num_vertices()) vertex_mark_.resize(mesh_.num_vertices(), 0);
-  const uint32_t seen = epoch;  // vertex marks reuse the tet epoch counter
-  for (size_t k = 0; k < stack_.size(); ++k) {
-    const TetId t = stack_[k];
-    // Re-test: the spindle may have shrunk since t was queued.
-    if (!may_meet(t)) continue;
-    for (int i = 0; i < 4; ++i) {
-      const VertexId v = mesh_.vertex(t, i);
-      if (v != a && v != b && vertex_mark_[v] != seen) {
-        vertex_mark_[v] = seen;
-        // Encroaches: the angle avb is not acute, i.e. (a-v).(b-v) <= 0.
-        if (pred::dot_sign(mesh_.point(a), mesh_.point(v), mesh_.point(b)) <= 0) {
-          const double rv = circumradius(pa, pb, to_vec(mesh_.point(v)));
-          if (rv > best_r || (rv == best_r && v < best)) {
-            best = v, best_r = rv;
-            reach = std::isinf(rv) ? 0 : rv - std::sqrt(std::max(0.0, rv * rv - 0.25 * len * len));
-            set_box(reach);
-          }
-        }
-      }
-    }
-    for (int i = 0; i < 4; ++i) {
-      const TetId n = mesh_.neighbor(t, i);
-      if (!mesh_.stamped(n, epoch)) {
-        mesh_.stamp(n, epoch);
-        if (may_meet(n)) stack_.push_back(n);
-      }
-    }
+  for (VertexId v : candidates_) {
+    if (v == a || v == b) continue;
+    // Encroaches: the angle avb is not acute, i.e. (a-v).(b-v) <= 0.
+    if (pred::dot_sign(mesh_.point(a), mesh_.point(v), mesh_.point(b)) > 0) continue;
+    const double rv = circumradius(pa, pb, to_vec(mesh_.point(v)));
+    if (rv > best_r || (rv == best_r && v < best)) best = v, best_r = rv;
   }
   return best;
+}
+
+// Puts every vertex of the mesh into the point index; its root box is the
+// vertices' bounding box, padded so that split points rounded a few ulps
+// off their segments still fall inside.
+void SegmentRecovery::index_vertices() {
+  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (VertexId v = 0; v < mesh_.num_vertices(); ++v) {
+    if (mesh_.vtet[v] == kNone) continue;
+    for (int d = 0; d < 3; ++d)
+      lo[d] = std::min(lo[d], mesh_.point(v)[d]), hi[d] = std::max(hi[d], mesh_.point(v)[d]);
+  }
+  for (int d = 0; d < 3; ++d) {
+    const double pad = 1e-6 * (hi[d] - lo[d]) + 1e-6 * std::max(std::fabs(lo[d]), std::fabs(hi[d]));
+    lo[d] -= pad, hi[d] += pad;
+  }
+  index_.reset(lo, hi);
+  for (VertexId v = 0; v < mesh_.num_vertices(); ++v)
+    if (mesh_.vtet[v] != kNone) index_.insert(v, mesh_.point(v));
 }
 
 // What splitting subsegment (a, b) of segment s at q would cost later, from
@@ -439,6 +387,7 @@ Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Ve
   if (res.duplicate)
     return segment_error(ErrorCode::InvalidPlc, segs_, s,
                          "vertex " + std::to_string(res.vertex) + " lies on the segment");
+  index_.insert(res.vertex, mesh_.point(res.vertex));
 
   // Keep the chain ordered from the segment's first to its second endpoint.
   const long iu = segs_.chain_position(s, u), iw = segs_.chain_position(s, w);
@@ -507,6 +456,7 @@ Status SegmentRecovery::run(const volatile bool* cancel) {
   for (const auto& e : segs_.input) ++incident_start_[e[0] + 1], ++incident_start_[e[1] + 1];
   for (size_t v = 0; v < nv; ++v) incident_start_[v + 1] += incident_start_[v];
   incident_.resize(incident_start_[nv]);
+  index_vertices();
   std::vector<uint32_t> fill(incident_start_.begin(), incident_start_.end() - 1);
   for (uint32_t s = 0; s < segs_.input.size(); ++s)
     for (VertexId e : segs_.input[s]) incident_[fill[e]++] = s;
@@ -542,11 +492,18 @@ Status SegmentRecovery::run(const volatile bool* cancel) {
 
 }  // namespace
 
-// Position of v in the chain of segment s, or -1. Chains are ordered by
-// parameter, so a binary search finds the spot; equal parameters (possible
-// only after rounding on extremely short subsegments) fall back to a scan.
+// Position of v in the chain of segment s, or -1. The endpoints are the
+// chain's ends, and a Steiner vertex lies in the chain of its own segment
+// only, which answers the many queries for vertices of other segments at
+// once. Chains are ordered by parameter, so a binary search finds the spot;
+// equal parameters (possible only after rounding on extremely short
+// subsegments) fall back to a scan.
 long SegmentSet::chain_position(uint32_t s, VertexId v) const {
   const std::vector<VertexId>& c = chain[s];
+  if (v == input[s][0]) return 0;
+  if (v == input[s][1]) return static_cast<long>(c.size()) - 1;
+  if (const SegmentVertex* sv = on_segment(v))
+    if (sv->segment != s) return -1;
   const double t = param(s, v);
   size_t lo = 0, hi = c.size();
   while (lo < hi) {

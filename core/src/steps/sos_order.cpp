@@ -108,7 +108,7 @@ std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
     ++st.rounds;
     if (missing < fewest) {
       fewest = missing, best = order, best_ends = ends, best_round = round;
-      best_mesh = trial;
+      std::swap(best_mesh, trial);  // trial's next round starts with mesh.clear()
     }
     if (missing == 0) break;
   }

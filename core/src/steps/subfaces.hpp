@@ -30,4 +30,8 @@ struct Subfaces {
 Status triangulate_facets(const Plc& plc, const SegmentSet& segs, const TetMesh& mesh,
                           const std::vector<std::vector<VertexId>>& interior, Subfaces& out);
 
+/// Per subface, a half-face of `mesh` holding it (either side), or kNone
+/// when it is not a face of the mesh (facet_recovery.cpp).
+void subface_half_faces(const TetMesh& mesh, const Subfaces& sf, std::vector<HalfFace>& out);
+
 }  // namespace cdt3d
