@@ -61,7 +61,11 @@ class Improver {
 
  private:
   double quality(const Tet& t) const;
-  double quality(TetId t) const;
+  double quality(TetId t) const;        // cached per tet slot
+  double fresh_quality(TetId t) const;  // computed now (a vertex is being moved)
+  void forget_quality(TetId t) {
+    if (t < qcache_.size()) qcache_[t] = kUnknown;
+  }
   bool improve_tet(TetId t);
   bool pinned(TetId t) const;
   void touch(const VertexId* v, size_t n);
@@ -86,6 +90,8 @@ class Improver {
   static constexpr uint32_t kNever = 0xffffffffu;
   uint32_t ops_ = 0;
   std::vector<uint32_t> touched_, failed_;
+  static constexpr double kUnknown = -2;  // below every quality (-1 is "invalid")
+  mutable std::vector<double> qcache_;
   // Buffers.
   std::vector<TetId> ring_, star_, created_, cavity_;
   std::vector<std::array<VertexId, 3>> faces_;
@@ -97,9 +103,18 @@ double Improver::quality(const Tet& t) const {
   return quality_of(cm_.pt(t[0]), cm_.pt(t[1]), cm_.pt(t[2]), cm_.pt(t[3]));
 }
 
-double Improver::quality(TetId t) const {
+double Improver::fresh_quality(TetId t) const {
   const VertexId* v = m_.tet_vertices(t);
   return quality(Tet{v[0], v[1], v[2], v[3]});
+}
+
+// The quality of a live tet, remembered until an operation replaces the tet
+// (replace) or moves one of its vertices (smooth): the rounds look at the
+// same tets again and again.
+double Improver::quality(TetId t) const {
+  if (qcache_.size() <= t) qcache_.resize(m_.num_tet_slots(), kUnknown);
+  if (qcache_[t] == kUnknown) qcache_[t] = fresh_quality(t);
+  return qcache_[t];
 }
 
 // Replaces the live tets `old` by `fresh` (the same region): constraint tags
@@ -125,6 +140,7 @@ bool Improver::replace(const std::vector<TetId>& old, const std::vector<Tet>& fr
   for (TetId t : created_) {
     if (failed_.size() <= t) failed_.resize(m_.num_tet_slots(), kNever);
     failed_[t] = kNever;
+    forget_quality(t);
     cm_.attr[t] = attribute;
     for (int i = 0; i < 4; ++i) {
       const HalfFace hf = make_hf(t, i);
@@ -262,7 +278,7 @@ bool Improver::free_vertex(VertexId v, const std::vector<TetId>& star) const {
 double Improver::star_quality(const std::vector<TetId>& star, double floor) const {
   double q = HUGE_VAL;
   for (TetId t : star) {
-    q = std::min(q, quality(t));
+    q = std::min(q, fresh_quality(t));
     if (q <= floor) break;
   }
   return q;
@@ -321,7 +337,7 @@ bool Improver::smooth(VertexId v) {
     return false;
   }
   ++ops_;
-  for (TetId t : star_) queue_.push_back(t), touch(m_.tet_vertices(t), 4);
+  for (TetId t : star_) queue_.push_back(t), touch(m_.tet_vertices(t), 4), forget_quality(t);
   ++counts_.smooths;
   return true;
 }

@@ -616,8 +616,11 @@ bool Refiner::cone_is_delaunay(const double* p) {
     if (sides[i].key != sides[i + 1].key) continue;
     const BoundaryFace& f = bnd_[sides[i].face];
     const BoundaryFace& g = bnd_[sides[i + 1].face];
-    if (pred::insphere(pt(f.a), pt(f.b), pt(f.c), p, pt(sides[i + 1].third)) > 0 ||
-        pred::insphere(pt(g.a), pt(g.b), pt(g.c), p, pt(sides[i].third)) > 0) {
+    // One test decides: both new tets are positive (cavity_is_star), and
+    // for two positive tets sharing a face the insphere test of either with
+    // the other's far vertex is the same lifted determinant, so the same
+    // sign.
+    if (pred::insphere(pt(f.a), pt(f.b), pt(f.c), p, pt(sides[i + 1].third)) > 0) {
       const BoundaryFace& c = f.tag != kNoTag ? f : g;
       split_face_ = {c.own, c.tag, {c.a, c.b, c.c}};
       fault_ = c.tag != kNoTag;
