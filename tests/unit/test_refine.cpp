@@ -46,15 +46,17 @@ double tet_volume(const TetMeshData& m, size_t t) {
 
 // Model `file` of tests/data meshed with quality refinement at its
 // defaults (and the improvement pass towards `min_dihedral` degrees),
-// validated.
-Result refined(const std::string& file, double min_dihedral = 0) {
+// validated; with the tets up to the convex hull when `keep_hull`.
+Result refined(const std::string& file, double min_dihedral = 0, bool keep_hull = false,
+               bool refine = true) {
   Plc plc;
   const Status read = read_plc_file(corpus::kData + "/" + file, plc);
   INFO(read.error.to_string());
   REQUIRE(read.ok());
   Options o;
-  o.quality.enabled = true;
+  o.quality.enabled = refine;
   o.quality.min_dihedral = min_dihedral;
+  o.keep_convex_hull = keep_hull;
   o.validate = true;
   return tetrahedralize(plc, o);
 }
@@ -255,5 +257,13 @@ TEST_CASE("corpus: refinement (and the improvement pass) validates, terminates a
     REQUIRE(imp.status.ok());
     CHECK(imp.stats.flat_tets == 0);
     CHECK(imp.stats.min_dihedral >= r.stats.min_dihedral);
+    // With the convex hull kept, hull faces are split too, each within its
+    // own plane of the hull: the kept boundary stays convex (validated),
+    // and refinement adds no flat tet (the CDT itself may have flat tets on
+    // the hull: the README's weak spots).
+    const Result hull = refined(file, 0, true);
+    INFO(hull.status.error.to_string());
+    REQUIRE(hull.status.ok());
+    CHECK(hull.stats.flat_tets <= refined(file, 0, true, false).stats.flat_tets);
   }
 }

@@ -64,4 +64,17 @@ void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
   stats.max_dihedral = n ? max_dihedral : 0;
 }
 
+void size_statistics(Result& result) {
+  Statistics& s = result.stats;
+  s.points = result.mesh.points.size() / 3;
+  s.tets = result.mesh.tets.size() / 4;
+  s.faces = result.mesh.faces.size() / 3;
+  s.steiner_segment = s.steiner_facet = s.steiner_volume = 0;
+  for (SteinerKind k : result.steiner_kind) {
+    if (k == SteinerKind::Segment) ++s.steiner_segment;
+    if (k == SteinerKind::Facet) ++s.steiner_facet;
+    if (k == SteinerKind::Volume) ++s.steiner_volume;
+  }
+}
+
 }  // namespace cdt3d

@@ -81,4 +81,8 @@ inline constexpr StatisticsField kStatisticsFields[] = {
 /// `stats` from the tets of `mesh`.
 void quality_statistics(const TetMeshData& mesh, Statistics& stats);
 
+/// Fills points, tets, faces and the Steiner counts by kind of
+/// `result.stats` from the result's arrays.
+void size_statistics(Result& result);
+
 }  // namespace cdt3d

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "predicates.hpp"
+#include "stats.hpp"
 
 namespace cdt3d {
 
@@ -78,6 +79,14 @@ void ConstrainedMesh::sync_slots() {
   }
 }
 
+void ConstrainedMesh::drop_last_vertex() {
+  m.coords.resize(m.coords.size() - 3);
+  m.vkind.pop_back();
+  m.vtet.pop_back();
+  where.pop_back();
+  parent.pop_back();
+}
+
 VertexId ConstrainedMesh::new_vertex(const double* p, Where w, int64_t parent_id) {
   const VertexId v = m.add_vertex(p, kVertexSteiner);
   where.push_back(w);
@@ -144,15 +153,60 @@ Status ConstrainedMesh::build(const Plc& plc, const Result& res) {
       facet_side[facet] = static_cast<int8_t>(
           pred::orient2d_projected(pt(f[0]), pt(f[1]), pt(f[2]), facet_axis(facet + 1, f)));
   }
-  for (const auto& k : keys)
-    if (m.adjacent(k.second) == kNoHalfFace && hfc[k.second] == kNoTag) hfc[k.second] = kHullTag;
+  tag_hull_planes(keys);
   for (size_t i = 0; i < res.edge_segment.size(); ++i)
     subseg.set(edge_key(res.edges[2 * i], res.edges[2 * i + 1]), res.edge_segment[i]);
   return Status::success();
 }
 
+// The open faces that are no facet (a kept hull), tagged per plane: a flood
+// fill across their edges between exactly coplanar faces (exact orient3d).
+void ConstrainedMesh::tag_hull_planes(
+    const std::vector<std::pair<std::array<VertexId, 3>, HalfFace>>& keys) {
+  std::vector<HalfFace> hull;
+  for (const auto& k : keys)
+    if (m.adjacent(k.second) == kNoHalfFace && hfc[k.second] == kNoTag) hull.push_back(k.second);
+  if (hull.empty()) return;
+  std::vector<std::pair<uint64_t, uint32_t>> edges;  // edge -> index into hull
+  for (uint32_t i = 0; i < hull.size(); ++i) {
+    const auto f = face_of(hull[i]);
+    for (int k = 0; k < 3; ++k) edges.push_back({edge_key(f[k], f[(k + 1) % 3]), i});
+  }
+  std::sort(edges.begin(), edges.end());
+  std::vector<uint32_t> plane(hull.size(), kNoTag);
+  std::vector<uint32_t> stack;
+  uint32_t planes = 0;
+  for (uint32_t seed = 0; seed < hull.size(); ++seed) {
+    if (plane[seed] != kNoTag) continue;
+    const uint32_t tag = kHullTag + planes++;
+    plane[seed] = tag;
+    const auto s = face_of(hull[seed]);
+    stack.assign(1, seed);
+    while (!stack.empty()) {
+      const uint32_t i = stack.back();
+      stack.pop_back();
+      const auto f = face_of(hull[i]);
+      for (int k = 0; k < 3; ++k) {
+        const uint64_t key = edge_key(f[k], f[(k + 1) % 3]);
+        auto it = std::lower_bound(edges.begin(), edges.end(), std::make_pair(key, 0u));
+        for (; it != edges.end() && it->first == key; ++it) {
+          const uint32_t j = it->second;
+          if (plane[j] != kNoTag) continue;
+          const auto g = face_of(hull[j]);
+          bool coplanar = true;
+          for (VertexId v : g) coplanar = coplanar && pred::orient3d(pt(s[0]), pt(s[1]), pt(s[2]), pt(v)) == 0;
+          if (!coplanar) continue;
+          plane[j] = tag;
+          stack.push_back(j);
+        }
+      }
+    }
+  }
+  for (uint32_t i = 0; i < hull.size(); ++i) hfc[hull[i]] = plane[i];
+}
+
 int ConstrainedMesh::facet_axis(uint32_t tag, const std::array<VertexId, 3>& v) const {
-  if (tag != kHullTag && tag != kNoTag && tag - 1 < facet_drop.size() && facet_drop[tag - 1] >= 0)
+  if (!is_hull_tag(tag) && tag != kNoTag && tag - 1 < facet_drop.size() && facet_drop[tag - 1] >= 0)
     return facet_drop[tag - 1];
   return projection_axis(pt(v[0]), pt(v[1]), pt(v[2]));
 }
@@ -178,7 +232,7 @@ void ConstrainedMesh::write(const Plc& plc, Result& res) const {
     for (int i = 0; i < 4; ++i) {
       const HalfFace hf = make_hf(t, i);
       const uint32_t g = tag(hf);
-      if (g == kNoTag || g == kHullTag) continue;
+      if (g == kNoTag || is_hull_tag(g)) continue;
       const HalfFace nb = m.adjacent(hf);
       if (nb != kNoHalfFace && hf_tet(nb) < t) continue;  // listed from the other side
       std::array<VertexId, 3> f = face_of(hf);
@@ -213,16 +267,7 @@ void ConstrainedMesh::write(const Plc& plc, Result& res) const {
                                                     : SteinerKind::Volume);
     res.steiner_parent.push_back(parent[v]);
   }
-  Statistics& s = res.stats;
-  s.points = nv;
-  s.tets = md.tets.size() / 4;
-  s.faces = md.faces.size() / 3;
-  s.steiner_segment = s.steiner_facet = s.steiner_volume = 0;
-  for (SteinerKind k : res.steiner_kind) {
-    if (k == SteinerKind::Segment) ++s.steiner_segment;
-    if (k == SteinerKind::Facet) ++s.steiner_facet;
-    if (k == SteinerKind::Volume) ++s.steiner_volume;
-  }
+  size_statistics(res);
 }
 
 // The tets around edge xy, starting at t0 (which has it): rotates across the

@@ -4,8 +4,8 @@
 //
 // The Result's tets in a TetMesh without ghost tets; a face with no tet
 // beyond it is open (kNoHalfFace). Constrained faces carry a tag per
-// half-face (facet + 1, or kHullTag for a boundary face that is no facet, in
-// keep-hull domains); subsegments live in a hash map edge -> segment; every
+// half-face (facet + 1, or a hull tag for a boundary face that is no facet,
+// in keep-hull domains: one per plane of the hull); subsegments live in a hash map edge -> segment; every
 // vertex knows where it lies (input point, on a segment, in a facet, in the
 // volume) and its parent segment or facet, so that the Result's Steiner
 // kinds survive the round trip.
@@ -26,9 +26,13 @@ namespace cdt3d {
 enum class Where : uint8_t { Input, Segment, Facet, Volume };
 
 /// Constraint tag of a half-face: none, a facet (facet + 1), or the open
-/// boundary of a keep-hull domain.
+/// boundary of a keep-hull domain: kHullTag + k for its k-th plane (the
+/// open faces of one plane, exactly coplanar and connected across edges).
+/// A split of a hull face grows only within its plane: across a hull edge
+/// between two planes lies a face a point of this one is not on.
 inline constexpr uint32_t kNoTag = 0;
-inline constexpr uint32_t kHullTag = 0xffffffffu;
+inline constexpr uint32_t kHullTag = 0x80000000u;
+inline bool is_hull_tag(uint32_t tag) { return tag >= kHullTag; }
 
 /// Map from edge keys (edge_key) to input segments: open addressing with
 /// linear probing, a power-of-two table at most half full, backward-shift
@@ -92,6 +96,8 @@ struct ConstrainedMesh {
   /// themselves (replace_tets); new slots get kNoTag.
   void sync_slots();
   VertexId new_vertex(const double* p, Where w, int64_t parent_id);
+  /// Takes back the last new_vertex() while no tet uses it yet.
+  void drop_last_vertex();
 
   uint32_t tag(HalfFace hf) const { return hfc[hf]; }
   std::array<VertexId, 3> face_of(HalfFace hf) const {
@@ -115,6 +121,9 @@ struct ConstrainedMesh {
   /// other way from t0. False on a broken mesh.
   bool edge_ring(TetId t0, VertexId x, VertexId y, std::vector<TetId>& out,
                  bool* closed = nullptr) const;
+
+ private:
+  void tag_hull_planes(const std::vector<std::pair<std::array<VertexId, 3>, HalfFace>>& keys);
 };
 
 }  // namespace cdt3d

@@ -308,7 +308,7 @@ bool Improver::smooth(VertexId v) {
   // most often fails there, and star_quality stops.
   std::swap(star_[0], star_[worst_at]);
   const TetId worst = star_[0];
-  std::vector<Vec3> targets = {(1.0 / static_cast<double>(count)) * centroid};
+  Vec3 targets[2] = {(1.0 / static_cast<double>(count)) * centroid, home};
   {
     const int iv = m_.index_in_tet(worst, v);
     const auto f = cm_.face_of(make_hf(worst, iv));
@@ -317,13 +317,13 @@ bool Improver::smooth(VertexId v) {
     const double len = norm(nrm);
     const double edge = (dist(pa, pb) + dist(pb, pc) + dist(pc, pa)) / 3;
     if (len > 0)
-      targets.push_back((1.0 / 3) * (pa + pb + pc) - (std::sqrt(2.0 / 3) * edge / len) * nrm);
+      targets[1] = (1.0 / 3) * (pa + pb + pc) - (std::sqrt(2.0 / 3) * edge / len) * nrm;
   }
   double* xyz = &m_.coords[3 * static_cast<size_t>(v)];
   Vec3 best = home;
   double best_q = old_q;
   for (const Vec3& target : targets) {
-    if (!finite(target)) continue;
+    if (!finite(target) || (target.x == home.x && target.y == home.y && target.z == home.z)) continue;
     for (double step : kSteps) {
       const Vec3 p = home + step * (target - home);
       xyz[0] = p.x, xyz[1] = p.y, xyz[2] = p.z;
@@ -402,8 +402,11 @@ bool Improver::insert_point(TetId t) {
   const double len = norm(inward);
   if (!(len > 0)) return false;  // no boundary face: flips and moves are the tools there
   inward = (1 / len) * inward;
-  double best_q = -1, best_gain = 0;
+  // The winner's cavity and boundary are kept, not grown again.
+  double best_q = -1;
   Vec3 best{};
+  std::vector<TetId> best_cavity;
+  std::vector<std::array<VertexId, 3>> best_faces;
   for (double h : kInsertHeights) {
     const Vec3 c = centre + (h * edge) * inward;
     const double p[3] = {c.x, c.y, c.z};
@@ -411,20 +414,15 @@ bool Improver::insert_point(TetId t) {
     double old_q = HUGE_VAL, q = HUGE_VAL;
     for (TetId u : cavity_) old_q = std::min(old_q, quality(u));
     for (const auto& f : faces_) q = std::min(q, quality_of(cm_.pt(f[0]), cm_.pt(f[1]), cm_.pt(f[2]), p));
-    if (q > old_q + kGain && q > best_q) best_q = q, best = c, best_gain = q - old_q;
+    if (q > old_q + kGain && q > best_q) best_q = q, best = c, best_cavity = cavity_, best_faces = faces_;
   }
-  if (!(best_gain > 0)) return false;
+  if (best_cavity.empty()) return false;
   const double xyz[3] = {best.x, best.y, best.z};
-  if (!star_cavity(t, xyz)) return false;
   const VertexId v = cm_.new_vertex(xyz, Where::Volume, -1);
   fresh_.clear();
-  for (const auto& f : faces_) fresh_.push_back({f[0], f[1], f[2], v});
-  const std::vector<TetId> old = cavity_;
-  if (!replace(old, fresh_)) {
-    // Not done (never on a valid mesh: one region, faces matched): drop the
-    // vertex again.
-    m_.coords.resize(3 * static_cast<size_t>(v));
-    m_.vkind.pop_back(), m_.vtet.pop_back(), cm_.where.pop_back(), cm_.parent.pop_back();
+  for (const auto& f : best_faces) fresh_.push_back({f[0], f[1], f[2], v});
+  if (!replace(best_cavity, fresh_)) {
+    cm_.drop_last_vertex();  // never on a valid mesh: one region, faces matched
     return false;
   }
   ++counts_.inserts;

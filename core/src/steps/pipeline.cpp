@@ -295,16 +295,7 @@ void Pipeline::mesh_to_result(const std::vector<TetId>& tets,
     out_.edge_segment.push_back(e[2]);
   }
   out_.input_points = nin;
-  Statistics& s = out_.stats;
-  s.points = m.points.size() / 3;
-  s.tets = m.tets.size() / 4;
-  s.faces = m.faces.size() / 3;
-  s.steiner_segment = s.steiner_facet = s.steiner_volume = 0;
-  for (SteinerKind k : out_.steiner_kind) {
-    if (k == SteinerKind::Segment) ++s.steiner_segment;
-    if (k == SteinerKind::Facet) ++s.steiner_facet;
-    if (k == SteinerKind::Volume) ++s.steiner_volume;
-  }
+  size_statistics(out_);
 }
 
 // Steps 1-4 on a fresh mesh. False on failure (out_.status says why; fst

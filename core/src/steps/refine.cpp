@@ -418,7 +418,10 @@ bool Refiner::grow_subface_region(const double* p, VertexId pid, VertexId sa, Ve
       const VertexId x = s.v[k], y = s.v[(k + 1) % 3];
       if ((x == sa && y == sb) || (x == sb && y == sa) || is_subsegment(x, y)) continue;
       Subface n;
-      if (!subface_across(s, x, y, n)) return false;
+      if (!subface_across(s, x, y, n)) {
+        if (is_hull_tag(s.tag)) continue;  // an edge between two planes of the hull
+        return false;
+      }
       const auto key = sorted_triangle(n.v);
       bool seen = false;
       for (const Subface& r : region_) seen = seen || sorted_triangle(r.v) == key;
@@ -453,16 +456,17 @@ bool Refiner::grow_subface_region(const double* p, VertexId pid, VertexId sa, Ve
 
 // Bowyer-Watson growth from the seeds in cav_ (already marked) across faces
 // that are not constrained (or are removed subfaces) to tets in conflict.
-// A circumcentre (Volume) that encroaches upon a constrained face the cavity
-// meets is not inserted (check_constraints' first rule): the growth stops
-// there, with that face in split_face_, and returns false.
+// A circumcentre (Volume, or a point on a hull face of a keep-hull domain)
+// that encroaches upon a constrained face the cavity meets, other than the
+// subfaces it splits, is not inserted (Shewchuk's first rule): the growth
+// stops there, with that face in split_face_, and returns false.
 bool Refiner::grow_cavity(const double* p, VertexId pid, Where where) {
   for (size_t i = 0; i < cav_.size(); ++i) {
     const TetId t = cav_[i];
     for (int f = 0; f < 4; ++f) {
       const HalfFace hf = make_hf(t, f);
       const HalfFace nb = m_.adjacent(hf);
-      if (where == Where::Volume && tag(hf) != kNoTag) {
+      if (where == Where::Volume && tag(hf) != kNoTag && !removed(hf)) {
         const auto v = face_of(hf);
         if (encroaches_triangle(pt(v[0]), pt(v[1]), pt(v[2]), p)) {
           split_face_ = {hf, tag(hf), v};
@@ -504,21 +508,13 @@ void Refiner::collect_boundary() {
 }
 
 // Shewchuk's rejection rules: a circumcentre (Volume) is not inserted when it
-// encroaches upon a subface of its cavity's boundary or upon a subsegment
-// among the cavity's edges; a facet point not when it encroaches upon such a
-// subsegment. Any subsegment among the cavity's edges must survive (be an
-// edge of the boundary), else the point is rejected.
+// encroaches upon a subface of its cavity's boundary (grow_cavity stops at
+// the first) or upon a subsegment among the cavity's edges; a facet point
+// not when it encroaches upon such a subsegment. Any subsegment among the
+// cavity's edges must survive (be an edge of the boundary), else the point
+// is rejected.
 Refiner::Verdict Refiner::check_constraints(const double* p, Where where, VertexId sa,
                                             VertexId sb) {
-  if (where == Where::Volume) {
-    for (const BoundaryFace& f : bnd_) {
-      if (f.tag == kNoTag) continue;
-      if (encroaches_triangle(pt(f.a), pt(f.b), pt(f.c), p)) {
-        split_face_ = {f.own, f.tag, {f.a, f.b, f.c}};
-        return Verdict::SplitSubface;
-      }
-    }
-  }
   for (TetId t : cav_) {
     const VertexId* tv = m_.tet_vertices(t);
     for (int i = 0; i < 4; ++i)
@@ -861,8 +857,8 @@ bool Refiner::split_subface(const Subface& s, double lmin, int depth) {
   Verdict verdict;
   if (!known_failure(key, verdict)) {
     region_.assign(1, at);
-    const int64_t parent = s.tag == kHullTag ? -1 : static_cast<int64_t>(s.tag - 1);
-    const Where where = s.tag == kHullTag ? Where::Volume : Where::Facet;
+    const int64_t parent = is_hull_tag(s.tag) ? -1 : static_cast<int64_t>(s.tag - 1);
+    const Where where = is_hull_tag(s.tag) ? Where::Volume : Where::Facet;
     attempt_ = key;
     const bool done = insert(xyz, where, parent, kNone, kNone, lmin, &verdict);
     attempt_ = kNoAttempt;
