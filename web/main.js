@@ -3,7 +3,7 @@
 // result with three.js, statistics and downloads.
 import { createMeshWorker } from 'cdt3d/worker';
 
-import { BACKGROUND, STEINER_COLORS, Viewer } from './viewer.js';
+import { BACKGROUND, STEINER_COLORS, Viewer, nextTask } from './viewer.js';
 
 const SAMPLES = [
   { file: 'bunny.off', label: 'Stanford bunny (7k triangles)' },
@@ -174,15 +174,29 @@ async function openModel(source) {
     showStats(result, !!options.quality);
     setState('building');
     $('model-status').textContent = 'Preparing the view…';
+    // What follows is split into tasks, so that none of them blocks the main
+    // thread for long on a loaded machine: copying the arrays to the geometry
+    // worker, the panels (their layout in a frame of its own), the colours,
+    // then the tets (their upload in the next frame).
+    await nextTask();
+    if (id !== jobSeq) return;
     const built = await buildGeometry(id, result);
     if (id !== jobSeq) return;
     current.built = built;
-    viewer.setExtent(...relativeBounds(result.points, current.origin));
-    viewer.setTets({ position: built.position, center: built.center, colors: tetColors(built), order: built.order });
-    viewer.setSteiner(built.steinerPosition, built.steinerKinds);
-    applyViewControls();
     showHistogram(built.histogram);
     showLegend();
+    await nextFrames(1);
+    await nextTask();
+    if (id !== jobSeq) return;
+    const mode = $('color-mode').value;
+    let colors = tetColors(built, mode);
+    await nextTask();
+    if (id !== jobSeq) return;
+    if ($('color-mode').value !== mode) colors = tetColors(built); // changed meanwhile
+    viewer.setExtent(...relativeBounds(result.points, current.origin));
+    viewer.setTets({ position: built.position, center: built.center, colors, order: built.order });
+    viewer.setSteiner(built.steinerPosition, built.steinerKinds);
+    applyViewControls();
     $('downloads').hidden = false;
     $('remesh').disabled = false;
     if (result.repair) showRepair(result.repair);
@@ -347,8 +361,7 @@ const css = (c) => `rgb(${c.map((v) => Math.round(v * 255)).join(',')})`;
 
 // Per vertex rgba8: the tet colour (shader works in linear space, so colours
 // are squared roughly) and, in alpha, the constrained flag.
-function tetColors(built) {
-  const mode = $('color-mode').value;
+function tetColors(built, mode = $('color-mode').value) {
   const nt = built.quality.length;
   const out = new Uint8Array(nt * 16);
   const lut = new Uint8Array(256 * 3); // quality in 0.5 degree steps

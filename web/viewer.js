@@ -202,9 +202,9 @@ export class Viewer {
   }
 
   /**
-   * Compiles every shader program up front, without blocking the main thread
-   * (KHR_parallel_shader_compile): a first compile can take hundreds of ms
-   * with a software renderer. Rendering starts once they are ready.
+   * Compiles every shader program up front, so that no compile lands in a
+   * frame later: a first compile can take hundreds of ms with a software
+   * renderer. Rendering starts once they are ready.
    */
   async warmUp() {
     this.warm = false;
@@ -220,6 +220,24 @@ export class Viewer {
     scene.add(new THREE.Points(pts, this.pointsMaterial));
     try {
       await this.renderer.compileAsync(scene, this.camera);
+      // compileAsync waits for the programs only with KHR_parallel_shader_compile
+      // (Chromium on SwiftShader has none): otherwise the first frame that uses
+      // a program blocks the main thread on its link (the first frame with the
+      // input surface took 144-661 ms in headless Chromium, while the model was
+      // meshing). So: a fence polled between tasks tells when the GPU process
+      // has got through the compiles, and only then does each program's first
+      // use (a synchronous query) run, one per task, before the first job.
+      if (!this.renderer.extensions.has('KHR_parallel_shader_compile')) {
+        await gpuDone(this.renderer.getContext());
+        for (const program of [...this.renderer.info.programs]) {
+          await nextTask();
+          program.getUniforms(); // the first use: three.js reads the link status and uniforms
+          program.getAttributes();
+        }
+      }
+      // The Steiner points' sprite: uploaded now, not in the first frame of a mesh.
+      await nextTask();
+      this.renderer.initTexture(this.pointsMaterial.map);
     } catch {
       // Programs then compile on first use.
     }
@@ -513,6 +531,27 @@ export class Viewer {
     }
     for (let i = 0; i < px.length; i += 4) sum = (sum * 31 + px[i] + 3 * px[i + 1] + 7 * px[i + 2]) >>> 0;
     return { width: w, height: h, centreCoverage: differ / Math.max(1, total), checksum: sum };
+  }
+}
+
+/** Resolves in a later task (the main thread can paint and take input in between). */
+export function nextTask() {
+  return new Promise((resolve) => setTimeout(resolve, 0));
+}
+
+// Resolves once the GPU has run every command issued so far, polling a fence
+// between tasks (a blocking query would stall the main thread instead).
+async function gpuDone(gl, timeoutMs = 10_000) {
+  const sync = gl.fenceSync(gl.SYNC_GPU_COMMANDS_COMPLETE, 0);
+  if (!sync) return;
+  gl.flush();
+  const t0 = performance.now();
+  try {
+    while (gl.getSyncParameter(sync, gl.SYNC_STATUS) !== gl.SIGNALED && performance.now() - t0 < timeoutMs) {
+      await new Promise((resolve) => setTimeout(resolve, 10));
+    }
+  } finally {
+    gl.deleteSync(sync);
   }
 }
 
