@@ -12,7 +12,7 @@ import { readFileSync } from 'node:fs';
 import path from 'node:path';
 import { before, describe, test } from 'node:test';
 
-import { createInstance, dataDir, packageDir, repoRoot, requireNativeCli, skipNative } from './support.mjs';
+import { createInstance, dataDir, packageDir, readManifest, repoRoot, requireNativeCli, skipNative } from './support.mjs';
 
 let cdt;
 let Cdt3dError;
@@ -215,6 +215,22 @@ describe('the command lines', { skip: skipNative && 'CDT3D_SKIP_NATIVE=1' }, () 
         if (typeof v === 'number' && !Number.isInteger(v)) continue; // angles: printed rounded
         assert.deepEqual(n[k], v, `${what}: native ${k}`);
         assert.deepEqual(j[k], v, `${what}: node CLI ${k}`);
+      }
+    }
+  });
+
+  test('every valid model of tests/data refines (with the improvement pass) to the same counts natively and in WASM', () => {
+    const valid = [...readManifest().values()].filter((r) => r.expected === 'valid' || r.expected === 'valid-plc').map((r) => r.file);
+    assert.ok(valid.length > 20);
+    for (const file of valid) {
+      const native = run('native', file, ['--quality', '--min-dihedral', '15', '--json']);
+      assert.equal(native.status, 0, `${file}: ${native.stderr}`);
+      const n = JSON.parse(native.stdout);
+      const api = cdt.tetrahedralize(input(file), { quality: { minDihedral: 15 } }).stats;
+      assert.ok(api.tets > 0 && api.refineCapped === 0, file);
+      for (const [k, v] of Object.entries(comparable(api))) {
+        if (typeof v === 'number' && !Number.isInteger(v)) continue; // angles: printed rounded
+        assert.deepEqual(n[k], v, `${file}: native ${k}`);
       }
     }
   });
