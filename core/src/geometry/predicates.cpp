@@ -64,6 +64,18 @@ int lowest_bit_exponent(double x) {
   return biased - 1075 + __builtin_ctzll(frac | (uint64_t(1) << 52));
 }
 
+// frexp's exponent of a nonzero double: the e with 2^(e-1) <= |x| < 2^e,
+// read from the bits (frexp itself was a tenth of the exact stages' load
+// step on CAD models). 0 for inf and NaN, as glibc's frexp sets it.
+int binary_exponent(double x) {
+  uint64_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  const int biased = static_cast<int>((bits >> 52) & 0x7ff);
+  if (biased == 0x7ff) return 0;
+  if (biased == 0) return (63 - __builtin_clzll(bits & ((uint64_t(1) << 52) - 1))) - 1073;
+  return biased - 1022;
+}
+
 // Copies n points of `dim` coordinates into q, scaled by the power of two that
 // brings them into [2^T_lo granularity, 2^T_hi magnitude] (no scaling when
 // already there). Counts an out-of-range evaluation when no power of two fits;
@@ -75,8 +87,7 @@ void load_scaled(const double* const* p, int n, int dim, ScaleLimits lim, double
       const double x = p[i][k];
       q[i][k] = x;
       if (x == 0.0) continue;
-      int e;
-      std::frexp(x, &e);  // |x| < 2^e
+      const int e = binary_exponent(x);  // |x| < 2^e
       if (e > e_hi) e_hi = e;
       const int l = lowest_bit_exponent(x);
       if (l < e_lo) e_lo = l;
@@ -215,41 +226,63 @@ int raw_orient2d(const double* p, const double* q, const double* r, double* out)
   return exact::sum(nu, u, npq, pq, out);
 }
 
-// Memo of raw-form insphere results (insphere_exact): a direct-mapped table
-// keyed by the five scaled rows in sorted order; a hit compares all rows, so
-// a collision only costs a recomputation. Not thread-safe, like the counters.
-struct InsphereMemo {
-  double rows[5][3];
+// Memos of exact results (insphere_exact, incircle_exact): direct-mapped
+// tables keyed by the points' rows in sorted order; a hit compares all rows,
+// so a collision only costs a recomputation. Not thread-safe, like the
+// counters.
+template <int N, int D>
+struct Memo {
+  double rows[N][D];
   int8_t sign;
   bool used;
 };
 // 16384 slots (2 MiB): on tray_bottom's Delaunay phase 59% of the calls hit
 // (4096 slots: 49%, 65536 slots, 8 MiB: 67%).
 constexpr size_t kInsphereMemoSlots = 16384;
-InsphereMemo g_insphere_memo[kInsphereMemoSlots];
+Memo<5, 3> g_insphere_memo[kInsphereMemoSlots];
+// The 2D facet triangulations test each edge from both sides, the same four
+// points in another order (half the exact calls there).
+constexpr size_t kIncircleMemoSlots = 4096;
+Memo<4, 2> g_incircle_memo[kIncircleMemoSlots];
 
-// Sorts the five rows of q lexicographically; returns the parity of the
+// Sorts the N rows of q lexicographically; returns the parity of the
 // permutation (+1 even, -1 odd).
-int sort_rows(double (*q)[3]) {
+template <int N, int D>
+int sort_rows(double (*q)[D]) {
   int parity = 1;
-  for (int i = 1; i < 5; ++i)
-    for (int j = i; j > 0 && std::lexicographical_compare(q[j], q[j] + 3, q[j - 1], q[j - 1] + 3); --j) {
-      std::swap_ranges(q[j], q[j] + 3, q[j - 1]);
+  for (int i = 1; i < N; ++i)
+    for (int j = i; j > 0 && std::lexicographical_compare(q[j], q[j] + D, q[j - 1], q[j - 1] + D); --j) {
+      std::swap_ranges(q[j], q[j] + D, q[j - 1]);
       parity = -parity;
     }
   return parity;
 }
 
-size_t memo_slot(const double (*q)[3]) {
+template <int N, int D>
+size_t memo_slot(const double (*q)[D], size_t slots) {
   uint64_t h = 1469598103934665603ull;
-  for (int i = 0; i < 5; ++i)
-    for (int k = 0; k < 3; ++k) {
+  for (int i = 0; i < N; ++i)
+    for (int k = 0; k < D; ++k) {
       uint64_t bits;
       std::memcpy(&bits, &q[i][k], sizeof bits);
       h = (h ^ bits) * 1099511628211ull;
       h ^= h >> 29;
     }
-  return static_cast<size_t>(h % kInsphereMemoSlots);
+  return static_cast<size_t>(h % slots);
+}
+
+// The memoized sign of the determinant of the N rows of q (sorted in place),
+// `compute` evaluating it on the sorted rows.
+template <int N, int D, typename Compute>
+int memoized_sign(double (*q)[D], Memo<N, D>* table, size_t slots, Compute compute) {
+  const int parity = sort_rows<N, D>(q);
+  Memo<N, D>& memo = table[memo_slot<N, D>(q, slots)];
+  if (memo.used && std::memcmp(memo.rows, q, sizeof memo.rows) == 0) return parity * memo.sign;
+  const int sign = compute(q);
+  std::memcpy(memo.rows, q, sizeof memo.rows);
+  memo.sign = static_cast<int8_t>(sign);
+  memo.used = true;
+  return parity * sign;
 }
 
 // insphere of the five (scaled) rows of q, exact: the difference form when
@@ -340,14 +373,8 @@ int insphere_exact(const double* a, const double* b, const double* c, const doub
   // several times, and co-spherical points with decimal coordinates (CAD)
   // all end here. Memoized on the rows in sorted order (the determinant
   // changes sign with the permutation).
-  const int parity = sort_rows(q);
-  InsphereMemo& memo = g_insphere_memo[memo_slot(q)];
-  if (memo.used && std::memcmp(memo.rows, q, sizeof memo.rows) == 0) return parity * memo.sign;
-  const int sign = insphere_rows(q);
-  std::memcpy(memo.rows, q, sizeof memo.rows);
-  memo.sign = static_cast<int8_t>(sign);
-  memo.used = true;
-  return parity * sign;
+  return memoized_sign<5, 3>(q, g_insphere_memo, kInsphereMemoSlots,
+                             [](const double (*rows)[3]) { return insphere_rows(rows); });
 }
 
 int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy) {
@@ -397,9 +424,9 @@ double incircle_permanent(double adx, double ady, double bdx, double bdy, double
   return (la * bc + lb * ca) + lc * ab;
 }
 
-int incircle_exact(const double* a, const double* b, const double* c, const double* d) {
-  ++g_counters.incircle_exact;
-  const double* p[4] = {a, b, c, d};
+// incircle of the four rows of r (x, y), exact.
+int incircle_rows(const double (*r)[2]) {
+  const double* p[4] = {r[0], r[1], r[2], r[3]};
   double q[4][3], diff[3][3];
   load_scaled(p, 4, 2, kIncircleScale, q);
   if (differences(q, 3, 2, diff)) {
@@ -427,6 +454,13 @@ int incircle_exact(const double* a, const double* b, const double* c, const doub
     nacc = exact::compress(nacc, acc[1], acc[0]);
   }
   return exact::sign(nacc, acc[0]);
+}
+
+int incircle_exact(const double* a, const double* b, const double* c, const double* d) {
+  ++g_counters.incircle_exact;
+  double r[4][2] = {{a[0], a[1]}, {b[0], b[1]}, {c[0], c[1]}, {d[0], d[1]}};
+  return memoized_sign<4, 2>(r, g_incircle_memo, kIncircleMemoSlots,
+                             [](const double (*rows)[2]) { return incircle_rows(rows); });
 }
 
 }  // namespace

@@ -245,7 +245,7 @@ Status PointInserter::fill_cavity(VertexId v) {
   const size_t nb = boundary_.size(), nc = cavity_.size();
   const uint32_t L = static_cast<uint32_t>(locals_.size() + 2);
   const bool dense = L <= kDenseLocals;
-  if (dense && dense_.empty()) dense_.resize(size_t(kDenseLocals) * kDenseLocals);
+  if (dense && !dense_) dense_.reset(new HalfFace[size_t(kDenseLocals) * kDenseLocals]);
   // Three pending faces per new tet, written by index: push_back of the
   // small struct cost ~15% of a 1M-point run (a store-to-load forwarding
   // stall on its two 32-bit halves, measured with perf).

@@ -10,6 +10,7 @@
 #include <cdt3d/cdt3d.hpp>
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -208,7 +209,10 @@ class PointInserter {
   // so that new tets sharing a boundary edge meet in a small dense table.
   std::vector<uint32_t> vlocal_;
   std::vector<VertexId> locals_;
-  std::vector<HalfFace> dense_;
+  // Written before read (each directed boundary edge by its own new tet,
+  // read by its partner), so left uninitialized: zeroing its 36 KiB cost
+  // more than a whole Delaunay tetrahedralization of a few points.
+  std::unique_ptr<HalfFace[]> dense_;
   std::vector<EdgeRec> recs_;
 };
 

@@ -79,9 +79,10 @@ constexpr double kRefineStart = 0.33;
 // of steps 1-4 costs a full meshing, and a valid PLC needs few.
 constexpr size_t kMaxFacetSplits = 64;
 
-// The perturbation order search (sos_order.hpp): Delaunay tetrahedralizations
-// at most, and only for PLCs up to this many points (each round costs a
-// full step 1).
+// The perturbation order search (sos_order.hpp): orders tried at most, and
+// only for PLCs up to this many points (the input order and the chosen one
+// each cost a full step 1, the others a retriangulation of the co-spherical
+// cells).
 constexpr size_t kSosOrderRounds = 8;
 constexpr size_t kMaxSosOrderPoints = 200000;
 

@@ -16,6 +16,20 @@ namespace {
 // Up to this many missing segments the search moves one segment at a time.
 constexpr size_t kFewMissing = 16;
 
+// The points of `plc` renumbered by `order` (vertex k is point order[k]),
+// as coordinates for delaunay_tetrahedralize; id_of[p] is point p's vertex.
+void points_in_order(const Plc& plc, const std::vector<VertexId>& order, std::vector<double>& xyz,
+                     std::vector<VertexId>& id_of) {
+  const size_t n = plc.points.size();
+  xyz.resize(3 * n);
+  id_of.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    const Vec3& p = plc.points[order[k]];
+    xyz[3 * k] = p.x, xyz[3 * k + 1] = p.y, xyz[3 * k + 2] = p.z;
+    id_of[order[k]] = static_cast<VertexId>(k);
+  }
+}
+
 // Segments of `plc` (input ids) missing from the Delaunay tetrahedralization
 // of its points renumbered by `order`; their ends go to `ends` (two per
 // missing segment, in segment order). Sets *ties when the perturbation
@@ -23,16 +37,11 @@ constexpr size_t kFewMissing = 16;
 size_t missing_segments(const Plc& plc, const std::vector<std::array<VertexId, 2>>& segs,
                         const std::vector<VertexId>& order, std::vector<VertexId>& ends,
                         bool* ties, TetMesh& mesh) {
-  const size_t n = plc.points.size();
-  std::vector<double> xyz(3 * n);
-  std::vector<VertexId> id_of(n);
-  for (size_t k = 0; k < n; ++k) {
-    const Vec3& p = plc.points[order[k]];
-    xyz[3 * k] = p.x, xyz[3 * k + 1] = p.y, xyz[3 * k + 2] = p.z;
-    id_of[order[k]] = static_cast<VertexId>(k);
-  }
+  std::vector<double> xyz;
+  std::vector<VertexId> id_of;
+  points_in_order(plc, order, xyz, id_of);
   const uint64_t ties_before = pred::counters().sos_ties;
-  if (!delaunay_tetrahedralize(mesh, xyz.data(), n).ok()) return SIZE_MAX;
+  if (!delaunay_tetrahedralize(mesh, xyz.data(), plc.points.size()).ok()) return SIZE_MAX;
   if (ties) {
     *ties = pred::counters().sos_ties != ties_before;
     if (!*ties) return 0;  // no order does better: skip the count
@@ -47,6 +56,212 @@ size_t missing_segments(const Plc& plc, const std::vector<std::array<VertexId, 2
   return missing;
 }
 
+uint64_t pair_key(VertexId a, VertexId b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<uint64_t>(a) << 32) | b;
+}
+
+// Which segments a perturbation order keeps, without a Delaunay
+// tetrahedralization of all the points per order.
+//
+// The unperturbed points have a Delaunay subdivision whose cells are the
+// convex hulls of the points on each empty sphere. A symbolic perturbation
+// of the lifting is infinitesimal, so the perturbed Delaunay
+// tetrahedralization refines that subdivision, and inside a cell it is the
+// Delaunay tetrahedralization (under the same perturbation) of the cell's
+// vertices alone: they are co-spherical, and every other point lies strictly
+// outside the cell's sphere (a regular triangulation with infinitesimally
+// perturbed heights refines the regular subdivision of the unperturbed
+// heights). Only cells with more than four vertices depend on the order.
+//
+// One tetrahedralization D (any order) gives the cells: two tets of D
+// sharing a face lie in one cell exactly when the apex of one is on the
+// other's circumsphere (exact insphere 0; the apex of a tet in another cell
+// is strictly outside), and the tets of a cell are connected through such
+// faces. So a segment uv is an edge for a given order exactly when it is an
+// edge of a tet alone in its cell (an edge of the subdivision, kept by every
+// order) or an edge of the tetrahedralization of some cell holding u and v.
+class CellEdges {
+ public:
+  // d: the Delaunay tetrahedralization of the points of plc, vertex i being
+  // point i.
+  CellEdges(const Plc& plc, const std::vector<std::array<VertexId, 2>>& segs, const TetMesh& d)
+      : plc_(plc), segs_(segs) {
+    find_cells(d);
+    mark_fixed_segments(d);
+  }
+
+  // missing_segments for `order` (without ties); false when a cell could not
+  // be tetrahedralized (the caller then builds the whole tetrahedralization).
+  bool missing(const std::vector<VertexId>& order, std::vector<VertexId>& ends, size_t& missing);
+
+ private:
+  void find_cells(const TetMesh& d);
+  void mark_fixed_segments(const TetMesh& d);
+  bool has_edge(uint32_t cell, VertexId u, VertexId v);
+  bool triangulate_cell(uint32_t cell);
+
+  const Plc& plc_;
+  const std::vector<std::array<VertexId, 2>>& segs_;
+  std::vector<TetId> cell_of_;                       // per tet slot: its cell (kNone: alone)
+  std::vector<uint32_t> cell_start_;                 // cell -> its vertices (CSR, ascending)
+  std::vector<VertexId> cell_vertices_;
+  std::vector<uint32_t> vertex_start_, vertex_cells_;  // point -> its cells (CSR, ascending)
+  std::vector<uint8_t> fixed_;                       // per segment: an edge in every order
+  // Per cell: its vertices in the order last triangulated and the edges
+  // (pair_key of point ids, sorted) of that triangulation.
+  std::vector<std::vector<VertexId>> cell_order_;
+  std::vector<std::vector<uint64_t>> cell_edges_;
+  std::vector<VertexId> id_of_;  // point -> vertex id in the current order
+  std::vector<VertexId> local_;
+  std::vector<double> xyz_;
+  TetMesh scratch_;
+};
+
+// Union-find of the tets over the co-spherical faces (see the class comment).
+void CellEdges::find_cells(const TetMesh& d) {
+  const size_t slots = d.num_tet_slots();
+  std::vector<TetId> parent(slots);
+  for (TetId t = 0; t < slots; ++t) parent[t] = t;
+  auto root = [&](TetId t) {
+    while (parent[t] != t) t = parent[t] = parent[parent[t]];
+    return t;
+  };
+  auto real = [&](TetId t) { return !d.is_dead(t) && !d.is_ghost(t); };
+  for (TetId t = 0; t < slots; ++t) {
+    if (!real(t)) continue;
+    const VertexId* w = d.tet_vertices(t);
+    for (int i = 0; i < 4; ++i) {
+      const HalfFace m = d.adjacent(make_hf(t, i));
+      const TetId n = hf_tet(m);
+      if (n < t || !real(n)) continue;  // each face once
+      if (pred::insphere(d.point(w[0]), d.point(w[1]), d.point(w[2]), d.point(w[3]),
+                         d.point(d.opposite(m))) != 0)
+        continue;
+      const TetId a = root(t), b = root(n);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  // Cells: roots with more than one tet, numbered in slot order.
+  std::vector<uint32_t> size(slots, 0);
+  for (TetId t = 0; t < slots; ++t)
+    if (real(t)) ++size[root(t)];
+  std::vector<uint32_t> number(slots, kNone);
+  uint32_t cells = 0;
+  for (TetId t = 0; t < slots; ++t)
+    if (real(t) && parent[t] == t && size[t] > 1) number[t] = cells++;
+  cell_of_.assign(slots, kNone);
+  std::vector<std::pair<uint32_t, VertexId>> members;  // (cell, point)
+  for (TetId t = 0; t < slots; ++t) {
+    if (!real(t) || number[root(t)] == kNone) continue;
+    cell_of_[t] = number[root(t)];
+    for (int i = 0; i < 4; ++i) members.emplace_back(cell_of_[t], d.vertex(t, i));
+  }
+  std::sort(members.begin(), members.end());
+  members.erase(std::unique(members.begin(), members.end()), members.end());
+  cell_start_.assign(cells + 1, 0);
+  cell_vertices_.clear();
+  const size_t n = plc_.points.size();
+  vertex_start_.assign(n + 1, 0);
+  for (const auto& [c, v] : members) ++cell_start_[c + 1], ++vertex_start_[v + 1], cell_vertices_.push_back(v);
+  for (uint32_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
+  for (size_t v = 0; v < n; ++v) vertex_start_[v + 1] += vertex_start_[v];
+  vertex_cells_.resize(members.size());
+  std::vector<uint32_t> fill(vertex_start_.begin(), vertex_start_.end() - 1);
+  for (const auto& [c, v] : members) vertex_cells_[fill[v]++] = c;  // ascending: members sorted by cell
+  cell_order_.assign(cells, {});
+  cell_edges_.assign(cells, {});
+}
+
+// A segment that is an edge of a tet alone in its cell is an edge of the
+// subdivision, so of the tetrahedralization in every order.
+void CellEdges::mark_fixed_segments(const TetMesh& d) {
+  std::vector<std::pair<uint64_t, uint32_t>> keys(segs_.size());
+  for (uint32_t k = 0; k < segs_.size(); ++k) keys[k] = {pair_key(segs_[k][0], segs_[k][1]), k};
+  std::sort(keys.begin(), keys.end());
+  fixed_.assign(segs_.size(), 0);
+  static constexpr int kEdge[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+  for (TetId t = 0; t < d.num_tet_slots(); ++t) {
+    if (d.is_dead(t) || d.is_ghost(t) || cell_of_[t] != kNone) continue;
+    const VertexId* w = d.tet_vertices(t);
+    for (const auto& e : kEdge) {
+      const uint64_t key = pair_key(w[e[0]], w[e[1]]);
+      auto it = std::lower_bound(keys.begin(), keys.end(), std::make_pair(key, uint32_t(0)));
+      for (; it != keys.end() && it->first == key; ++it) fixed_[it->second] = 1;
+    }
+  }
+}
+
+// Tetrahedralizes the cell's vertices in the current order (their relative
+// order is all the perturbation looks at), unless that order is the one
+// last triangulated.
+bool CellEdges::triangulate_cell(uint32_t cell) {
+  local_.assign(cell_vertices_.begin() + cell_start_[cell],
+                cell_vertices_.begin() + cell_start_[cell + 1]);
+  std::sort(local_.begin(), local_.end(),
+            [&](VertexId a, VertexId b) { return id_of_[a] < id_of_[b]; });
+  if (local_ == cell_order_[cell]) return true;
+  const size_t k = local_.size();
+  xyz_.resize(3 * k);
+  for (size_t i = 0; i < k; ++i) {
+    const Vec3& p = plc_.points[local_[i]];
+    xyz_[3 * i] = p.x, xyz_[3 * i + 1] = p.y, xyz_[3 * i + 2] = p.z;
+  }
+  cell_order_[cell].clear();
+  // The result is the same in any insertion order; a cell has a few points,
+  // too few for the spatial sort to pay.
+  DelaunayOptions options;
+  options.spatial_sort = false;
+  if (!delaunay_tetrahedralize(scratch_, xyz_.data(), k, nullptr, nullptr, options).ok())
+    return false;
+  std::vector<uint64_t>& edges = cell_edges_[cell];
+  edges.clear();
+  for (TetId t = 0; t < scratch_.num_tet_slots(); ++t) {
+    if (scratch_.is_dead(t) || scratch_.is_ghost(t)) continue;
+    const VertexId* w = scratch_.tet_vertices(t);
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) edges.push_back(pair_key(local_[w[i]], local_[w[j]]));
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  cell_order_[cell] = local_;
+  return true;
+}
+
+bool CellEdges::missing(const std::vector<VertexId>& order, std::vector<VertexId>& ends,
+                        size_t& missing) {
+  id_of_.resize(order.size());
+  for (size_t k = 0; k < order.size(); ++k) id_of_[order[k]] = static_cast<VertexId>(k);
+  std::vector<uint8_t> fresh(cell_order_.size(), 0);  // triangulated for this order
+  ends.clear();
+  missing = 0;
+  for (uint32_t s = 0; s < segs_.size(); ++s) {
+    if (fixed_[s]) continue;
+    const VertexId u = segs_[s][0], v = segs_[s][1];
+    const uint64_t key = pair_key(u, v);
+    bool found = false;
+    // The cells holding both ends: merge of two ascending lists.
+    uint32_t i = vertex_start_[u], j = vertex_start_[v];
+    while (!found && i < vertex_start_[u + 1] && j < vertex_start_[v + 1]) {
+      const uint32_t cu = vertex_cells_[i], cv = vertex_cells_[j];
+      if (cu != cv) {
+        (cu < cv ? i : j)++;
+        continue;
+      }
+      if (!fresh[cu]) {
+        if (!triangulate_cell(cu)) return false;
+        fresh[cu] = 1;
+      }
+      found = std::binary_search(cell_edges_[cu].begin(), cell_edges_[cu].end(), key);
+      ++i, ++j;
+    }
+    if (found) continue;
+    ++missing;
+    ends.push_back(u), ends.push_back(v);
+  }
+  return true;
+}
+
 }  // namespace
 
 std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
@@ -57,7 +272,7 @@ std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
   const size_t n = plc.points.size();
   const auto segs = plc_segments(plc);
   std::vector<VertexId> order(n), best, ends, best_ends;
-  TetMesh best_mesh;
+  TetMesh trial;  // a whole tetrahedralization, only if a cell's fails
   for (size_t k = 0; k < n; ++k) order[k] = static_cast<VertexId>(k);
   bool ties = false;
   size_t fewest = missing_segments(plc, segs, order, ends, &ties, d0);
@@ -73,7 +288,7 @@ std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
   // others in their previous order.
   std::vector<uint8_t> front(n);
   size_t best_round = 0;
-  TetMesh trial;
+  CellEdges cells(plc, segs, d0);
   std::vector<VertexId> first;
   bool few = false;
   for (size_t round = 1; round < max_rounds; ++round) {
@@ -104,19 +319,22 @@ std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
     for (VertexId x : order)
       if (!front[x]) next.push_back(x);
     order.swap(next);
-    const size_t missing = missing_segments(plc, segs, order, ends, nullptr, trial);
+    size_t missing = 0;
+    if (!cells.missing(order, ends, missing))
+      missing = missing_segments(plc, segs, order, ends, nullptr, trial);
     ++st.rounds;
-    if (missing < fewest) {
-      fewest = missing, best = order, best_ends = ends, best_round = round;
-      std::swap(best_mesh, trial);  // trial's next round starts with mesh.clear()
-    }
+    if (missing < fewest) fewest = missing, best = order, best_ends = ends, best_round = round;
     if (missing == 0) break;
   }
   // A few segments fewer is noise: segment recovery may then spend more
   // points elsewhere (measured on the CAD models of tests/data).
   if (10 * fewest > 9 * st.missing_before) return {};
   st.missing_after = fewest;
-  d0 = std::move(best_mesh);
+  // D0 in the chosen order: the search counted on the cells alone.
+  std::vector<double> xyz;
+  std::vector<VertexId> id_of;
+  points_in_order(plc, best, xyz, id_of);
+  if (!delaunay_tetrahedralize(d0, xyz.data(), n).ok()) d0 = TetMesh();
   return best;
 }
 

@@ -24,7 +24,7 @@
 namespace cdt3d {
 
 struct SosOrderStats {
-  size_t rounds = 0;          ///< Delaunay tetrahedralizations computed
+  size_t rounds = 0;          ///< orders tried (the input order included)
   size_t missing_before = 0;  ///< segments missing from D0 in input order
   size_t missing_after = 0;   ///< ... in the order chosen
 };
@@ -32,8 +32,10 @@ struct SosOrderStats {
 /// A vertex order for `plc` (order[k] = the input point that becomes vertex
 /// k), or an empty vector when the input order is kept: when D0 needed no
 /// perturbation (no co-spherical ties), has no missing segment, or no round
-/// saved a tenth of the missing segments. At most `max_rounds` Delaunay
-/// tetrahedralizations. `d0` gets the Delaunay tetrahedralization of the
+/// saved a tenth of the missing segments. At most `max_rounds` orders are
+/// tried; only the input order and the returned one cost a whole Delaunay
+/// tetrahedralization, the others retriangulate the co-spherical cells of
+/// the first (sos_order.cpp). `d0` gets the Delaunay tetrahedralization of the
 /// points in the returned order (or input order), step 1's result, or an
 /// empty mesh when step 1 would fail (step 1 then reports why).
 std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds, TetMesh& d0,
