@@ -213,6 +213,17 @@ inline Vec3 sphere_center(Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
   return a + (1 / den) * (dot(u, u) * cross(v, w) + dot(v, v) * cross(w, u) + dot(w, w) * cross(u, v));
 }
 
+/// Radius-edge ratio of tet p[0..3] (circumradius over shortest edge) in
+/// doubles; HUGE_VAL when the tet is degenerate. A measure, never a
+/// topological decision.
+inline double radius_edge_ratio(const Vec3 p[4]) {
+  double shortest = HUGE_VAL;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) shortest = std::min(shortest, norm(p[i] - p[j]));
+  const Vec3 o = sphere_center(p[0], p[1], p[2], p[3]);
+  return shortest > 0 && finite(o) ? dist(o, p[0]) / shortest : HUGE_VAL;
+}
+
 /// A point of the open segment (u, w) exactly on its line (collinear by the
 /// exact test) at a dyadic fraction g = k / 2^n near f, for n from max_bits
 /// down to min_bits (|g - f| <= 2^-(n+1)); the point is evaluated in doubles

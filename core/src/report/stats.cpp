@@ -41,21 +41,14 @@ void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
     // Radius-edge ratio: circumradius over the shortest edge.
     const Vec3 a = p[0] - p[3], b = p[1] - p[3], c = p[2] - p[3];
     const double det = dot(a, cross(b, c));
-    double shortest = HUGE_VAL, longest = 0;
+    double longest = 0;
     for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) {
-        const double l = norm(p[i] - p[j]);
-        shortest = std::min(shortest, l), longest = std::max(longest, l);
-      }
+      for (int j = i + 1; j < 4; ++j) longest = std::max(longest, norm(p[i] - p[j]));
     // Numerically flat (or inverted) in doubles: the exact orientation of the
     // stored points is positive, but a user's code that recomputes the volume
     // in floating point would see (almost) nothing.
     if (!(det > kFlatTetRatio * longest * longest * longest)) ++stats.flat_tets;
-    double ratio = HUGE_VAL;
-    if (det != 0 && shortest > 0) {
-      const Vec3 o = sphere_center(p[0], p[1], p[2], p[3]);
-      if (finite(o)) ratio = dist(o, p[0]) / shortest;
-    }
+    const double ratio = det != 0 ? radius_edge_ratio(p) : HUGE_VAL;
     size_t bin = 0;
     while (bin < 9 && ratio >= kRatioBins[bin]) ++bin;
     ++stats.radius_edge_histogram[bin];

@@ -101,13 +101,13 @@ class Improver {
   bool remove_edge(TetId t, VertexId a, VertexId b);
   bool flip23(TetId t, int face);
   bool smooth(VertexId v);
-  void compass_search(double* xyz, Vec3& best, double& best_q);
+  void compass_search(VertexId v, Vec3& best, double& best_q);
   size_t ratio_bad_count(const std::vector<TetId>& star) const;
   bool star_cavity(TetId t, const double* p);
   bool sees(HalfFace hf, const double* p) const;
   bool insert_point(TetId t);
   bool free_vertex(VertexId v, const std::vector<TetId>& star) const;
-  double star_quality(const std::vector<TetId>& star, double floor = -HUGE_VAL) const;
+  double star_quality(double floor);
   bool replace(const std::vector<TetId>& old, const std::vector<Tet>& fresh);
 
   ConstrainedMesh& cm_;
@@ -307,13 +307,18 @@ bool Improver::free_vertex(VertexId v, const std::vector<TetId>& star) const {
   return true;
 }
 
-// The smallest quality of the tets in `star`; stops early once it is at
-// most `floor` (the caller has a better candidate already).
-double Improver::star_quality(const std::vector<TetId>& star, double floor) const {
+// The smallest quality of the tets in star_ as they are now; stops early
+// once it is at most `floor` (the caller has a better candidate already)
+// and moves the tet that stopped it to the front: the next candidate is
+// mostly refuted by the same tet.
+double Improver::star_quality(double floor) {
   double q = HUGE_VAL;
-  for (TetId t : star) {
-    q = std::min(q, fresh_quality(t));
-    if (q <= floor) break;
+  for (size_t k = 0; k < star_.size(); ++k) {
+    q = std::min(q, fresh_quality(star_[k]));
+    if (q <= floor) {
+      std::swap(star_[0], star_[k]);
+      break;
+    }
   }
   return q;
 }
@@ -364,7 +369,7 @@ bool Improver::smooth(VertexId v) {
     for (double step : kSteps) {
       const Vec3 p = home + step * (target - home);
       xyz[0] = p.x, xyz[1] = p.y, xyz[2] = p.z;
-      const double q = star_quality(star_, best_q);
+      const double q = star_quality(best_q);
       if (q > best_q) best_q = q, best = p;
     }
   }
@@ -372,7 +377,7 @@ bool Improver::smooth(VertexId v) {
   {
     Vec3 b = best;
     double bq = best_q;
-    compass_search(xyz, b, bq);
+    compass_search(v, b, bq);
     if (bq > best_q) {
       xyz[0] = b.x, xyz[1] = b.y, xyz[2] = b.z;
       const size_t bad = ratio_bad_count(star_);
@@ -404,27 +409,24 @@ size_t Improver::ratio_bad_count(const std::vector<TetId>& star) const {
     const VertexId* tv = m_.tet_vertices(t);
     const Vec3 p[4] = {to_vec(cm_.pt(tv[0])), to_vec(cm_.pt(tv[1])), to_vec(cm_.pt(tv[2])),
                        to_vec(cm_.pt(tv[3]))};
-    double shortest = HUGE_VAL;
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) shortest = std::min(shortest, dist(p[i], p[j]));
-    const Vec3 o = sphere_center(p[0], p[1], p[2], p[3]);
-    if (!(finite(o) && dist(o, p[0]) <= kRatioGuard * shortest)) ++n;
+    if (!(radius_edge_ratio(p) <= kRatioGuard)) ++n;
   }
   return n;
 }
 
-// From `best` (quality best_q), steps of v (coordinates at xyz) along the
+// From `best` (quality best_q), steps of free vertex v along the
 // axes that raise the smallest quality of star_, halved when none does. The
 // targets of smooth() are guesses; a vertex between slivers on both sides
 // (often one the pass inserted) needs small steps in a direction neither
 // target gives. A candidate is mostly refuted by one tet, so the tet that
 // refuted the last one is tried first.
-void Improver::compass_search(double* xyz, Vec3& best, double& best_q) {
+void Improver::compass_search(VertexId v, Vec3& best, double& best_q) {
+  double* xyz = &m_.coords[3 * static_cast<size_t>(v)];
   double reach = HUGE_VAL;  // the shortest edge at v
   for (TetId t : star_) {
     const VertexId* tv = m_.tet_vertices(t);
     for (int i = 0; i < 4; ++i)
-      if (cm_.pt(tv[i]) != xyz) reach = std::min(reach, dist(best, to_vec(cm_.pt(tv[i]))));
+      if (tv[i] != v) reach = std::min(reach, dist(best, to_vec(cm_.pt(tv[i]))));
   }
   if (!(reach > 0) || !std::isfinite(reach)) return;
   double step = kCompassFirst * reach;
@@ -435,14 +437,7 @@ void Improver::compass_search(double* xyz, Vec3& best, double& best_q) {
       double& c = d < 2 ? p.x : d < 4 ? p.y : p.z;
       c += (d & 1) ? -step : step;
       xyz[0] = p.x, xyz[1] = p.y, xyz[2] = p.z;
-      double q = HUGE_VAL;
-      for (size_t k = 0; k < star_.size(); ++k) {
-        q = std::min(q, fresh_quality(star_[k]));
-        if (q <= best_q) {
-          std::swap(star_[0], star_[k]);
-          break;
-        }
-      }
+      const double q = star_quality(best_q);
       if (q > best_q) best_q = q, best = p, moved = true, ++moves;
     }
     if (!moved) step *= 0.5, ++halvings;

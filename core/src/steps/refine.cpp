@@ -202,6 +202,8 @@ class Refiner {
   bool on_boundary(uint64_t key) const { return bnd_edges_.find(key) != nullptr; }
   bool cone_is_delaunay(const double* p);
   bool cone_is_delaunay_paired(const double* p);
+  bool cone_face_fails(const BoundaryFace& f, VertexId third, const double* p) const;
+  bool name_cone_fault(const BoundaryFace& f, const BoundaryFace& g);
   void clear_cavity();
   VertexId commit(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb);
   bool insert(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb,
@@ -259,17 +261,18 @@ class Refiner {
       crowded_ = false;
     }
     void add(uint64_t key, uint32_t side) {
-      Slot& s = probe(key);
+      const size_t i = probe(key);
+      Slot& s = slots_[i];
       if (s.stamp != stamp_) {
         s = Slot{key, stamp_, 0, {0, 0}};
-        used_.push_back(static_cast<uint32_t>(&s - slots_.data()));
+        used_.push_back(static_cast<uint32_t>(i));
       }
       if (s.count < 2) s.side[s.count] = side;
       crowded_ = crowded_ || s.count >= 2;
       ++s.count;
     }
     const Slot* find(uint64_t key) const {
-      const Slot& s = const_cast<BoundaryEdges*>(this)->probe(key);
+      const Slot& s = slots_[probe(key)];
       return s.stamp == stamp_ ? &s : nullptr;
     }
     // The edges in the order they were first seen.
@@ -280,10 +283,11 @@ class Refiner {
     bool crowded() const { return crowded_; }
 
    private:
-    Slot& probe(uint64_t key) {
+    // The slot of `key`, or the free one where it would go.
+    size_t probe(uint64_t key) const {
       size_t i = static_cast<size_t>((key * 0x9E3779B97F4A7C15ull) >> 32) & mask_;
       while (slots_[i].stamp == stamp_ && slots_[i].key != key) i = (i + 1) & mask_;
-      return slots_[i];
+      return i;
     }
     std::vector<Slot> slots_;
     std::vector<uint32_t> used_;
@@ -664,18 +668,26 @@ bool Refiner::cone_is_delaunay(const double* p) {
     if (sides[i].key != sides[i + 1].key) continue;
     const BoundaryFace& f = bnd_[sides[i].face];
     const BoundaryFace& g = bnd_[sides[i + 1].face];
-    // One test decides: both new tets are positive (cavity_is_star), and
-    // for two positive tets sharing a face the insphere test of either with
-    // the other's far vertex is the same lifted determinant, so the same
-    // sign.
-    if (pred::insphere(pt(f.a), pt(f.b), pt(f.c), p, pt(sides[i + 1].third)) > 0) {
-      const BoundaryFace& c = f.tag != kNoTag ? f : g;
-      split_face_ = {c.own, c.tag, {c.a, c.b, c.c}};
-      fault_ = c.tag != kNoTag;
-      return false;
-    }
+    if (cone_face_fails(f, sides[i + 1].third, p)) return name_cone_fault(f, g);
   }
   return true;
+}
+
+// Whether the cone face between the new tets on boundary faces f and g (g's
+// far vertex `third`) is not locally Delaunay. One test decides: both new
+// tets are positive (cavity_is_star), and for two positive tets sharing a
+// face the insphere test of either with the other's far vertex is the same
+// lifted determinant, so the same sign.
+bool Refiner::cone_face_fails(const BoundaryFace& f, VertexId third, const double* p) const {
+  return pred::insphere(pt(f.a), pt(f.b), pt(f.c), p, pt(third)) > 0;
+}
+
+// Names the constrained one of f and g (if any) for splitting; false.
+bool Refiner::name_cone_fault(const BoundaryFace& f, const BoundaryFace& g) {
+  const BoundaryFace& c = f.tag != kNoTag ? f : g;
+  split_face_ = {c.own, c.tag, {c.a, c.b, c.c}};
+  fault_ = c.tag != kNoTag;
+  return false;
 }
 
 // cone_is_delaunay when every boundary edge lies in at most two boundary
@@ -683,30 +695,16 @@ bool Refiner::cone_is_delaunay(const double* p) {
 // sorted sides would name first (the smallest edge key that fails), so the
 // result does not depend on the hash table's order.
 bool Refiner::cone_is_delaunay_paired(const double* p) {
-  bool failed = false;
-  uint64_t worst = 0;
-  const BoundaryFace* at = nullptr;
+  const BoundaryEdges::Slot* worst = nullptr;  // the failing edge of smallest key
   for (uint32_t u : bnd_edges_.used()) {
     const BoundaryEdges::Slot& e = bnd_edges_.slot(u);
-    if (e.count != 2 || (failed && e.key > worst)) continue;
-    const BoundaryFace& f = bnd_[e.side[0] / 3];
+    if (e.count != 2 || (worst && e.key > worst->key)) continue;
     const BoundaryFace& g = bnd_[e.side[1] / 3];
     const uint32_t k = e.side[1] % 3;
     const VertexId third = k == 0 ? g.c : k == 1 ? g.a : g.b;
-    // One test decides: both new tets are positive (cavity_is_star), and
-    // for two positive tets sharing a face the insphere test of either with
-    // the other's far vertex is the same lifted determinant, so the same
-    // sign.
-    if (pred::insphere(pt(f.a), pt(f.b), pt(f.c), p, pt(third)) > 0) {
-      failed = true;
-      worst = e.key;
-      at = f.tag != kNoTag ? &f : &g;
-    }
+    if (cone_face_fails(bnd_[e.side[0] / 3], third, p)) worst = &e;
   }
-  if (!failed) return true;
-  split_face_ = {at->own, at->tag, {at->a, at->b, at->c}};
-  fault_ = at->tag != kNoTag;
-  return false;
+  return !worst || name_cone_fault(bnd_[worst->side[0] / 3], bnd_[worst->side[1] / 3]);
 }
 
 void Refiner::clear_cavity() {
