@@ -274,7 +274,8 @@ class Refiner {
         slots_.assign(std::max(size, slots_.size()), Slot{0, 0, 0, {0, 0}});
         stamp_ = 1;
       }
-      mask_ = slots_.size() - 1;
+      mask_ = size - 1;  // the part of the table this cavity needs: a table grown by one
+                         // big cavity would spread small ones over many cache lines
       used_.clear();
       crowded_ = false;
     }
