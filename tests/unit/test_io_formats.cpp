@@ -2,9 +2,13 @@
 // provenance (line / record) and index remapping checked exactly.
 #include <catch2/catch.hpp>
 #include <cdt3d/cdt3d.hpp>
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
+
+#include "io/read_common.hpp"
 
 using namespace cdt3d;
 
@@ -586,4 +590,44 @@ TEST_CASE("TetGen .node: points only", "[io][node]") {
   CHECK(plc.points.size() == 3);
   CHECK(plc.facets.empty());
   CHECK(plc_info(plc).unreferenced == 3);
+}
+
+// exact_decimal, parse_double's path for 16- to 19-digit mantissas (the
+// WASM build's strtod is slow), against glibc's strtod, which rounds
+// correctly: random mantissas and exponents, and exact ties (integers halfway
+// between two doubles above 2^53, which must go to the even one).
+TEST_CASE("exact_decimal rounds like a correctly rounded strtod", "[io]") {
+  uint64_t state = 0x9E3779B97F4A7C15ull;
+  auto next = [&state] {
+    state ^= state << 13, state ^= state >> 7, state ^= state << 17;
+    return state;
+  };
+  int checked = 0;
+  for (int i = 0; i < 200000; ++i) {
+    const int digits = 1 + static_cast<int>(next() % 19);
+    uint64_t m = 0;
+    for (int k = 0; k < digits; ++k) m = m * 10 + next() % 10;
+    if (m == 0) continue;
+    const int e10 = static_cast<int>(next() % 45) - 22;
+    const std::string text = std::to_string(m) + "e" + std::to_string(e10);
+    double got = 0;
+    REQUIRE(io::exact_decimal(m, e10, got));
+    const double want = std::strtod(text.c_str(), nullptr);
+    if (got != want) FAIL_CHECK(text << ": " << got << " != " << want);
+    ++checked;
+  }
+  for (int i = 0; i < 20000; ++i) {
+    const uint64_t V = (uint64_t{1} << 52) | (next() >> 12);  // a 53-bit significand
+    const int shift = 1 + static_cast<int>(next() % 10);       // halfway: (2V + 1) * 2^(shift - 1)
+    const uint64_t tie = (2 * V + 1) << (shift - 1);
+    double got = 0;
+    REQUIRE(io::exact_decimal(tie, 0, got));
+    const double lo = std::ldexp(static_cast<double>(V), shift), hi = std::nextafter(lo, HUGE_VAL);
+    CHECK(got == ((V & 1) ? hi : lo));
+    CHECK(got == std::strtod(std::to_string(tie).c_str(), nullptr));
+  }
+  CHECK(checked > 150000);
+  double out = 0;
+  CHECK_FALSE(io::exact_decimal(12345, 23, out));
+  CHECK_FALSE(io::exact_decimal(0, 0, out));
 }

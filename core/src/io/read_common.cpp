@@ -105,7 +105,105 @@ NumParse parse_double_slow(const char* p, size_t n, double& out) {
   return NumParse::Ok;
 }
 
+__extension__ typedef unsigned __int128 U128;  // GCC and Clang, WebAssembly included
+
+int bit_length(U128 x) {
+  const uint64_t hi = static_cast<uint64_t>(x >> 64), lo = static_cast<uint64_t>(x);
+  if (hi) return 128 - __builtin_clzll(hi);
+  return lo ? 64 - __builtin_clzll(lo) : 0;
+}
+
+// The sign of A * 2^a - B * 2^b for A, B > 0: by the position of the top
+// bits, and when they agree by the bits themselves, both shifted to the top.
+int compare_scaled(U128 A, int a, U128 B, int b) {
+  const int la = bit_length(A), lb = bit_length(B);
+  if (la + a != lb + b) return la + a > lb + b ? 1 : -1;
+  A <<= 128 - la;
+  B <<= 128 - lb;
+  return A > B ? 1 : A < B ? -1 : 0;
+}
+
+// Powers of five that are exact in binary64 (5^22 < 2^53).
+constexpr uint64_t kPow5[23] = {1ull,
+                                5ull,
+                                25ull,
+                                125ull,
+                                625ull,
+                                3125ull,
+                                15625ull,
+                                78125ull,
+                                390625ull,
+                                1953125ull,
+                                9765625ull,
+                                48828125ull,
+                                244140625ull,
+                                1220703125ull,
+                                6103515625ull,
+                                30517578125ull,
+                                152587890625ull,
+                                762939453125ull,
+                                3814697265625ull,
+                                19073486328125ull,
+                                95367431640625ull,
+                                476837158203125ull,
+                                2384185791015625ull};
+
+// The sign of m * 10^e10 minus the midpoint between the positive normal
+// double v and the next double up. With v = V * 2^q (V a 53-bit integer)
+// the midpoint is (2V + 1) * 2^(q - 1), and 10^e = 5^e * 2^e, so both sides
+// are integers times powers of two: m * 5^e * 2^e against (2V + 1) * 2^(q-1)
+// for e >= 0, m against (2V + 1) * 5^d * 2^(q - 1 + d) for e = -d < 0.
+int versus_midpoint_above(uint64_t m, int e10, double v) {
+  int ex = 0;
+  const double f = std::frexp(v, &ex);  // v = f * 2^ex, f in [0.5, 1)
+  const U128 V = static_cast<U128>(static_cast<uint64_t>(std::ldexp(f, 53)));
+  const int q = ex - 53;
+  const U128 mid = 2 * V + 1;
+  if (e10 >= 0) return compare_scaled(static_cast<U128>(m) * kPow5[e10], e10, mid, q - 1);
+  const int d = -e10;
+  return compare_scaled(m, 0, mid * kPow5[d], q - 1 + d);
+}
+
 }  // namespace
+
+// Starts from the quotient or product of the rounded mantissa and the exact
+// power of ten (within two units in the last place), then steps to the
+// neighbour while the exact value lies beyond the midpoint towards it.
+// Every value in range is a normal double (1e-22 <= m * 10^e10 < 2^64 * 1e22).
+bool exact_decimal(uint64_t m, int e10, double& out) {
+  if (m == 0 || e10 < -22 || e10 > 22) return false;
+  double v = static_cast<double>(m);
+  v = e10 < 0 ? v / kPow10[-e10] : v * kPow10[e10];
+  for (int step = 0; step < 8; ++step) {
+    const int above = versus_midpoint_above(m, e10, v);
+    if (above > 0) {
+      v = std::nextafter(v, HUGE_VAL);
+      continue;
+    }
+    if (above == 0) {  // a tie: to the even neighbour
+      const double up = std::nextafter(v, HUGE_VAL);
+      int ex = 0;
+      const uint64_t V = static_cast<uint64_t>(std::ldexp(std::frexp(v, &ex), 53));
+      out = (V & 1) ? up : v;
+      return true;
+    }
+    const double down = std::nextafter(v, 0.0);
+    const int below = versus_midpoint_above(m, e10, down);
+    if (below < 0) {
+      v = down;
+      continue;
+    }
+    if (below == 0) {
+      int ex = 0;
+      const uint64_t W = static_cast<uint64_t>(std::ldexp(std::frexp(down, &ex), 53));
+      out = (W & 1) ? v : down;
+      return true;
+    }
+    out = v;
+    return true;
+  }
+  return false;
+}
 
 NumParse parse_double(const char* p, size_t n, double& out) {
 #if defined(__cpp_lib_to_chars) && __cpp_lib_to_chars >= 201611L
@@ -188,6 +286,11 @@ NumParse parse_double(const char* p, size_t n, double& out) {
     double v = static_cast<double>(m);
     v = exp10 < 0 ? v / kPow10[-exp10] : v * kPow10[exp10];
     out = neg ? -v : v;
+    return NumParse::Ok;
+  }
+  double w = 0;
+  if (exact && exp10 >= -22 && exp10 <= 22 && exact_decimal(m, static_cast<int>(exp10), w)) {
+    out = neg ? -w : w;
     return NumParse::Ok;
   }
   return parse_double_slow(p, n, out);

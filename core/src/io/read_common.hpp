@@ -44,6 +44,13 @@ enum class NumParse {
 /// exponent notation. -0 is returned as +0 so that welding needs no special case.
 NumParse parse_double(const char* p, size_t n, double& out);
 
+/// m * 10^e10 correctly rounded (to nearest, ties to even), for 0 < m < 2^64
+/// and |e10| <= 22; false outside that range. parse_double's path for
+/// mantissas of 16 to 19 digits (17-digit "%.17g" output): strtod, its
+/// fallback, computes in long double, which WebAssembly emulates in software
+/// (a sixth of the WASM build's whole run on armadillo.obj went there).
+bool exact_decimal(uint64_t m, int e10, double& out);
+
 /// Parses a whole token as a decimal integer with an optional sign.
 /// Overflow when it does not fit in int64.
 NumParse parse_int(const char* p, size_t n, int64_t& out);
