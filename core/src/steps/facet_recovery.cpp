@@ -446,6 +446,10 @@ void subface_half_faces(const TetMesh& mesh, const Subfaces& sf, std::vector<Hal
     const VertexId* w = mesh.tet_vertices(t);
     if (w[3] == kInfinite) continue;
     for (int i = 0; i < 4; ++i) {
+      // A face between two real tets was checked with the first of them in
+      // slot order, which is the one it gets: half the lookups.
+      const HalfFace nb = mesh.adjacent(make_hf(t, i));
+      if (nb != kNoHalfFace && hf_tet(nb) < t && !mesh.is_ghost(hf_tet(nb))) continue;
       const Triangle key =
           sorted_triangle({w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]});
       for (uint32_t j = start[key[0]]; j < start[key[0] + 1]; ++j) {
