@@ -106,6 +106,20 @@ if [ ! -x "$LD" ] || [ tests/bench/local_delaunay.cpp -nt "$LD" ] || [ tests/ben
   c++ -O2 -std=c++17 -I core/include -I core/src/geometry -I core/src/mesh tests/bench/local_delaunay.cpp "$LIB" -o "$LD" ||
     die "cannot build tests/bench/local_delaunay.cpp"
 fi
+GEN=$ROOT/.build/bench/bench/gen_points
+if [ ! -x "$GEN" ] || [ tests/bench/gen_points.cpp -nt "$GEN" ]; then
+  c++ -O2 -std=c++17 tests/bench/gen_points.cpp -o "$GEN" || die "cannot build tests/bench/gen_points.cpp"
+fi
+
+# The Delaunay phase against random points (issue 14): the same CLI's
+# `delaunay --json` time ("ms": sort and insertion) on as many uniformly
+# random points as the model has, generated once per count (seed 1).
+random_ms() {
+  local n=$1 f="$ROOT/.build/bench/bench/random_$1.node"
+  [ -s "$f" ] || "$GEN" "$n" "$f" 1 >/dev/null 2>&1 || { echo -; return; }
+  run_once "$WORK" "$BIN" delaunay "$f" --json
+  [ "$R_RC" -eq 0 ] && jnum ms "$R_OUT" || echo -
+}
 
 # 3. The models: "path<TAB>name" lines.
 models() {
@@ -303,13 +317,14 @@ for line in "${MODELS[@]}"; do
         NOTES+=("$name: wasm_mesh.mjs: $(why "$R_RC") $R_OUT")
       fi
     fi
-    T3+=("$(printf '%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s | %9s %6s' "$name" \
+    r_ms=$(random_ms "$(jnum inputPoints "$c_json")")
+    T3+=("$(printf '%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s | %8s %8s | %9s %6s' "$name" \
       "$(jnum points "$c_json")" "$(jnum tets "$c_json")" "$(jnum missingSubfaces "$c_json")" \
       "$(jnum regions "$c_json")" "$(jnum cavities "$c_json")" "$(jnum largestCavity "$c_json")" \
       "$(jnum fallbacks "$c_json")" "$(printf '%.1f' "$(jnum minDihedral "$c_json")" 2>/dev/null || echo -)" \
       "$(jnum msRead "$c_json")" "$(jnum msDelaunay "$c_json")" "$(jnum msSegments "$c_json")" \
       "$(jnum msDegeneracy "$c_json")" "$(jnum msFacets "$c_json")" "$(jnum msCarve "$c_json")" \
-      "$(jnum msTotal "$c_json")" "$w_ms" "$w_ratio")")
+      "$(jnum msTotal "$c_json")" "$r_ms" "$(ratio "$(jnum msDelaunay "$c_json")" "$r_ms")" "$w_ms" "$w_ratio")")
   else
     T3+=("$(printf '%-40s %7s' "$name" "$c_ms")")
   fi
@@ -350,9 +365,11 @@ echo
 echo "Table 4: facet recovery (issue 6) and cdt3d's own time per phase (ms) in the timed run"
 [ "$DO_WASM" = 1 ] && echo "  wasm_ms = msTotal of the WASM package in Node (one call in a fresh process: V8 runs most of it in its baseline"
 [ "$DO_WASM" = 1 ] && echo "  compiler, Liftoff), wasm/n = wasm_ms / native total"
-h3='%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s | %9s %6s\n'
-printf "$h3" model points tets missing regions cavities largest fallbk minDih read delaunay segments degen facets carve total wasm_ms wasm/n
-printf '%s\n' "$(printf '%.0s-' {1..188})"
+echo "  rand_ms = \`cdt3d delaunay\` on as many uniformly random points as the model has (sort + insertion, its --json ms),"
+echo "  del/rand = delaunay / rand_ms (issue 14: at most 2; delaunay also counts the perturbation-order search)"
+h3='%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s | %8s %8s | %9s %6s\n'
+printf "$h3" model points tets missing regions cavities largest fallbk minDih read delaunay segments degen facets carve total rand_ms del/rand wasm_ms wasm/n
+printf '%s\n' "$(printf '%.0s-' {1..208})"
 printf '%s\n' "${T3[@]}"
 if [ ${#NOTES[@]} -gt 0 ]; then
   echo
