@@ -25,11 +25,13 @@
 // tet's shortest edge from the vertices nearest to it (the insertion radius
 // rule of Shewchuk's proof, without its angle assumptions; kFloorFactor,
 // kSplitFloorFactor): insertions then keep a distance to existing vertices
-// tied to the mesh they were triggered by, and refinement stopped on every
-// model of tests/data (the point cap, max_points, guards the rest). Bad
-// tets that would need a closer point are left (counted in
-// refine_skipped); they are the ones near small input angles and between
-// coplanar facets, which TetGen leaves in part too.
+// tied to the mesh they were triggered by. Those two floors can shrink
+// along chains of insertions; a third one cannot: a local scale carried
+// from the CDT's shortest edges (kScaleFactor, init_scales) keeps all
+// points a fixed distance apart, so refinement stops (the point cap,
+// max_points, remains as a guard). Bad tets that would need a closer
+// point are left (counted in refine_skipped); they are the ones near small
+// input angles and between coplanar facets, which TetGen leaves in part too.
 #include "refine.hpp"
 
 #include <algorithm>
