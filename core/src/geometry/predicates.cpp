@@ -251,7 +251,8 @@ template <int N, int D>
 int sort_rows(double (*q)[D]) {
   int parity = 1;
   for (int i = 1; i < N; ++i)
-    for (int j = i; j > 0 && std::lexicographical_compare(q[j], q[j] + D, q[j - 1], q[j - 1] + D); --j) {
+    for (int j = i;
+         j > 0 && std::lexicographical_compare(q[j], q[j] + D, q[j - 1], q[j - 1] + D); --j) {
       std::swap_ranges(q[j], q[j] + D, q[j - 1]);
       parity = -parity;
     }

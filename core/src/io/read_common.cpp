@@ -148,17 +148,22 @@ constexpr uint64_t kPow5[23] = {1ull,
                                 476837158203125ull,
                                 2384185791015625ull};
 
-// The sign of m * 10^e10 minus the midpoint between the positive normal
-// double v and the next double up. With v = V * 2^q (V a 53-bit integer)
-// the midpoint is (2V + 1) * 2^(q - 1), and 10^e = 5^e * 2^e, so both sides
-// are integers times powers of two: m * 5^e * 2^e against (2V + 1) * 2^(q-1)
-// for e >= 0, m against (2V + 1) * 5^d * 2^(q - 1 + d) for e = -d < 0.
-int versus_midpoint_above(uint64_t m, int e10, double v) {
+// The positive normal double v as V * 2^q with V a 53-bit integer.
+uint64_t significand(double v, int& q) {
   int ex = 0;
   const double f = std::frexp(v, &ex);  // v = f * 2^ex, f in [0.5, 1)
-  const U128 V = static_cast<U128>(static_cast<uint64_t>(std::ldexp(f, 53)));
-  const int q = ex - 53;
-  const U128 mid = 2 * V + 1;
+  q = ex - 53;
+  return static_cast<uint64_t>(std::ldexp(f, 53));
+}
+
+// The sign of m * 10^e10 minus the midpoint between the positive normal
+// double v = V * 2^q and the next double up, (2V + 1) * 2^(q - 1). With
+// 10^e = 5^e * 2^e both sides are integers times powers of two: m * 5^e * 2^e
+// against (2V + 1) * 2^(q - 1) for e >= 0, m against
+// (2V + 1) * 5^d * 2^(q - 1 + d) for e = -d < 0.
+int versus_midpoint_above(uint64_t m, int e10, double v) {
+  int q = 0;
+  const U128 mid = 2 * static_cast<U128>(significand(v, q)) + 1;
   if (e10 >= 0) return compare_scaled(static_cast<U128>(m) * kPow5[e10], e10, mid, q - 1);
   const int d = -e10;
   return compare_scaled(m, 0, mid * kPow5[d], q - 1 + d);
@@ -180,11 +185,9 @@ bool exact_decimal(uint64_t m, int e10, double& out) {
       v = std::nextafter(v, HUGE_VAL);
       continue;
     }
+    int q = 0;
     if (above == 0) {  // a tie: to the even neighbour
-      const double up = std::nextafter(v, HUGE_VAL);
-      int ex = 0;
-      const uint64_t V = static_cast<uint64_t>(std::ldexp(std::frexp(v, &ex), 53));
-      out = (V & 1) ? up : v;
+      out = (significand(v, q) & 1) ? std::nextafter(v, HUGE_VAL) : v;
       return true;
     }
     const double down = std::nextafter(v, 0.0);
@@ -194,9 +197,7 @@ bool exact_decimal(uint64_t m, int e10, double& out) {
       continue;
     }
     if (below == 0) {
-      int ex = 0;
-      const uint64_t W = static_cast<uint64_t>(std::ldexp(std::frexp(down, &ex), 53));
-      out = (W & 1) ? v : down;
+      out = (significand(down, q) & 1) ? v : down;
       return true;
     }
     out = v;

@@ -6,9 +6,9 @@
 // beyond it is open (kNoHalfFace). Constrained faces carry a tag per
 // half-face (facet + 1, or a hull tag for a boundary face that is no facet,
 // in keep-hull domains: one per plane of the hull); subsegments live in a
-// hash map edge -> segment; every vertex knows where it lies (input point, on a segment, in a facet, in the
-// volume) and its parent segment or facet, so that the Result's Steiner
-// kinds survive the round trip.
+// hash map edge -> segment; every vertex knows where it lies (input point,
+// on a segment, in a facet, in the volume) and its parent segment or facet,
+// so that the Result's Steiner kinds survive the round trip.
 #pragma once
 
 #include <cdt3d/cdt3d.hpp>

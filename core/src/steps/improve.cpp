@@ -476,7 +476,8 @@ bool Improver::star_cavity(TetId t, const double* p) {
     for (int i = 0; i < 4; ++i) {
       const HalfFace hf = make_hf(cavity_[k], i);
       const HalfFace nb = m_.adjacent(hf);
-      if (nb == kNoHalfFace || !(m_.tflag[hf_tet(nb)] & kTetInCavity)) faces_.push_back(cm_.face_of(hf));
+      if (nb == kNoHalfFace || !(m_.tflag[hf_tet(nb)] & kTetInCavity))
+        faces_.push_back(cm_.face_of(hf));
     }
   for (TetId u : cavity_) m_.tflag[u] &= static_cast<uint8_t>(~kTetInCavity);
   return ok;

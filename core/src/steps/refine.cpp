@@ -225,10 +225,11 @@ class Refiner {
   bool cone_face_fails(const BoundaryFace& f, VertexId third, const double* p) const;
   bool name_cone_fault(const BoundaryFace& f, const BoundaryFace& g);
   void clear_cavity();
-  VertexId commit(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb);
+  VertexId commit(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb,
+                  double scale);
   bool insert(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb,
               double floor, Verdict* verdict);
-  double nearest_vertex(const double* p);
+  double nearest_vertex(const double* p, double& scale) const;
   using SplitKey = std::array<VertexId, 3>;  // a subface, or a subsegment and kNone
   void remember_failure(Verdict verdict);
   bool known_failure(const SplitKey& key, Verdict& verdict);
@@ -350,9 +351,7 @@ class Refiner {
   SplitKey attempt_ = kNoAttempt;
   std::vector<uint32_t> touched_;  // per vertex: the commit that last changed its star
   uint32_t commits_ = 0;
-  // Per vertex: the local scale (init_scales, nearest_vertex).
-  std::vector<double> scale_;
-  double new_scale_ = 0;  // the scale of the point insert() is about to commit
+  std::vector<double> scale_;  // per vertex: its local scale (init_scales)
   void init_scales();
 };
 
@@ -740,10 +739,11 @@ void Refiner::clear_cavity() {
 }
 
 // Replaces the cavity by the cone of its boundary to the new vertex.
-VertexId Refiner::commit(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb) {
+VertexId Refiner::commit(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb,
+                         double scale) {
   const VertexId v = new_vertex(p, where, parent);
   if (scale_.size() <= v) scale_.resize(v + 1, HUGE_VAL);
-  scale_[v] = new_scale_;
+  scale_[v] = scale;
   ++commits_;
   touched_.resize(m_.num_vertices(), 0);
   for (const BoundaryFace& f : bnd_) touched_[f.a] = touched_[f.b] = touched_[f.c] = commits_;
@@ -804,10 +804,10 @@ VertexId Refiner::commit(const double* p, Where where, int64_t parent, VertexId 
 }
 
 // The distance from p to the nearest vertex of its cavity's boundary: its
-// insertion radius (the cavity holds the vertices nearest to p). Also sets
-// new_scale_, p's local scale: min over those vertices w of
-// scale(w) + kScaleSlope |pw| (init_scales).
-double Refiner::nearest_vertex(const double* p) {
+// insertion radius (the cavity holds the vertices nearest to p). `scale`
+// gets p's local scale: the smallest scale(w) + kScaleSlope |pw| over those
+// vertices w (init_scales).
+double Refiner::nearest_vertex(const double* p, double& scale) const {
   double d = HUGE_VAL, s = HUGE_VAL;
   const Vec3 q = to_vec(p);
   for (const BoundaryFace& f : bnd_)
@@ -816,7 +816,7 @@ double Refiner::nearest_vertex(const double* p) {
       d = std::min(d, dv);
       s = std::min(s, scale_[v] + kScaleSlope * dv);
     }
-  new_scale_ = s;
+  scale = s;
   return d;
 }
 
@@ -849,6 +849,7 @@ bool Refiner::insert(const double* p, Where where, int64_t parent, VertexId sa, 
                      double floor, Verdict* verdict) {
   *verdict = Verdict::Reject;
   bool floor_rejected = false;
+  double scale = HUGE_VAL;  // p's local scale (nearest_vertex)
   const VertexId pid = static_cast<VertexId>(m_.num_vertices());
   if (!region_.empty() && !grow_subface_region(p, pid, sa, sb)) {
     clear_cavity();
@@ -873,8 +874,8 @@ bool Refiner::insert(const double* p, Where where, int64_t parent, VertexId sa, 
       *verdict = Verdict::Reject;
     else if (!cone_is_delaunay(p))  // a constrained face of the cavity is encroached
       *verdict = fault_ ? Verdict::SplitSubface : Verdict::Reject;
-    else if (const double near = nearest_vertex(p);
-             near < kFloorFactor * floor || near < kScaleFactor * new_scale_)
+    else if (const double near = nearest_vertex(p, scale);
+             near < kFloorFactor * floor || near < kScaleFactor * scale)
       *verdict = Verdict::Reject, floor_rejected = true;
   }
   if (*verdict != Verdict::Ok) {
@@ -882,7 +883,7 @@ bool Refiner::insert(const double* p, Where where, int64_t parent, VertexId sa, 
     clear_cavity();
     return false;
   }
-  commit(p, where, parent, sa, sb);
+  commit(p, where, parent, sa, sb, scale);
   return true;
 }
 
@@ -1045,7 +1046,6 @@ bool Refiner::fix_bad_tet(TetId t, const TetShape& shape) {
   if (verdict == Verdict::SplitSubsegment) return split_subsegment(split_a_, split_b_, lmin);
   return false;
 }
-
 
 Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress) {
   Status st = cm_.build(plc_, res_);

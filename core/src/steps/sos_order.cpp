@@ -163,12 +163,16 @@ void CellEdges::find_cells(const TetMesh& d) {
   cell_vertices_.clear();
   const size_t n = plc_.points.size();
   vertex_start_.assign(n + 1, 0);
-  for (const auto& [c, v] : members) ++cell_start_[c + 1], ++vertex_start_[v + 1], cell_vertices_.push_back(v);
+  for (const auto& [c, v] : members) {
+    ++cell_start_[c + 1], ++vertex_start_[v + 1];
+    cell_vertices_.push_back(v);
+  }
   for (uint32_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
   for (size_t v = 0; v < n; ++v) vertex_start_[v + 1] += vertex_start_[v];
   vertex_cells_.resize(members.size());
   std::vector<uint32_t> fill(vertex_start_.begin(), vertex_start_.end() - 1);
-  for (const auto& [c, v] : members) vertex_cells_[fill[v]++] = c;  // ascending: members sorted by cell
+  // Ascending per point: members are sorted by cell.
+  for (const auto& [c, v] : members) vertex_cells_[fill[v]++] = c;
   cell_order_.assign(cells, {});
   cell_edges_.assign(cells, {});
 }
