@@ -983,16 +983,16 @@ TEST_CASE("predicate micro benchmark (printed, not asserted)", "[predicates][ben
                             s[(i * 13 + 2) % s.size()].data(), s[(i * 17 + 3) % s.size()].data(),
                             s[(i * 29 + 5) % s.size()].data());
   });
-  // Exact stage forced on random unit-cube doubles: the differences of such
-  // fixed-point-like values are exact, so this is the difference form with
-  // full 53-bit significands.
-  const double t_diff53 = ns_per_call(exact_calls, [&] {
+  // Exact stage forced on random unit-cube doubles: coordinates within 125
+  // bits of each other, so the integer form (two limbs for most sets).
+  const double t_int53 = ns_per_call(exact_calls, [&] {
     for (int i = 0; i < exact_calls; ++i)
       acc += pred::detail::insphere_exact(pt(i), pt(i + 1), pt(i + 2), pt(i + 3), pt(i + 4));
   });
-  // Coordinates of mixed binades make the differences inexact: raw form.
+  // Coordinates spread over 2^-40..2^40 span more than 125 bits: the
+  // expansions' raw form (their differences are inexact).
   std::vector<double> mixed(3 * 1024);
-  for (double& x : mixed) x = r.at_exponent(r.range(-4, 4));
+  for (double& x : mixed) x = r.at_exponent(r.range(-40, 40));
   auto mp = [&](int i) { return &mixed[3 * size_t(idx[i] % 1024)]; };
   const double t_raw = ns_per_call(exact_calls, [&] {
     for (int i = 0; i < exact_calls; ++i)
@@ -1006,9 +1006,10 @@ TEST_CASE("predicate micro benchmark (printed, not asserted)", "[predicates][ben
   (void)sink;
   std::printf(
       "[predicates bench] ns/call on random points in the unit cube: orient3d %.2f (plain double "
-      "%.2f), insphere %.2f (plain double %.2f); exact stage alone: insphere difference form "
-      "on lattice points %.0f, on 53-bit doubles %.0f, raw form %.0f; orient3d raw form %.0f\n",
-      t_o, t_plain_o, t_s, t_plain_s, t_exact, t_diff53, t_raw, t_raw_o);
+      "%.2f), insphere %.2f (plain double %.2f); exact stage alone: insphere integer form "
+      "on lattice points %.0f, on unit-cube doubles %.0f, raw form %.0f; orient3d raw form "
+      "%.0f\n",
+      t_o, t_plain_o, t_s, t_plain_s, t_exact, t_int53, t_raw, t_raw_o);
   SUCCEED();
 }
 
@@ -1038,4 +1039,67 @@ TEST_CASE("insphere and incircle are exact on thin configurations", "[predicates
                incircle_q(p[0].data(), p[1].data(), p[2].data(), p[3].data()), describe(p));
   }
   CHECK(decided_early > 8000);  // 8562 here; 6916 without the second stage
+}
+
+// Bits spanned by the coordinates of the points: from the lowest set bit to
+// the top of the largest magnitude (the integer forms' tiers: <= 62 one limb
+// for most differences, <= 125 two limbs, beyond that the expansion forms).
+int coordinate_span(const std::vector<const double*>& pts, int dim) {
+  int lo = 1 << 20, hi = -(1 << 20);
+  for (const double* p : pts)
+    for (int k = 0; k < dim; ++k) {
+      if (p[k] == 0) continue;
+      int e;
+      const double f = std::frexp(std::fabs(p[k]), &e);  // |x| < 2^e
+      const uint64_t m = static_cast<uint64_t>(std::ldexp(f, 53));
+      lo = std::min(lo, e - 53 + __builtin_ctzll(m)), hi = std::max(hi, e);
+    }
+  return hi - lo;
+}
+
+TEST_CASE("decimal CAD coordinates: exact zeros in every integer tier and beyond", "[predicates]") {
+  // Five corners of an axis-parallel box are co-spherical, four of a face
+  // co-planar and (projected) co-circular, whatever the rounding of their
+  // decimal coordinates; one corner moved by an ulp now and then. Steps and
+  // offsets spread the coordinates' bit span over the one-limb, two-limb and
+  // expansion ranges of the exact stage.
+  Rng r(23);
+  const double steps[] = {0.1, 0.001, 25.4, 1e-7, 3.3e5, 0.30000000000000004};
+  int classes[3] = {0, 0, 0}, zeros = 0;
+  for (int it = 0; it < 30000; ++it) {
+    double v[3][2];
+    const double box_step = steps[r.range(0, 5)];  // one step: a narrow span
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < 2; ++j) {
+        const double h = it % 3 == 0 ? box_step : steps[r.range(0, 5)];
+        v[k][j] = (r.range(-40, 40)) * h;
+        if (it % 3 == 1 && r.range(0, 2) == 0) v[k][j] += 1e-12 * r.sym();
+        if (it % 3 == 2 && r.range(0, 3) == 0) v[k][j] = std::ldexp(1.0 + r.unit(), -r.range(60, 200));
+      }
+    std::array<P3, 8> corner;
+    for (int c = 0; c < 8; ++c)
+      for (int k = 0; k < 3; ++k) corner[c][k] = v[k][(c >> k) & 1];
+    std::array<P3, 5> p;
+    int pick[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+    for (int i = 0; i < 5; ++i) std::swap(pick[i], pick[r.range(i, 7)]);
+    for (int i = 0; i < 5; ++i) p[i] = corner[pick[i]];
+    if (r.range(0, 4) == 0) p[4][r.range(0, 2)] = bump(p[4][r.range(0, 2)], r.range(0, 1) ? 1 : -1);
+    const std::vector<const double*> all = {p[0].data(), p[1].data(), p[2].data(), p[3].data(),
+                                            p[4].data()};
+    const int span = coordinate_span(all, 3);
+    ++classes[span <= 62 ? 0 : span <= 125 ? 1 : 2];
+    zeros += check_orient3d_insphere(p) == 0;
+    // The face z = v[2][0]: corners 0..3 co-planar, co-circular in xy.
+    const double* f[4] = {corner[0].data(), corner[1].data(), corner[3].data(), corner[2].data()};
+    P3 moved = corner[2];
+    if (it % 2) moved[0] = bump(moved[0], 1), f[3] = moved.data();
+    SIGN_CHECK(pred::incircle(f[0], f[1], f[2], f[3]), incircle_q(f[0], f[1], f[2], f[3]),
+               describe(p));
+    SIGN_CHECK(pred::orient3d(f[0], f[1], f[2], p[4].data()),
+               orient3d_q(corner[0], corner[1], corner[3], p[4]), describe(p));
+  }
+  CHECK(zeros > 10000);
+  CHECK(classes[0] > 3000);
+  CHECK(classes[1] > 3000);
+  CHECK(classes[2] > 3000);
 }

@@ -27,14 +27,8 @@ constexpr int kMaxPasses = 32;
 
 class FlatFlipper {
  public:
-  FlatFlipper(TetMesh& mesh, const Subfaces& sf, const SegmentSet& segs) : m_(mesh) {
-    for (const auto& t : sf.tri) subfaces_.push_back(sorted_triangle(t[0], t[1], t[2]));
-    std::sort(subfaces_.begin(), subfaces_.end());
-    std::vector<std::array<uint32_t, 3>> sub;
-    segs.subsegments(sub);
-    for (const auto& e : sub) subsegments_.push_back(sorted_edge(e[0], e[1]));
-    std::sort(subsegments_.begin(), subsegments_.end());
-  }
+  FlatFlipper(TetMesh& mesh, const Subfaces& sf, const SegmentSet& segs)
+      : m_(mesh), sf_(sf), segs_(segs) {}
 
   void run(FlatFlipStats& st);
 
@@ -69,7 +63,20 @@ class FlatFlipper {
   void try_edge(TetId t, int i, int j);
   bool fix(TetId t);
 
+  // The constrained faces and edges, sorted: built only when a flat tet
+  // needs them (most meshes have none).
+  void index_constraints() {
+    for (const auto& t : sf_.tri) subfaces_.push_back(sorted_triangle(t[0], t[1], t[2]));
+    std::sort(subfaces_.begin(), subfaces_.end());
+    std::vector<std::array<uint32_t, 3>> sub;
+    segs_.subsegments(sub);
+    for (const auto& e : sub) subsegments_.push_back(sorted_edge(e[0], e[1]));
+    std::sort(subsegments_.begin(), subsegments_.end());
+  }
+
   TetMesh& m_;
+  const Subfaces& sf_;
+  const SegmentSet& segs_;
   std::vector<FaceKey> subfaces_;
   std::vector<EdgeKey> subsegments_;
   // Best candidate of the current flat tet.
@@ -234,6 +241,9 @@ void FlatFlipper::run(FlatFlipStats& st) {
   for (TetId t = 0; t < m_.num_tet_slots(); ++t)
     if (!m_.is_dead(t) && flat(t)) todo.push_back(t);
   st.flat_before = todo.size();
+  st.remaining = 0;
+  if (todo.empty()) return;
+  index_constraints();
   for (int pass = 0; pass < kMaxPasses && !todo.empty(); ++pass) {
     std::vector<TetId> left;
     const size_t flips = st.flips;
@@ -244,7 +254,6 @@ void FlatFlipper::run(FlatFlipStats& st) {
     todo.swap(left);
     if (st.flips == flips) break;
   }
-  st.remaining = 0;
   for (TetId t = 0; t < m_.num_tet_slots(); ++t)
     if (!m_.is_dead(t) && flat(t)) ++st.remaining;
 }

@@ -540,17 +540,21 @@ void init_segments(const Plc& plc, SegmentSet& segs) {
 
   // Acute vertices (§5): two incident segments at an angle below 90°, i.e. a
   // positive dot product of their directions (exact sign).
-  std::vector<std::vector<VertexId>> nbr(plc.points.size());
-  for (const auto& e : segs.input) {
-    nbr[e[0]].push_back(e[1]);
-    nbr[e[1]].push_back(e[0]);
-  }
-  segs.acute.assign(plc.points.size(), 0);
-  for (VertexId v = 0; v < nbr.size(); ++v) {
+  // The segments' other ends at each point (CSR: one allocation).
+  const size_t np = plc.points.size();
+  std::vector<uint32_t> start(np + 1, 0);
+  for (const auto& e : segs.input) ++start[e[0] + 1], ++start[e[1] + 1];
+  for (size_t v = 0; v < np; ++v) start[v + 1] += start[v];
+  std::vector<VertexId> ends(start[np]);
+  std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+  for (const auto& e : segs.input) ends[fill[e[0]]++] = e[1], ends[fill[e[1]]++] = e[0];
+  segs.acute.assign(np, 0);
+  for (VertexId v = 0; v < np; ++v) {
     const double* pv = &plc.points[v].x;
-    const auto& n = nbr[v];
-    for (size_t i = 0; i < n.size() && !segs.acute[v]; ++i)
-      for (size_t j = i + 1; j < n.size(); ++j)
+    const VertexId* n = ends.data() + start[v];
+    const size_t count = start[v + 1] - start[v];
+    for (size_t i = 0; i < count && !segs.acute[v]; ++i)
+      for (size_t j = i + 1; j < count; ++j)
         if (pred::dot_sign(&plc.points[n[i]].x, pv, &plc.points[n[j]].x) > 0) {
           segs.acute[v] = 1;
           break;

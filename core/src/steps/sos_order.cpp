@@ -178,20 +178,29 @@ void CellEdges::find_cells(const TetMesh& d) {
 }
 
 // A segment that is an edge of a tet alone in its cell is an edge of the
-// subdivision, so of the tetrahedralization in every order.
+// subdivision, so of the tetrahedralization in every order. The segments are
+// listed at their lower end (a few per point), so each tet edge costs a scan
+// of a short list, not a search of all segments.
 void CellEdges::mark_fixed_segments(const TetMesh& d) {
-  std::vector<std::pair<uint64_t, uint32_t>> keys(segs_.size());
-  for (uint32_t k = 0; k < segs_.size(); ++k) keys[k] = {pair_key(segs_[k][0], segs_[k][1]), k};
-  std::sort(keys.begin(), keys.end());
+  const size_t n = plc_.points.size();
+  std::vector<uint32_t> start(n + 1, 0);
+  for (const auto& e : segs_) ++start[std::min(e[0], e[1]) + 1];
+  for (size_t v = 0; v < n; ++v) start[v + 1] += start[v];
+  std::vector<std::pair<VertexId, uint32_t>> at(segs_.size());  // (upper end, segment)
+  std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+  for (uint32_t k = 0; k < segs_.size(); ++k) {
+    const VertexId lo = std::min(segs_[k][0], segs_[k][1]), hi = std::max(segs_[k][0], segs_[k][1]);
+    at[fill[lo]++] = {hi, k};
+  }
   fixed_.assign(segs_.size(), 0);
   static constexpr int kEdge[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
   for (TetId t = 0; t < d.num_tet_slots(); ++t) {
     if (d.is_dead(t) || d.is_ghost(t) || cell_of_[t] != kNone) continue;
     const VertexId* w = d.tet_vertices(t);
     for (const auto& e : kEdge) {
-      const uint64_t key = pair_key(w[e[0]], w[e[1]]);
-      auto it = std::lower_bound(keys.begin(), keys.end(), std::make_pair(key, uint32_t(0)));
-      for (; it != keys.end() && it->first == key; ++it) fixed_[it->second] = 1;
+      const VertexId lo = std::min(w[e[0]], w[e[1]]), hi = std::max(w[e[0]], w[e[1]]);
+      for (uint32_t k = start[lo]; k < start[lo + 1]; ++k)
+        if (at[k].first == hi) fixed_[at[k].second] = 1;
     }
   }
 }
