@@ -166,6 +166,46 @@ TEST_CASE("insertion order does not change the triangulation", "[delaunay]") {
   CHECK(canon(ta) == canon(tb));
 }
 
+TEST_CASE("SmallDelaunay reused equals a fresh unsorted build, degenerate sets included",
+          "[delaunay]") {
+  // One builder for many sets in a row (sos_order.cpp's cells): each result
+  // must be the tetrahedralization a fresh delaunay_tetrahedralize without
+  // the spatial sort gives (the same perturbation by index).
+  auto canon = [](const TetMesh& m) {
+    std::vector<uint32_t> t;
+    m.real_tets(t);
+    std::vector<std::array<uint32_t, 4>> out;
+    for (size_t k = 0; k < t.size(); k += 4) {
+      std::array<uint32_t, 4> x = {t[k], t[k + 1], t[k + 2], t[k + 3]};
+      std::sort(x.begin(), x.end());
+      out.push_back(x);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  std::vector<std::vector<double>> sets = {grid(2, 2, 2), integer_sphere(5), grid(3, 3, 2, 0.1),
+                                           random_cube(40, 3), integer_sphere(3), grid(2, 2, 2)};
+  // Sphere points in a scrambled order: another perturbation, another result.
+  std::vector<double> shuffled = integer_sphere(5);
+  for (size_t i = 0; i + 1 < shuffled.size() / 3; i += 2)
+    for (int c = 0; c < 3; ++c) std::swap(shuffled[3 * i + c], shuffled[3 * (i + 1) + c]);
+  sets.push_back(shuffled);
+  SmallDelaunay small;
+  DelaunayOptions plain;
+  plain.spatial_sort = false;
+  for (const auto& pts : sets) {
+    const size_t n = pts.size() / 3;
+    INFO(n << " points");
+    TetMesh fresh;
+    REQUIRE(delaunay_tetrahedralize(fresh, pts.data(), n, nullptr, nullptr, plain).ok());
+    REQUIRE(small.build(pts.data(), n).ok());
+    validate(small.mesh());
+    CHECK(canon(small.mesh()) == canon(fresh));
+  }
+  const double flat[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+  CHECK(small.build(flat, 4).error.code == ErrorCode::Coplanar);
+}
+
 TEST_CASE("integer points on spheres (co-spherical)", "[delaunay]") {
   for (int r : {3, 5, 7, 13, 25, 65, 85}) {
     INFO("r = " << r);

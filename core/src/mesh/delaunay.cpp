@@ -676,6 +676,27 @@ Status build_guarded(TetMesh& m, const std::vector<VertexId>& vertices,
 
 }  // namespace
 
+SmallDelaunay::SmallDelaunay() : inserter_(mesh_) {}
+
+Status SmallDelaunay::build(const double* coords, size_t n) {
+  mesh_.clear();
+  mesh_.coords.assign(coords, coords + 3 * n);
+  mesh_.vkind.assign(n, kVertexNotInserted);
+  mesh_.vtet.assign(n, kNone);
+  VertexId first[4];
+  Status s = make_initial_tet(mesh_, n, first);
+  if (!s.ok()) return s;
+  TetId hint = mesh_.vtet[first[0]];
+  for (VertexId k = 0; k < n; ++k) {
+    if (k == first[0] || k == first[1] || k == first[2] || k == first[3]) continue;
+    InsertResult r;
+    s = inserter_.insert_vertex(k, hint, &r);
+    if (!s.ok()) return s;
+    if (!r.duplicate) hint = inserter_.last_tet();
+  }
+  return s;
+}
+
 Status delaunay_tetrahedralize(TetMesh& mesh, const double* coords, size_t n,
                                std::vector<VertexId>* input_to_vertex, DelaunayStats* stats,
                                const DelaunayOptions& options) {

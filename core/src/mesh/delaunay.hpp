@@ -216,6 +216,27 @@ class PointInserter {
   std::vector<EdgeRec> recs_;
 };
 
+/// Delaunay tetrahedralizations of many small point sets in a row (the cells
+/// of the perturbation-order search, sos_order.cpp): one work mesh and one
+/// inserter serve every call, so a set of a few points costs its insertions,
+/// not the allocations of a fresh delaunay_tetrahedralize. Points go in in
+/// the given order, perturbed by their index; vertex i is point i, and the
+/// result is the same as delaunay_tetrahedralize's with spatial_sort off.
+class SmallDelaunay {
+ public:
+  SmallDelaunay();
+  SmallDelaunay(const SmallDelaunay&) = delete;
+  SmallDelaunay& operator=(const SmallDelaunay&) = delete;
+  /// Tetrahedralizes points coords[3i..3i+2], i < n, replacing the last
+  /// result. Errors as delaunay_tetrahedralize's (TooFewPoints, Coplanar...).
+  Status build(const double* coords, size_t n);
+  const TetMesh& mesh() const { return mesh_; }
+
+ private:
+  TetMesh mesh_;
+  PointInserter inserter_;
+};
+
 /// The exact, unperturbed sign of the test by which Bowyer–Watson insertion
 /// takes tet t into the cavity of point p: insphere for a real tet; for a
 /// ghost tet, orient3d against its hull face (positive beyond it), and in

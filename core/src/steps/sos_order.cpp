@@ -115,7 +115,7 @@ class CellEdges {
   std::vector<VertexId> id_of_;  // point -> vertex id in the current order
   std::vector<VertexId> local_;
   std::vector<double> xyz_;
-  TetMesh scratch_;
+  SmallDelaunay scratch_;
 };
 
 // Union-find of the tets over the co-spherical faces (see the class comment).
@@ -223,15 +223,13 @@ bool CellEdges::triangulate_cell(uint32_t cell) {
   cell_order_[cell].clear();
   // The result is the same in any insertion order; a cell has a few points,
   // too few for the spatial sort to pay.
-  DelaunayOptions options;
-  options.spatial_sort = false;
-  if (!delaunay_tetrahedralize(scratch_, xyz_.data(), k, nullptr, nullptr, options).ok())
-    return false;
+  if (!scratch_.build(xyz_.data(), k).ok()) return false;
+  const TetMesh& m = scratch_.mesh();
   std::vector<uint64_t>& edges = cell_edges_[cell];
   edges.clear();
-  for (TetId t = 0; t < scratch_.num_tet_slots(); ++t) {
-    if (scratch_.is_dead(t) || scratch_.is_ghost(t)) continue;
-    const VertexId* w = scratch_.tet_vertices(t);
+  for (TetId t = 0; t < m.num_tet_slots(); ++t) {
+    if (m.is_dead(t) || m.is_ghost(t)) continue;
+    const VertexId* w = m.tet_vertices(t);
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j) edges.push_back(pair_key(local_[w[i]], local_[w[j]]));
   }
