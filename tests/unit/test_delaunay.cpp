@@ -49,6 +49,21 @@ uint64_t key2(uint32_t a, uint32_t b) {
 }
 
 // V - E + F - T over the real simplices; 1 for a triangulated 3-ball.
+// The real tets of m, each with sorted vertices, in sorted order: equal for
+// equal triangulations, whatever the slot order.
+std::vector<std::array<uint32_t, 4>> canonical_tets(const TetMesh& m) {
+  std::vector<uint32_t> t;
+  m.real_tets(t);
+  std::vector<std::array<uint32_t, 4>> out;
+  for (size_t k = 0; k < t.size(); k += 4) {
+    std::array<uint32_t, 4> x = {t[k], t[k + 1], t[k + 2], t[k + 3]};
+    std::sort(x.begin(), x.end());
+    out.push_back(x);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 long long euler_characteristic(const TetMesh& m) {
   std::vector<uint32_t> tets;
   m.real_tets(tets);
@@ -150,20 +165,7 @@ TEST_CASE("insertion order does not change the triangulation", "[delaunay]") {
   plain.spatial_sort = false;
   REQUIRE(delaunay_tetrahedralize(b, pts.data(), 3000, nullptr, nullptr, plain).ok());
   validate(b);
-  std::vector<uint32_t> ta, tb;
-  a.real_tets(ta);
-  b.real_tets(tb);
-  auto canon = [](std::vector<uint32_t>& t) {  // sorted tets, each sorted
-    std::vector<std::array<uint32_t, 4>> out;
-    for (size_t k = 0; k < t.size(); k += 4) {
-      std::array<uint32_t, 4> x = {t[k], t[k + 1], t[k + 2], t[k + 3]};
-      std::sort(x.begin(), x.end());
-      out.push_back(x);
-    }
-    std::sort(out.begin(), out.end());
-    return out;
-  };
-  CHECK(canon(ta) == canon(tb));
+  CHECK(canonical_tets(a) == canonical_tets(b));
 }
 
 TEST_CASE("SmallDelaunay reused equals a fresh unsorted build, degenerate sets included",
@@ -171,18 +173,6 @@ TEST_CASE("SmallDelaunay reused equals a fresh unsorted build, degenerate sets i
   // One builder for many sets in a row (sos_order.cpp's cells): each result
   // must be the tetrahedralization a fresh delaunay_tetrahedralize without
   // the spatial sort gives (the same perturbation by index).
-  auto canon = [](const TetMesh& m) {
-    std::vector<uint32_t> t;
-    m.real_tets(t);
-    std::vector<std::array<uint32_t, 4>> out;
-    for (size_t k = 0; k < t.size(); k += 4) {
-      std::array<uint32_t, 4> x = {t[k], t[k + 1], t[k + 2], t[k + 3]};
-      std::sort(x.begin(), x.end());
-      out.push_back(x);
-    }
-    std::sort(out.begin(), out.end());
-    return out;
-  };
   std::vector<std::vector<double>> sets = {grid(2, 2, 2), integer_sphere(5), grid(3, 3, 2, 0.1),
                                            random_cube(40, 3), integer_sphere(3), grid(2, 2, 2)};
   // Sphere points in a scrambled order: another perturbation, another result.
@@ -200,7 +190,7 @@ TEST_CASE("SmallDelaunay reused equals a fresh unsorted build, degenerate sets i
     REQUIRE(delaunay_tetrahedralize(fresh, pts.data(), n, nullptr, nullptr, plain).ok());
     REQUIRE(small.build(pts.data(), n).ok());
     validate(small.mesh());
-    CHECK(canon(small.mesh()) == canon(fresh));
+    CHECK(canonical_tets(small.mesh()) == canonical_tets(fresh));
   }
   const double flat[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
   CHECK(small.build(flat, 4).error.code == ErrorCode::Coplanar);
@@ -401,15 +391,7 @@ TEST_CASE("pinned tet counts and canonical hashes", "[delaunay]") {
     CHECK(st.tets == c.tets);
     CHECK(st.hull_faces == c.hull);
     CHECK(st.duplicates == c.duplicates);
-    std::vector<uint32_t> t;
-    m.real_tets(t);
-    std::vector<std::array<uint32_t, 4>> canon;
-    for (size_t k = 0; k < t.size(); k += 4) {
-      std::array<uint32_t, 4> x = {t[k], t[k + 1], t[k + 2], t[k + 3]};
-      std::sort(x.begin(), x.end());
-      canon.push_back(x);
-    }
-    std::sort(canon.begin(), canon.end());
+    const auto canon = canonical_tets(m);
     uint64_t h = 1469598103934665603ull;
     for (const auto& x : canon)
       for (uint32_t v : x) h = (h ^ v) * 1099511628211ull;
