@@ -306,25 +306,28 @@ for line in "${MODELS[@]}"; do
   T2+=("$(printf '%-40s %7s %7s %11s %6s %5s %8s %7s %6s | %s' "$name" "$s_miss" "$s_seg" "$s_rules" "$s_acute" \
     "$s_max" "$s_ms" "$t_seg" "$(ratio "$s_seg" "$t_seg")" "$d_cols")")
   if [ "$c_rc" -eq 0 ]; then
-    w_ms="-" w_ratio="-"
+    w_ms="-" w_ratio="-" w_warm="-" w_wratio="-"
     if [ "$DO_WASM" = 1 ]; then
       run_once "$dir" node "$ROOT/tests/bench/wasm_mesh.mjs" "$path"
       if [ "$R_RC" -eq 0 ]; then
         w_ms=$(jnum msTotal "$R_OUT")
         w_ratio=$(ratio "$w_ms" "$(jnum msTotal "$c_json")")
+        w_warm=$(jnum msTotalWarm "$R_OUT")
+        w_wratio=$(ratio "$w_warm" "$(jnum msTotal "$c_json")")
       else
         w_ms=$(why "$R_RC")
         NOTES+=("$name: wasm_mesh.mjs: $(why "$R_RC") $R_OUT")
       fi
     fi
     r_ms=$(random_ms "$(jnum inputPoints "$c_json")")
-    T3+=("$(printf '%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s | %8s %8s | %9s %6s' "$name" \
+    T3+=("$(printf '%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s | %8s %8s | %9s %6s %9s %6s' "$name" \
       "$(jnum points "$c_json")" "$(jnum tets "$c_json")" "$(jnum missingSubfaces "$c_json")" \
       "$(jnum regions "$c_json")" "$(jnum cavities "$c_json")" "$(jnum largestCavity "$c_json")" \
       "$(jnum fallbacks "$c_json")" "$(printf '%.1f' "$(jnum minDihedral "$c_json")" 2>/dev/null || echo -)" \
       "$(jnum msRead "$c_json")" "$(jnum msDelaunay "$c_json")" "$(jnum msSegments "$c_json")" \
       "$(jnum msDegeneracy "$c_json")" "$(jnum msFacets "$c_json")" "$(jnum msCarve "$c_json")" \
-      "$(jnum msTotal "$c_json")" "$r_ms" "$(ratio "$(jnum msDelaunay "$c_json")" "$r_ms")" "$w_ms" "$w_ratio")")
+      "$(jnum msTotal "$c_json")" "$r_ms" "$(ratio "$(jnum msDelaunay "$c_json")" "$r_ms")" "$w_ms" "$w_ratio" \
+      "$w_warm" "$w_wratio")")
   else
     T3+=("$(printf '%-40s %7s' "$name" "$c_ms")")
   fi
@@ -363,13 +366,14 @@ printf '%s\n' "$(printf '%.0s-' {1..160})"
 printf '%s\n' "${T2[@]}"
 echo
 echo "Table 4: facet recovery (issue 6) and cdt3d's own time per phase (ms) in the timed run"
-[ "$DO_WASM" = 1 ] && echo "  wasm_ms = msTotal of the WASM package in Node (one call in a fresh process: V8 runs most of it in its baseline"
-[ "$DO_WASM" = 1 ] && echo "  compiler, Liftoff), wasm/n = wasm_ms / native total"
+[ "$DO_WASM" = 1 ] && echo "  wasm_ms = msTotal of the WASM package in Node (the first call in a fresh process: V8 compiles each function"
+[ "$DO_WASM" = 1 ] && echo "  on its first call and runs most of it in its baseline compiler, Liftoff), wasm/n = wasm_ms / native total;"
+[ "$DO_WASM" = 1 ] && echo "  warm_ms = the fastest of 4 more calls in that process (compiled code against native code), warm/n = warm_ms / native total"
 echo "  rand_ms = \`cdt3d delaunay\` on as many uniformly random points as the model has (sort + insertion, its --json ms),"
 echo "  del/rand = delaunay / rand_ms (issue 14: at most 2; delaunay also counts the perturbation-order search)"
-h3='%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s | %8s %8s | %9s %6s\n'
-printf "$h3" model points tets missing regions cavities largest fallbk minDih read delaunay segments degen facets carve total rand_ms del/rand wasm_ms wasm/n
-printf '%s\n' "$(printf '%.0s-' {1..208})"
+h3='%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s | %8s %8s | %9s %6s %9s %6s\n'
+printf "$h3" model points tets missing regions cavities largest fallbk minDih read delaunay segments degen facets carve total rand_ms del/rand wasm_ms wasm/n warm_ms warm/n
+printf '%s\n' "$(printf '%.0s-' {1..225})"
 printf '%s\n' "${T3[@]}"
 if [ ${#NOTES[@]} -gt 0 ]; then
   echo
