@@ -273,6 +273,31 @@ bool CellEdges::missing(const std::vector<VertexId>& order, std::vector<VertexId
   return true;
 }
 
+// How many of the missing segments (ends: two per segment) some order could
+// recover, at most: those whose ends lie on the circumsphere of one tet at
+// the first end. An order changes only the tetrahedralizations of the cells
+// (CellEdges), so a missing segment comes back only if both ends are
+// vertices of one cell, and then every tet of that cell at the first end has
+// the cell's sphere, through the second end.
+size_t recoverable_segments(TetMesh& d, const std::vector<VertexId>& ends) {
+  std::vector<TetId> star;
+  size_t count = 0;
+  for (size_t k = 0; k + 1 < ends.size(); k += 2) {
+    const VertexId u = ends[k], v = ends[k + 1];
+    d.vertex_star(u, star);
+    for (TetId t : star) {
+      if (d.is_ghost(t)) continue;
+      const VertexId* w = d.tet_vertices(t);
+      if (pred::insphere(d.point(w[0]), d.point(w[1]), d.point(w[2]), d.point(w[3]),
+                         d.point(v)) == 0) {
+        ++count;
+        break;
+      }
+    }
+  }
+  return count;
+}
+
 }  // namespace
 
 std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
@@ -294,6 +319,10 @@ std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
     return {};
   }
   if (!ties || fewest == 0) return {};
+  // The search keeps an order only if it saves a tenth of the missing
+  // segments (below); when fewer than that can come back at all, it is not
+  // worth the cells.
+  if (10 * (fewest - recoverable_segments(d0, ends)) > 9 * fewest) return {};
   // Each round: the ends of the segments just found missing first (by
   // segment, so both ends of one segment are placed together), then the
   // others in their previous order.
