@@ -39,10 +39,18 @@ class FlatFlipper {
                                                  m_.point(w[3]));
   }
   bool is_subface(VertexId a, VertexId b, VertexId c) const {
-    return std::binary_search(subfaces_.begin(), subfaces_.end(), sorted_triangle(a, b, c));
+    const FaceKey k = sorted_triangle(a, b, c);
+    if (k[0] + 1 >= face_start_.size()) return false;
+    for (uint32_t i = face_start_[k[0]]; i < face_start_[k[0] + 1]; ++i)
+      if (face_rest_[i] == EdgeKey{k[1], k[2]}) return true;
+    return false;
   }
   bool is_subsegment(VertexId a, VertexId b) const {
-    return std::binary_search(subsegments_.begin(), subsegments_.end(), sorted_edge(a, b));
+    const EdgeKey k = sorted_edge(a, b);
+    if (k[0] + 1 >= edge_start_.size()) return false;
+    for (uint32_t i = edge_start_[k[0]]; i < edge_start_[k[0] + 1]; ++i)
+      if (edge_rest_[i] == k[1]) return true;
+    return false;
   }
   // Orients (a, b, c, d) positively; false when the four are coplanar.
   bool positive(VertexId a, VertexId b, VertexId c, VertexId d, Tet& out) const {
@@ -63,22 +71,41 @@ class FlatFlipper {
   void try_edge(TetId t, int i, int j);
   bool fix(TetId t);
 
-  // The constrained faces and edges, sorted: built only when a flat tet
-  // needs them (most meshes have none).
+  // The constrained faces and edges, each listed at its smallest vertex
+  // (CSR by counting: a few entries per vertex, no sort of all of them),
+  // built only when a flat tet needs them (most meshes have none).
   void index_constraints() {
-    for (const auto& t : sf_.tri) subfaces_.push_back(sorted_triangle(t[0], t[1], t[2]));
-    std::sort(subfaces_.begin(), subfaces_.end());
-    std::vector<std::array<uint32_t, 3>> sub;
-    segs_.subsegments(sub);
-    for (const auto& e : sub) subsegments_.push_back(sorted_edge(e[0], e[1]));
-    std::sort(subsegments_.begin(), subsegments_.end());
+    const size_t nv = m_.num_vertices();
+    face_start_.assign(nv + 1, 0);
+    for (const auto& t : sf_.tri) ++face_start_[std::min({t[0], t[1], t[2]}) + 1];
+    for (size_t v = 0; v < nv; ++v) face_start_[v + 1] += face_start_[v];
+    face_rest_.resize(face_start_[nv]);
+    std::vector<uint32_t> fill(face_start_.begin(), face_start_.end() - 1);
+    for (const auto& t : sf_.tri) {
+      const FaceKey k = sorted_triangle(t[0], t[1], t[2]);
+      face_rest_[fill[k[0]]++] = {k[1], k[2]};
+    }
+    edge_start_.assign(nv + 1, 0);
+    for (const auto& c : segs_.chain)
+      for (size_t i = 0; i + 1 < c.size(); ++i) ++edge_start_[std::min(c[i], c[i + 1]) + 1];
+    for (size_t v = 0; v < nv; ++v) edge_start_[v + 1] += edge_start_[v];
+    edge_rest_.resize(edge_start_[nv]);
+    fill.assign(edge_start_.begin(), edge_start_.end() - 1);
+    for (const auto& c : segs_.chain)
+      for (size_t i = 0; i + 1 < c.size(); ++i) {
+        const EdgeKey k = sorted_edge(c[i], c[i + 1]);
+        edge_rest_[fill[k[0]]++] = k[1];
+      }
   }
 
   TetMesh& m_;
   const Subfaces& sf_;
   const SegmentSet& segs_;
-  std::vector<FaceKey> subfaces_;
-  std::vector<EdgeKey> subsegments_;
+  std::vector<uint32_t> changed_;  // per vertex: clock_ of the last flip that touched it
+  uint32_t clock_ = 0;              // flips done so far
+  std::vector<uint32_t> face_start_, edge_start_;  // per vertex: its entries (CSR)
+  std::vector<EdgeKey> face_rest_;                 // a subface's two larger vertices
+  std::vector<VertexId> edge_rest_;                // a subsegment's larger vertex
   // Best candidate of the current flat tet.
   int best_gain_ = 0;
   double best_ratio_ = 0;
@@ -137,7 +164,7 @@ bool FlatFlipper::keeps_delaunay(const std::vector<TetId>& old,
     for (int i = 0; i < 4; ++i) {
       const FaceKey k =
           sorted_triangle(w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]);
-      if (std::binary_search(subfaces_.begin(), subfaces_.end(), k)) continue;
+      if (is_subface(k[0], k[1], k[2])) continue;
       const VertexId e = opposite(k, j);
       if (e == kNone || e == kInfinite) continue;
       const double* p[5] = {m_.point(w[0]), m_.point(w[1]), m_.point(w[2]), m_.point(w[3]),
@@ -233,7 +260,12 @@ bool FlatFlipper::fix(TetId t) {
   for (int i = 0; i < 4; ++i)
     for (int j = i + 1; j < 4; ++j) try_edge(t, i, j);
   if (best_old_.empty()) return false;
-  return m_.replace_tets(best_old_.data(), best_old_.size(), best_new_.data(), best_new_.size());
+  if (!m_.replace_tets(best_old_.data(), best_old_.size(), best_new_.data(), best_new_.size()))
+    return false;
+  ++clock_;
+  for (const Tet& w : best_new_)
+    for (VertexId v : w) changed_[v] = clock_;
+  return true;
 }
 
 void FlatFlipper::run(FlatFlipStats& st) {
@@ -244,14 +276,36 @@ void FlatFlipper::run(FlatFlipStats& st) {
   st.remaining = 0;
   if (todo.empty()) return;
   index_constraints();
-  for (int pass = 0; pass < kMaxPasses && !todo.empty(); ++pass) {
-    std::vector<TetId> left;
+  // A failed fix(t) fails again until a flip changes a tet sharing an edge
+  // or a face with t, or a tet beyond one of those: all of them have a
+  // vertex of t, and a flip's old and new tets have the same vertices. So a
+  // tet is tried again only when a flip since its last try touched one of
+  // its vertices (the result is that of trying every tet in every pass).
+  changed_.assign(m_.num_vertices(), 0);
+  clock_ = 0;
+  // (tet, 1 + clock_ when last tried, 0 never): a flip after the try stamps
+  // its vertices with at least that.
+  std::vector<std::pair<TetId, uint32_t>> queue, left;
+  for (TetId t : todo) queue.emplace_back(t, 0);
+  for (int pass = 0; pass < kMaxPasses && !queue.empty(); ++pass) {
+    left.clear();
     const size_t flips = st.flips;
-    for (TetId t : todo) {
+    for (const auto& [t, tried] : queue) {
       if (m_.is_dead(t) || !flat(t)) continue;  // gone or replaced by an earlier flip
-      if (fix(t)) ++st.flips; else left.push_back(t);
+      const VertexId* w = m_.tet_vertices(t);
+      const bool touched = changed_[w[0]] >= tried || changed_[w[1]] >= tried ||
+                           changed_[w[2]] >= tried || changed_[w[3]] >= tried;
+      if (!touched) {
+        left.emplace_back(t, tried);
+        continue;
+      }
+      const uint32_t now = clock_ + 1;
+      if (fix(t))
+        ++st.flips;
+      else
+        left.emplace_back(t, now);
     }
-    todo.swap(left);
+    queue.swap(left);
     if (st.flips == flips) break;
   }
   for (TetId t = 0; t < m_.num_tet_slots(); ++t)
