@@ -368,7 +368,8 @@ echo
 echo "Table 4: facet recovery (issue 6) and cdt3d's own time per phase (ms) in the timed run"
 [ "$DO_WASM" = 1 ] && echo "  wasm_ms = msTotal of the WASM package in Node (the first call in a fresh process: V8 compiles each function"
 [ "$DO_WASM" = 1 ] && echo "  on its first call and runs most of it in its baseline compiler, Liftoff), wasm/n = wasm_ms / native total;"
-[ "$DO_WASM" = 1 ] && echo "  warm_ms = the fastest of 4 more calls in that process (compiled code against native code), warm/n = warm_ms / native total"
+[ "$DO_WASM" = 1 ] && echo "  warm_ms = the fastest of more calls in that process (at least 4 and 1.5 s: V8 then runs TurboFan's code),"
+[ "$DO_WASM" = 1 ] && echo "  warm/n = warm_ms / native total (native: one run in a fresh process)"
 echo "  rand_ms = \`cdt3d delaunay\` on as many uniformly random points as the model has (sort + insertion, its --json ms),"
 echo "  del/rand = delaunay / rand_ms (issue 14: at most 2; delaunay also counts the perturbation-order search)"
 h3='%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s | %8s %8s | %9s %6s %9s %6s\n'
