@@ -162,7 +162,8 @@ int integer_differences(const double (*q)[3], int n, int dim, wide::i128 (*d)[3]
     int64_t x[5][3];
     for (int i = 0; i < n; ++i)
       for (int k = 0; k < dim; ++k) {
-        const int64_t v = static_cast<int64_t>(mant[i][k] << (expo[i][k] - lo));
+        // (A zero has mant 0 and no exponent: no shift.)
+        const int64_t v = mant[i][k] ? static_cast<int64_t>(mant[i][k] << (expo[i][k] - lo)) : 0;
         x[i][k] = q[i][k] < 0 ? -v : v;
       }
     uint64_t all = 0;
@@ -177,7 +178,8 @@ int integer_differences(const double (*q)[3], int n, int dim, wide::i128 (*d)[3]
   wide::i128 x[5][3];
   for (int i = 0; i < n; ++i)
     for (int k = 0; k < dim; ++k) {
-      const wide::i128 v = static_cast<wide::i128>(mant[i][k]) << (expo[i][k] - lo);
+      const wide::i128 v =
+          mant[i][k] ? static_cast<wide::i128>(mant[i][k]) << (expo[i][k] - lo) : 0;
       x[i][k] = q[i][k] < 0 ? -v : v;
     }
   wide::u128 all = 0;

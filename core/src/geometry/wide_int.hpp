@@ -18,8 +18,8 @@
 namespace cdt3d {
 namespace wide {
 
-using u128 = unsigned __int128;
-using i128 = __int128;
+__extension__ typedef unsigned __int128 u128;  // GCC and Clang, WebAssembly included
+__extension__ typedef __int128 i128;
 
 template <int N>
 struct Int {
