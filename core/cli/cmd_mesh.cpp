@@ -32,7 +32,8 @@ void usage(std::FILE* out) {
       out,
       "usage: cdt3d mesh MODEL [-o PREFIX] [--format node|vtk|mesh] [--keep-hull]\n"
       "                        [--validate] [--stats] [--json] [-q] [--merge]\n"
-      "                        [--paper-degeneracy] [--no-intersection-check] [--stop-after PHASE]\n"
+      "                        [--paper-degeneracy] [--no-intersection-check] [--one-thread]\n"
+      "                        [--stop-after PHASE]\n"
       "                        [--repair] [--quality [RATIO]] [--max-volume V] [--min-dihedral D]\n"
       "                        [--max-points N]\n"
       "\n"
@@ -51,6 +52,8 @@ void usage(std::FILE* out) {
       "  --paper-degeneracy  step 3 as in Si & Gaertner 2005, section 6 (perturbations, break points,\n"
       "                    boundary protection) instead of the symbolic perturbation\n"
       "  --no-intersection-check  skip the exact self-intersection test of the input\n"
+      "  --one-thread      do not run the self-intersection test on a second thread beside\n"
+      "                    the Delaunay tetrahedralization (same result, more wall time)\n"
       "  --repair          repair the PLC first (as `cdt3d repair`); facets in the output\n"
       "                    and in errors keep their input numbers\n"
       "  --stop-after P    delaunay | segments | degeneracy | facets: stop after that step,\n"
@@ -312,6 +315,8 @@ int parse_mesh_args(int argc, char** argv, MeshArgs& m) {
       fix = true;
     } else if (a == "--no-intersection-check") {
       opt.check_intersections = false;
+    } else if (a == "--one-thread") {
+      opt.threads = false;
     } else if ((a == "-o" || a == "--stop-after" || a == "--format") && i + 1 < argc) {
       (a == "-o" ? prefix : a == "--format" ? format : stop_name) = argv[++i];
     } else if (!a.empty() && a[0] != '-' && input.empty()) {

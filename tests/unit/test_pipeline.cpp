@@ -9,6 +9,7 @@
 #include <cmath>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 using namespace cdt3d;
@@ -149,6 +150,48 @@ TEST_CASE("a self-intersecting PLC names its facets and lists every pair", "[pip
   CHECK(r.status.error.facet >= 0);
   CHECK(r.status.error.other_facet >= 0);
   CHECK(!r.intersecting_facets.empty());
+}
+
+TEST_CASE("the self-intersection test on a second thread changes nothing", "[pipeline]") {
+  // Beside step 1 (Options::threads, the default) or before it: the same
+  // mesh, the same error with the same pairs.
+  Plc plc;
+  REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) + "/elephant.obj", plc).ok());
+  Options one;
+  one.threads = false;
+  const Result a = tetrahedralize(plc), b = tetrahedralize(plc, one);
+  REQUIRE(a.status.ok());
+  REQUIRE(b.status.ok());
+  CHECK(a.mesh.points == b.mesh.points);
+  CHECK(a.mesh.tets == b.mesh.tets);
+  CHECK(a.mesh.faces == b.mesh.faces);
+
+  Plc bad;
+  REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) + "/intersecting_cubes.off", bad).ok());
+  const Result x = tetrahedralize(bad), y = tetrahedralize(bad, one);
+  CHECK(x.status.error.code == ErrorCode::SelfIntersection);
+  CHECK(x.status.error.message == y.status.error.message);
+  CHECK(x.intersecting_facets == y.intersecting_facets);
+  CHECK(x.mesh.tets.empty());
+}
+
+TEST_CASE("tetrahedralize() runs on several threads at once", "[pipeline]") {
+  // The exact predicates' memos and counters are per thread (the search for
+  // the perturbation order reads the tie counter): two runs at once give
+  // what one gives alone, here on a CAD plate full of co-spherical ties.
+  Plc plc;
+  REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) + "/thin_plate.off", plc).ok());
+  const Result alone = tetrahedralize(plc);
+  REQUIRE(alone.status.ok());
+  Result r[2];
+  std::thread other([&] { r[1] = tetrahedralize(plc); });
+  r[0] = tetrahedralize(plc);
+  other.join();
+  for (const Result& x : r) {
+    CHECK(x.status.ok());
+    CHECK(x.mesh.tets == alone.mesh.tets);
+    CHECK(x.mesh.points == alone.mesh.points);
+  }
 }
 
 namespace {

@@ -257,6 +257,11 @@ struct Options {
   /// Reject self-intersecting input before meshing (exact; fast). Only turn it
   /// off for input known to be clean.
   bool check_intersections = true;
+  /// Native builds: run the self-intersection test on a second thread beside
+  /// step 1, which reads the same PLC (the result is the same either way;
+  /// WebAssembly builds always use one thread). tetrahedralize() may also be
+  /// called from several threads at once.
+  bool threads = true;
   /// Join facets that share an edge and lie in one plane into one polygon
   /// facet (TetGen's default; off here, like tetgen -M): their common edges
   /// are no segments then, which saves Steiner points. Only simply connected

@@ -33,6 +33,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 
 #include "expansion.hpp"
@@ -42,7 +43,7 @@ namespace cdt3d {
 namespace pred {
 
 namespace detail {
-Counters g_counters;
+thread_local Counters g_counters;
 }  // namespace detail
 
 namespace {
@@ -367,22 +368,39 @@ int raw_orient2d(const double* p, const double* q, const double* r, double* out)
 
 // Memos of exact results (insphere_exact, incircle_exact): direct-mapped
 // tables keyed by the points' rows in sorted order; a hit compares all rows,
-// so a collision only costs a recomputation. Not thread-safe, like the
-// counters.
+// so a collision only costs a recomputation.
 template <int N, int D>
 struct Memo {
   double rows[N][D];
   int8_t sign;
   bool used;
 };
+// One table per thread (tetrahedralize() may run on several threads at once,
+// and runs its self-intersection test beside step 1), allocated by the
+// thread's first memoized call: calloc leaves the pages no slot touches
+// unmapped, like the zero-initialized static arrays this replaces. Without
+// memory the call is computed without the memo.
+template <int N, int D, size_t Slots>
+class MemoTable {
+ public:
+  MemoTable() = default;
+  MemoTable(const MemoTable&) = delete;
+  MemoTable& operator=(const MemoTable&) = delete;
+  ~MemoTable() { std::free(slots_); }
+  Memo<N, D>* get() {
+    if (!slots_) slots_ = static_cast<Memo<N, D>*>(std::calloc(Slots, sizeof(Memo<N, D>)));
+    return slots_;
+  }
+
+ private:
+  Memo<N, D>* slots_ = nullptr;
+};
 // 16384 slots (2 MiB): on tray_bottom's Delaunay phase 59% of the calls hit
 // (4096 slots: 49%, 65536 slots, 8 MiB: 67%).
-constexpr size_t kInsphereMemoSlots = 16384;
-Memo<5, 3> g_insphere_memo[kInsphereMemoSlots];
+thread_local MemoTable<5, 3, 16384> t_insphere_memo;
 // The 2D facet triangulations test each edge from both sides, the same four
 // points in another order (half the exact calls there).
-constexpr size_t kIncircleMemoSlots = 4096;
-Memo<4, 2> g_incircle_memo[kIncircleMemoSlots];
+thread_local MemoTable<4, 2, 4096> t_incircle_memo;
 
 // Sorts the N rows of q lexicographically; returns the parity of the
 // permutation (+1 even, -1 odd).
@@ -413,10 +431,12 @@ size_t memo_slot(const double (*q)[D], size_t slots) {
 
 // The memoized sign of the determinant of the N rows of q (sorted in place),
 // `compute` evaluating it on the sorted rows.
-template <int N, int D, typename Compute>
-int memoized_sign(double (*q)[D], Memo<N, D>* table, size_t slots, Compute compute) {
+template <int N, int D, size_t Slots, typename Compute>
+int memoized_sign(double (*q)[D], MemoTable<N, D, Slots>& memos, Compute compute) {
   const int parity = sort_rows<N, D>(q);
-  Memo<N, D>& memo = table[memo_slot<N, D>(q, slots)];
+  Memo<N, D>* table = memos.get();
+  if (!table) return parity * compute(q);
+  Memo<N, D>& memo = table[memo_slot<N, D>(q, Slots)];
   if (memo.used && std::memcmp(memo.rows, q, sizeof memo.rows) == 0) return parity * memo.sign;
   const int sign = compute(q);
   std::memcpy(memo.rows, q, sizeof memo.rows);
@@ -521,8 +541,7 @@ int insphere_exact(const double* a, const double* b, const double* c, const doub
   // (sos_order.cpp) builds the Delaunay tetrahedralization of one point set
   // several times. Memoized on the rows in sorted order (the determinant
   // changes sign with the permutation).
-  return memoized_sign<5, 3>(q, g_insphere_memo, kInsphereMemoSlots,
-                             [](const double (*rows)[3]) { return insphere_rows(rows); });
+  return memoized_sign(q, t_insphere_memo, [](const double (*rows)[3]) { return insphere_rows(rows); });
 }
 
 int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy) {
@@ -612,8 +631,7 @@ int incircle_exact(const double* a, const double* b, const double* c, const doub
   if (const int limbs = integer_differences(xy, 4, 2, xd))
     return limbs == 1 ? int_incircle<1>(xd) : int_incircle<2>(xd);
   double r[4][2] = {{a[0], a[1]}, {b[0], b[1]}, {c[0], c[1]}, {d[0], d[1]}};
-  return memoized_sign<4, 2>(r, g_incircle_memo, kIncircleMemoSlots,
-                             [](const double (*rows)[2]) { return incircle_rows(rows); });
+  return memoized_sign(r, t_incircle_memo, [](const double (*rows)[2]) { return incircle_rows(rows); });
 }
 
 }  // namespace

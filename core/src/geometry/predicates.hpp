@@ -136,7 +136,8 @@ int insphere_sos(const double* a, const double* b, const double* c, const double
 int incircle_coplanar_sos(const double* a, const double* b, const double* c, const double* e,
                           uint32_t ia, uint32_t ib, uint32_t ic, uint32_t ie);
 
-/// Counters for filter efficiency (not thread-safe; for statistics only).
+/// Counters for filter efficiency, one set per thread (the pipeline may run
+/// its self-intersection test on a second thread); for statistics only.
 /// *_exact counts the calls the filter could not decide (always on).
 /// *_calls counts every call when CDT3D_PREDICATE_CALL_COUNTS is 1, the
 /// default natively; in WebAssembly builds the default is 0 and they stay 0,
@@ -153,7 +154,7 @@ struct Counters {
 
 namespace detail {
 
-extern Counters g_counters;
+extern thread_local Counters g_counters;
 
 inline void count_call(uint64_t& counter) {
 #if CDT3D_PREDICATE_CALL_COUNTS

@@ -15,9 +15,18 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <exception>
 #include <new>
 #include <string>
 #include <vector>
+// A second thread where the platform has threads (not single-threaded
+// WebAssembly) and the build has exceptions (to carry a failure across).
+#if (!defined(__EMSCRIPTEN__) || defined(__EMSCRIPTEN_PTHREADS__)) && \
+    (defined(__cpp_exceptions) || defined(__EXCEPTIONS))
+#include <system_error>
+#include <thread>
+#define CDT3D_HAS_THREADS 1
+#endif
 
 #include "carve.hpp"
 #include "degeneracy.hpp"
@@ -86,6 +95,80 @@ constexpr size_t kMaxFacetSplits = 64;
 constexpr size_t kSosOrderRounds = 8;
 constexpr size_t kMaxSosOrderPoints = 200000;
 
+// The exact self-intersection test, on a second thread where there is one.
+// It only reads the PLC, like step 1 (and the search for the perturbation
+// order before it), so the two run side by side; the pipeline waits for the
+// verdict before step 2, whose work on an intersecting PLC would be wasted or
+// fail far from the cause. The thread's own clock gives ms(), the time the
+// test took (msRead counts it, so the phases may add up to more than msTotal).
+class IntersectionTest {
+ public:
+  IntersectionTest() = default;
+  IntersectionTest(const IntersectionTest&) = delete;
+  IntersectionTest& operator=(const IntersectionTest&) = delete;
+  ~IntersectionTest() { join(); }
+
+  // Runs the test, on a thread if `beside` and threads exist (and one can be
+  // started), else right here.
+  void start(const Plc& plc, bool beside) {
+#ifdef CDT3D_HAS_THREADS
+    if (beside && std::thread::hardware_concurrency() > 1) {
+      try {
+        thread_ = std::thread([this, &plc] { run(plc); });
+        return;
+      } catch (const std::system_error&) {
+        // no thread to be had: test here
+      }
+    }
+#else
+    (void)beside;
+#endif
+    run(plc);
+  }
+  bool on_thread() const {
+#ifdef CDT3D_HAS_THREADS
+    return thread_.joinable();
+#else
+    return false;
+#endif
+  }
+  // The pairs found (after the thread finished); an allocation failure on
+  // the thread is rethrown here, for tetrahedralize()'s handler.
+  const std::vector<Intersection>& found() {
+    join();
+    if (failure_) std::rethrow_exception(failure_);
+    return found_;
+  }
+  double ms() const { return ms_; }
+
+ private:
+  void run(const Plc& plc) {
+    const auto t0 = Clock::now();
+#ifdef CDT3D_HAS_THREADS
+    try {
+      find_self_intersections(plc, found_);
+    } catch (...) {
+      failure_ = std::current_exception();
+    }
+#else
+    find_self_intersections(plc, found_);
+#endif
+    ms_ = ms_since(t0);
+  }
+  void join() {
+#ifdef CDT3D_HAS_THREADS
+    if (thread_.joinable()) thread_.join();
+#endif
+  }
+
+  std::vector<Intersection> found_;
+  std::exception_ptr failure_;
+  double ms_ = 0;
+#ifdef CDT3D_HAS_THREADS
+  std::thread thread_;
+#endif
+};
+
 class Pipeline {
  public:
   Pipeline(const Plc& plc, const Options& options, Result& out)
@@ -124,6 +207,7 @@ class Pipeline {
   bool mesh_steps(FacetRecoveryStats& fst);
   void add_facet_split(const FacetRecoveryStats& fst);
   Status insert_facet_splits();
+  Status intersection_verdict(IntersectionTest& test, bool beside);
 
   struct FacetSplit {
     uint32_t facet;
@@ -385,6 +469,15 @@ Status Pipeline::insert_facet_splits() {
   return Status::success();
 }
 
+// The self-intersection test's pairs into the Result, and its error. Beside
+// step 1, its time joins msRead (the Read phase had ended without it).
+Status Pipeline::intersection_verdict(IntersectionTest& test, bool beside) {
+  const std::vector<Intersection>& found = test.found();
+  if (beside) out_.stats.ms_read += test.ms();
+  for (const Intersection& x : found) out_.intersecting_facets.push_back({x.a, x.b});
+  return self_intersection_error(*plc_, found);
+}
+
 void Pipeline::run() {
   const auto t_total = Clock::now();
   Statistics& s = out_.stats;
@@ -397,11 +490,11 @@ void Pipeline::run() {
   if (!begin(Phase::Read)) return;
   Status st = check_plc(*plc_);
   if (st.ok() && opt_.quality.enabled) st = check_quality_options(opt_.quality);
+  // Merging facets needs the verdict first; step 1 does not.
+  IntersectionTest intersections;
   if (st.ok() && opt_.check_intersections) {
-    std::vector<Intersection> found;
-    find_self_intersections(*plc_, found);
-    for (const Intersection& x : found) out_.intersecting_facets.push_back({x.a, x.b});
-    st = self_intersection_error(*plc_, found);
+    intersections.start(*plc_, opt_.threads && !opt_.merge_coplanar_facets);
+    if (!intersections.on_thread()) st = intersection_verdict(intersections, false);
   }
   if (st.ok() && opt_.merge_coplanar_facets) {
     std::vector<uint32_t> into;
@@ -424,6 +517,19 @@ void Pipeline::run() {
       plc_ = &permuted_;
     }
     ms_order_ = ms_since(t0);
+  }
+  if (intersections.on_thread()) {
+    // Step 1 beside the test too when the search above did not build it.
+    const auto t0 = Clock::now();
+    if (d0_.live_tets == 0 &&
+        !delaunay_tetrahedralize(d0_, &plc_->points[0].x, plc_->points.size()).ok())
+      d0_ = TetMesh();  // step 1 runs again below and reports why
+    ms_order_ += ms_since(t0);
+    st = intersection_verdict(intersections, true);
+    if (!st.ok()) {
+      fail(st);
+      return;
+    }
   }
 
   // Steps 1-4. Never fail on a valid PLC: when facet recovery gives up on a
