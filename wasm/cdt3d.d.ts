@@ -341,8 +341,10 @@ export interface MeshStatistics {
   improvePoints: number;
   /** Milliseconds per phase (msRead: reading and input checks; msRefine: 0 without `quality`). */
   msRead: number;
+  /** Step 1: the Delaunay tetrahedralization D0. */
   msDelaunay: number;
   msSegments: number;
+  /** Step 3: with the symbolic perturbation, the search for its vertex order (run before step 1). */
   msDegeneracy: number;
   msFacets: number;
   msCarve: number;

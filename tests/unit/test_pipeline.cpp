@@ -6,6 +6,7 @@
 
 #include <cdt3d/cdt3d.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <string>
@@ -166,8 +167,20 @@ TEST_CASE("the self-intersection test on a second thread changes nothing", "[pip
   CHECK(a.mesh.tets == b.mesh.tets);
   CHECK(a.mesh.faces == b.mesh.faces);
 
-  Plc bad;
-  REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) + "/intersecting_cubes.off", bad).ok());
+  // The elephant (12k facets: enough for the second thread) cut by one big
+  // triangle through the middle of its bounding box.
+  Plc bad = plc;
+  Vec3 lo = bad.points[0], hi = bad.points[0];
+  for (const Vec3& p : bad.points) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  const double zm = (lo.z + hi.z) / 2;
+  const VertexId p = add(bad, 2 * lo.x - hi.x, 2 * lo.y - hi.y, zm);
+  const VertexId q = add(bad, 2 * hi.x - lo.x, 2 * lo.y - hi.y, zm);
+  const VertexId r = add(bad, (lo.x + hi.x) / 2, 2 * hi.y - lo.y, zm);
+  bad.facets.push_back(Facet{{{p, q, r}}, {}, 0, -1, -1});
+  REQUIRE(bad.facets.size() >= 5000);
   const Result x = tetrahedralize(bad), y = tetrahedralize(bad, one);
   CHECK(x.status.error.code == ErrorCode::SelfIntersection);
   CHECK(x.status.error.message == y.status.error.message);

@@ -314,6 +314,12 @@ struct Statistics {
   /// vertex moves, and vertices added inside the volume (counted in
   /// steiner_volume too).
   size_t improve_flips = 0, improve_smooths = 0, improve_points = 0;
+  /// Time per phase (ms). ms_delaunay is step 1, the one Delaunay
+  /// tetrahedralization D0; ms_degeneracy is step 3, which with the symbolic
+  /// perturbation is the search for its vertex order (before step 1, Delaunay
+  /// tetrahedralizations of the co-spherical cells included). Natively
+  /// ms_read includes the self-intersection test, which may run beside step
+  /// 1 (Options::threads): the phases may then add up to more than ms_total.
   double ms_read = 0, ms_delaunay = 0, ms_segments = 0, ms_degeneracy = 0, ms_facets = 0,
          ms_carve = 0, ms_refine = 0, ms_total = 0;
   double min_dihedral = 0, max_dihedral = 0;  ///< degrees, over the output tets

@@ -94,6 +94,11 @@ constexpr size_t kMaxFacetSplits = 64;
 // cells).
 constexpr size_t kSosOrderRounds = 8;
 constexpr size_t kMaxSosOrderPoints = 200000;
+// Below this many facets the self-intersection test takes a few ms: a second
+// thread saved nothing measurable there (plate_holes, 1.2k facets: 160 ms
+// either way) and only made step 1's clock noisier (the two threads share
+// the allocator and the memory bus).
+constexpr size_t kMinFacetsBeside = 5000;
 
 // The exact self-intersection test, on a second thread where there is one.
 // It only reads the PLC, like step 1 (and the search for the perturbation
@@ -220,7 +225,8 @@ class Pipeline {
   std::vector<uint32_t> rep_;   // per facet of merged_: its smallest input facet
   Plc permuted_;                // *plc_ with its points in order_ (sos_order.hpp)
   std::vector<VertexId> order_; // point k of permuted_ is input point order_[k]; empty: none
-  double ms_order_ = 0;         // time spent choosing order_
+  double ms_order_ = 0;         // time spent choosing order_ (step 3), D0 not included
+  double ms_d0_ = 0;            // time spent building d0_ (step 1)
   TetMesh d0_;                  // step 1's mesh, computed while choosing order_
   const Options& opt_;
   Result& out_;
@@ -406,7 +412,8 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
   facet_interior_.assign(plc_->facets.size(), {});
   if (st.ok()) st = insert_facet_splits();
   if (!end(Phase::Delaunay, st, &s.ms_delaunay)) return false;
-  s.ms_delaunay += ms_order_;
+  s.ms_delaunay += ms_d0_;
+  s.ms_degeneracy = ms_order_;
 
   // Step 2.
   if (opt_.stop_after >= Phase::Segments) {
@@ -419,8 +426,10 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
     if (!end(Phase::Segments, st, &s.ms_segments)) return false;
   }
 
-  // Step 3. Symbolically (default) there is nothing to do: the predicates of
-  // steps 1, 2 and 4 share one perturbation, so D1 has no local degeneracy.
+  // Step 3. Symbolically (default) there is nothing left to do here: the
+  // perturbation's order was chosen before step 1 (its time is already in
+  // msDegeneracy), and the predicates of steps 1, 2 and 4 share that one
+  // perturbation, so D1 has no local degeneracy.
   if (opt_.stop_after >= Phase::Degeneracy && opt_.degeneracy == DegeneracyMode::Paper) {
     if (!begin(Phase::Degeneracy)) return false;
     DegeneracyStats gst;
@@ -428,7 +437,9 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
                                    opt_.cancel);
     s.perturbations = gst.perturbations, s.break_points = gst.break_points;
     s.protect_segment = gst.protect_segment, s.protect_facet = gst.protect_facet;
-    if (!end(Phase::Degeneracy, st, &s.ms_degeneracy)) return false;
+    double ms = 0;
+    if (!end(Phase::Degeneracy, st, &ms)) return false;
+    s.ms_degeneracy += ms;
   }
 
   // Step 4.
@@ -493,7 +504,8 @@ void Pipeline::run() {
   // Merging facets needs the verdict first; step 1 does not.
   IntersectionTest intersections;
   if (st.ok() && opt_.check_intersections) {
-    intersections.start(*plc_, opt_.threads && !opt_.merge_coplanar_facets);
+    intersections.start(*plc_, opt_.threads && !opt_.merge_coplanar_facets &&
+                                   plc_->facets.size() >= kMinFacetsBeside);
     if (!intersections.on_thread()) st = intersection_verdict(intersections, false);
   }
   if (st.ok() && opt_.merge_coplanar_facets) {
@@ -506,17 +518,21 @@ void Pipeline::run() {
   }
   if (!end(Phase::Read, st, &s.ms_read)) return;
 
-  // The perturbation order that keeps the most segments in D0 (sos_order.hpp);
-  // its Delaunay tetrahedralizations count as Delaunay time. Not with merged
-  // facets, whose Result is validated against the merged PLC.
+  // The perturbation order that keeps the most segments in D0 (sos_order.hpp).
+  // Choosing the symbolic perturbation is step 3's work in this design, so
+  // its time is msDegeneracy; the one tetrahedralization it hands on as D0
+  // counts as step 1 (msDelaunay). Not with merged facets, whose Result is
+  // validated against the merged PLC.
   if (plc_->points.size() <= kMaxSosOrderPoints && !opt_.merge_coplanar_facets) {
     const auto t0 = Clock::now();
-    order_ = segment_friendly_order(*plc_, kSosOrderRounds, d0_);
+    SosOrderStats os;
+    order_ = segment_friendly_order(*plc_, kSosOrderRounds, d0_, &os);
     if (!order_.empty()) {
       permute_plc(*plc_, order_, permuted_);
       plc_ = &permuted_;
     }
-    ms_order_ = ms_since(t0);
+    ms_d0_ = d0_.live_tets > 0 ? os.ms_d0 : 0;
+    ms_order_ = ms_since(t0) - ms_d0_;
   }
   if (intersections.on_thread()) {
     // Step 1 beside the test too when the search above did not build it.
@@ -524,7 +540,7 @@ void Pipeline::run() {
     if (d0_.live_tets == 0 &&
         !delaunay_tetrahedralize(d0_, &plc_->points[0].x, plc_->points.size()).ok())
       d0_ = TetMesh();  // step 1 runs again below and reports why
-    ms_order_ += ms_since(t0);
+    ms_d0_ += ms_since(t0);
     st = intersection_verdict(intersections, true);
     if (!st.ok()) {
       fail(st);

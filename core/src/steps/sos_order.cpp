@@ -2,6 +2,7 @@
 #include "sos_order.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 
 #include "delaunay.hpp"
@@ -12,6 +13,10 @@
 namespace cdt3d {
 
 namespace {
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
 
 // Up to this many missing segments the search moves one segment at a time.
 constexpr size_t kFewMissing = 16;
@@ -36,12 +41,15 @@ void points_in_order(const Plc& plc, const std::vector<VertexId>& order, std::ve
 // decided anything.
 size_t missing_segments(const Plc& plc, const std::vector<std::array<VertexId, 2>>& segs,
                         const std::vector<VertexId>& order, std::vector<VertexId>& ends,
-                        bool* ties, TetMesh& mesh) {
+                        bool* ties, TetMesh& mesh, double* ms = nullptr) {
   std::vector<double> xyz;
   std::vector<VertexId> id_of;
   points_in_order(plc, order, xyz, id_of);
   const uint64_t ties_before = pred::counters().sos_ties;
-  if (!delaunay_tetrahedralize(mesh, xyz.data(), plc.points.size()).ok()) return SIZE_MAX;
+  const auto t0 = std::chrono::steady_clock::now();
+  const bool ok = delaunay_tetrahedralize(mesh, xyz.data(), plc.points.size()).ok();
+  if (ms) *ms = ms_since(t0);
+  if (!ok) return SIZE_MAX;
   if (ties) {
     *ties = pred::counters().sos_ties != ties_before;
     if (!*ties) return 0;  // no order does better: skip the count
@@ -311,7 +319,7 @@ std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
   TetMesh trial;  // a whole tetrahedralization, only if a cell's fails
   for (size_t k = 0; k < n; ++k) order[k] = static_cast<VertexId>(k);
   bool ties = false;
-  size_t fewest = missing_segments(plc, segs, order, ends, &ties, d0);
+  size_t fewest = missing_segments(plc, segs, order, ends, &ties, d0, &st.ms_d0);
   st.rounds = 1;
   st.missing_before = st.missing_after = fewest;
   if (fewest == SIZE_MAX) {
@@ -374,7 +382,9 @@ std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
   std::vector<double> xyz;
   std::vector<VertexId> id_of;
   points_in_order(plc, best, xyz, id_of);
+  const auto t0 = std::chrono::steady_clock::now();
   if (!delaunay_tetrahedralize(d0, xyz.data(), n).ok()) d0 = TetMesh();
+  st.ms_d0 = ms_since(t0);
   return best;
 }
 

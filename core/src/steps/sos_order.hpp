@@ -27,6 +27,7 @@ struct SosOrderStats {
   size_t rounds = 0;          ///< orders tried (the input order included)
   size_t missing_before = 0;  ///< segments missing from D0 in input order
   size_t missing_after = 0;   ///< ... in the order chosen
+  double ms_d0 = 0;           ///< time of the Delaunay tetrahedralization returned in d0
 };
 
 /// A vertex order for `plc` (order[k] = the input point that becomes vertex
