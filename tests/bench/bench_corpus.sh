@@ -371,7 +371,7 @@ echo "Table 4: facet recovery (issue 6) and cdt3d's own time per phase (ms) in t
 [ "$DO_WASM" = 1 ] && echo "  warm_ms = the fastest of more calls in that process (at least 4 and 1.5 s: V8 then runs TurboFan's code),"
 [ "$DO_WASM" = 1 ] && echo "  warm/n = warm_ms / native total (native: one run in a fresh process)"
 echo "  rand_ms = \`cdt3d delaunay\` on as many uniformly random points as the model has (sort + insertion, its --json ms),"
-echo "  del/rand = delaunay / rand_ms (issue 14: at most 2; delaunay also counts the perturbation-order search)"
+echo "  del/rand = delaunay / rand_ms (issue 14: at most 2; delaunay is D0 alone, the perturbation-order search is degen)"
 h3='%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s | %8s %8s | %9s %6s %9s %6s\n'
 printf "$h3" model points tets missing regions cavities largest fallbk minDih read delaunay segments degen facets carve total rand_ms del/rand wasm_ms wasm/n warm_ms warm/n
 printf '%s\n' "$(printf '%.0s-' {1..225})"
