@@ -569,10 +569,14 @@ class FacetTriangulator {
   bool is_loop_edge(uint32_t p, uint32_t q) const {
     return std::binary_search(loop_keys_.begin(), loop_keys_.end(), edge_key(p, q));
   }
+  // The input segment ab (smallest index), or -1: a scan of the few segments
+  // at the lower end, not a search of all of them (three per facet).
   int64_t segment_index(VertexId a, VertexId b) const {
     const std::array<VertexId, 2> k = {std::min(a, b), std::max(a, b)};
-    auto it = std::lower_bound(segs_.input.begin(), segs_.input.end(), k);
-    return it != segs_.input.end() && *it == k ? it - segs_.input.begin() : -1;
+    if (k[0] + 1 >= seg_start_.size()) return -1;
+    for (uint32_t j = seg_start_[k[0]]; j < seg_start_[k[0] + 1]; ++j)
+      if (segs_.input[seg_items_[j]] == k) return seg_items_[j];
+    return -1;
   }
   // PLC points and segments lying in the plane of facet f inside its
   // bounding box that are not on its loops (candidates: those outside the
@@ -639,7 +643,9 @@ void FacetTriangulator::embedded(size_t f, const double* A, const double* B, con
     if (in_some_loop(f, p, drop)) extra_points_.push_back(v);
   }
   // Segments between two vertices of the plane (loop or extra) that are not
-  // loop edges of this facet.
+  // loop edges of this facet. A triangle without extra points has none: a
+  // segment joins two of its vertices only along one of its three edges.
+  if (extra_points_.empty() && facet.loops.size() == 1 && facet.loops[0].size() == 3) return;
   auto in_plane = [this](VertexId v) {
     return std::binary_search(loop_vertices_.begin(), loop_vertices_.end(), v) ||
            std::binary_search(extra_points_.begin(), extra_points_.end(), v);
