@@ -2,7 +2,6 @@
 #include "sos_order.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdint>
 
 #include "delaunay.hpp"
@@ -13,10 +12,6 @@
 namespace cdt3d {
 
 namespace {
-
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Up to this many missing segments the search moves one segment at a time.
 constexpr size_t kFewMissing = 16;
@@ -46,9 +41,9 @@ size_t missing_segments(const Plc& plc, const std::vector<std::array<VertexId, 2
   std::vector<VertexId> id_of;
   points_in_order(plc, order, xyz, id_of);
   const uint64_t ties_before = pred::counters().sos_ties;
-  const auto t0 = std::chrono::steady_clock::now();
-  const bool ok = delaunay_tetrahedralize(mesh, xyz.data(), plc.points.size()).ok();
-  if (ms) *ms = ms_since(t0);
+  DelaunayStats ds;
+  const bool ok = delaunay_tetrahedralize(mesh, xyz.data(), plc.points.size(), nullptr, &ds).ok();
+  if (ms) *ms = ds.ms_sort + ds.ms_insert;
   if (!ok) return SIZE_MAX;
   if (ties) {
     *ties = pred::counters().sos_ties != ties_before;
@@ -382,9 +377,9 @@ std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
   std::vector<double> xyz;
   std::vector<VertexId> id_of;
   points_in_order(plc, best, xyz, id_of);
-  const auto t0 = std::chrono::steady_clock::now();
-  if (!delaunay_tetrahedralize(d0, xyz.data(), n).ok()) d0 = TetMesh();
-  st.ms_d0 = ms_since(t0);
+  DelaunayStats ds;
+  if (!delaunay_tetrahedralize(d0, xyz.data(), n, nullptr, &ds).ok()) d0 = TetMesh();
+  st.ms_d0 = ds.ms_sort + ds.ms_insert;
   return best;
 }
 
