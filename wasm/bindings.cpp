@@ -266,6 +266,8 @@ val stats_js(const cdt3d::Statistics& s) {
   n("faces", s.faces), n("steinerSegment", s.steiner_segment), n("steinerFacet", s.steiner_facet);
   n("steinerVolume", s.steiner_volume), n("rule1", s.rule1), n("rule2", s.rule2);
   n("rule3", s.rule3), n("missingSegments", s.missing_segments), n("acuteBoth", s.acute_both);
+  n("splitProjection", s.split_projection), n("splitShell", s.split_shell);
+  n("splitRemoved", s.split_removed);
   n("maxSplits", s.max_splits), n("perturbations", s.perturbations);
   n("breakPoints", s.break_points), n("protectSegment", s.protect_segment);
   n("protectFacet", s.protect_facet), n("mergedFacets", s.merged_facets);

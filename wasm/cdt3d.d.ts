@@ -296,6 +296,17 @@ export interface MeshStatistics {
   missingSegments: number;
   /** Segment recovery (§5): splits of segments acute at both ends. */
   acuteBoth: number;
+  /**
+   * Segment recovery, default splits (rules 1-3 are used only with
+   * degeneracy "paper", or on a segment after 64 splits): splits at the
+   * projection of the reference point onto the subsegment, or at its
+   * midpoint when that projection lies in its outer fifths.
+   */
+  splitProjection: number;
+  /** Segment recovery, default splits: on the sphere around an endpoint shared with the reference point's segment (a protecting ball, §5). */
+  splitShell: number;
+  /** Segment recovery: split points removed again because later splits made them redundant (not in steinerSegment). */
+  splitRemoved: number;
   /** Most Steiner points on one input segment. */
   maxSplits: number;
   /** Step 3 in "paper" mode: perturbed vertices (0 with the default symbolic perturbation). */

@@ -484,9 +484,11 @@ function showStats(result, refined) {
   for (const key of [
     'inputPoints', 'inputFacets', 'inputSegments', 'points', 'tets', 'faces',
     'steinerSegment', 'steinerFacet', 'facetSplits', 'steinerVolume', 'flatTets',
+    'splitProjection', 'splitShell', 'splitRemoved',
   ]) {
     setStat(key, s[key]);
   }
+  setStat('splitRules', s.rule1 + s.rule2 + s.rule3 + s.acuteBoth);
   $('stat-flatTets').className = s.flatTets > 0 ? 'bad' : '';
   setStat('minDihedral', s.minDihedral, Number.isFinite(s.minDihedral) ? `${s.minDihedral.toFixed(2)}°` : '—');
   setStat('maxDihedral', s.maxDihedral, Number.isFinite(s.maxDihedral) ? `${s.maxDihedral.toFixed(2)}°` : '—');

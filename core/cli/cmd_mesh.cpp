@@ -161,9 +161,11 @@ void print_table(const std::string& input, const Result& r, Phase stop, Degenera
               s.steiner_segment + s.steiner_facet + s.steiner_volume, s.steiner_segment,
               s.steiner_facet, s.facet_splits, s.steiner_volume);
   std::printf("  Segment recovery (§5):     %zu of %zu segments missing from the Delaunay "
-              "tetrahedralization; rule 1: %zu, rule 2: %zu, rule 3: %zu, both ends acute: %zu; "
+              "tetrahedralization; projection: %zu, shell: %zu, removed again: %zu; "
+              "rule 1: %zu, rule 2: %zu, rule 3: %zu, both ends acute: %zu; "
               "at most %zu on one segment\n",
-              s.missing_segments, s.input_segments, s.rule1, s.rule2, s.rule3, s.acute_both, s.max_splits);
+              s.missing_segments, s.input_segments, s.split_projection, s.split_shell,
+              s.split_removed, s.rule1, s.rule2, s.rule3, s.acute_both, s.max_splits);
   if (stop >= Phase::Degeneracy) {
     const bool no_points = s.perturbations == 0 && s.break_points == 0 &&
                            s.protect_segment == 0 && s.protect_facet == 0;

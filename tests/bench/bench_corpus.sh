@@ -285,9 +285,10 @@ for line in "${MODELS[@]}"; do
   if [ "$s_rc" -eq 0 ]; then
     s_seg=$(jnum steinerSegment "$s_json") s_miss=$(jnum missingSegments "$s_json")
     s_rules="$(jnum rule1 "$s_json")/$(jnum rule2 "$s_json")/$(jnum rule3 "$s_json")"
+    s_split="$(jnum splitProjection "$s_json")/$(jnum splitShell "$s_json")/$(jnum splitRemoved "$s_json")"
     s_acute=$(jnum acuteBoth "$s_json") s_max=$(jnum maxSplits "$s_json") s_ms=$(jnum msSegments "$s_json")
   else
-    s_seg=$(why "$s_rc") s_miss="-" s_rules="-" s_acute="-" s_max="-" s_ms="-"
+    s_seg=$(why "$s_rc") s_miss="-" s_rules="-" s_split="-" s_acute="-" s_max="-" s_ms="-"
     [ "$s_rc" -eq 1 ] && s_seg=error
   fi
   if [ "$d_rc" -eq 0 ]; then
@@ -303,7 +304,7 @@ for line in "${MODELS[@]}"; do
   else
     d_cols="$(printf '%6s' "$([ "$d_rc" -eq 1 ] && echo error || why "$d_rc")")"
   fi
-  T2+=("$(printf '%-40s %7s %7s %11s %6s %5s %8s %7s %6s | %s' "$name" "$s_miss" "$s_seg" "$s_rules" "$s_acute" \
+  T2+=("$(printf '%-40s %7s %7s %17s %11s %6s %5s %8s %7s %6s | %s' "$name" "$s_miss" "$s_seg" "$s_split" "$s_rules" "$s_acute" \
     "$s_max" "$s_ms" "$t_seg" "$(ratio "$s_seg" "$t_seg")" "$d_cols")")
   if [ "$c_rc" -eq 0 ]; then
     w_ms="-" w_ratio="-" w_warm="-" w_wratio="-"
@@ -357,12 +358,13 @@ printf '%s\n' "${TK[@]}"
 echo
 echo "Table 3: segment recovery (issue 4: --stop-after segments) and degeneracy removal (issue 5: --stop-after degeneracy)"
 echo "  miss = input segments missing from the Delaunay tetrahedralization (missingSegments); seg_St = cdt3d Steiner points"
-echo "  after segment recovery; rules = rule1/rule2/rule3 splits; acute = acuteBoth; max = maxSplits"
+echo "  after segment recovery; proj/shell/rm = splitProjection/splitShell/splitRemoved (the default splits, and"
+echo "  split points removed again); rules = rule1/rule2/rule3 splits; acute = acuteBoth; max = maxSplits"
 echo "  tg_seg = tetgen \"Steiner points on segments\" (whole run); step 3: $STEP3;"
 echo "  pert/brk/protS/protF = perturbations/breakPoints/protectSegment/protectFacet; +St3 = points added by step 3"
-h2='%-40s %7s %7s %11s %6s %5s %8s %7s %6s | %6s %6s %7s %7s %7s %9s\n'
-printf "$h2" model miss seg_St rules acute max ms_seg tg_seg seg/t pert brk protS protF +St3 ms_degen
-printf '%s\n' "$(printf '%.0s-' {1..160})"
+h2='%-40s %7s %7s %17s %11s %6s %5s %8s %7s %6s | %6s %6s %7s %7s %7s %9s\n'
+printf "$h2" model miss seg_St proj/shell/rm rules acute max ms_seg tg_seg seg/t pert brk protS protF +St3 ms_degen
+printf '%s\n' "$(printf '%.0s-' {1..178})"
 printf '%s\n' "${T2[@]}"
 echo
 echo "Table 4: facet recovery (issue 6) and cdt3d's own time per phase (ms) in the timed run"

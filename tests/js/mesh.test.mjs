@@ -34,6 +34,7 @@ function nativeMesh(file, args = []) {
 
 const COUNTS = ['inputPoints', 'inputFacets', 'inputSegments', 'points', 'tets', 'faces',
   'steinerSegment', 'steinerFacet', 'steinerVolume', 'rule1', 'rule2', 'rule3', 'acuteBoth',
+  'splitProjection', 'splitShell', 'splitRemoved',
   'perturbations', 'breakPoints', 'protectSegment', 'protectFacet', 'missingSubfaces', 'regions',
   'missingSegments', 'facetSplits', 'flatFlips', 'flatTets'];
 

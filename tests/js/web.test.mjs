@@ -307,8 +307,11 @@ test('a model from the file input: the stats shown equal the Node API', { skip, 
     assert.equal(await text('points'), en.format(result.stats.points));
     assert.equal(await text('faces'), en.format(result.stats.faces));
     assert.equal(await text('inputFacets'), en.format(result.stats.inputFacets));
-    const steiner = ['steinerSegment', 'steinerFacet', 'facetSplits', 'steinerVolume', 'flatTets'];
+    const steiner = ['steinerSegment', 'steinerFacet', 'facetSplits', 'steinerVolume', 'flatTets',
+      'splitProjection', 'splitShell', 'splitRemoved'];
     for (const k of steiner) assert.equal(await text(k), en.format(result.stats[k]), k);
+    const rules = result.stats.rule1 + result.stats.rule2 + result.stats.rule3 + result.stats.acuteBoth;
+    assert.equal(await text('splitRules'), en.format(rules));
     assert.equal(await page.textContent('#stat-validation'), result.validation?.ok ? 'passed' : result.validation ? 'FAILED' : 'not run');
     // The tets drawn are the result's.
     const visible = await page.evaluate(() => window.cdt3dDemo.viewer.tets?.count);

@@ -27,11 +27,19 @@ struct Recovered {
 };
 
 // D0 of the PLC's points, then step 2.
-void recover(const Plc& plc, Recovered& r) {
+void recover(const Plc& plc, Recovered& r, SplitMode mode = SplitMode::Projection) {
   Status st = delaunay_tetrahedralize(r.mesh, &plc.points[0].x, plc.points.size());
   REQUIRE(st.ok());
   init_segments(plc, r.segs);
-  r.status = recover_segments(r.mesh, r.segs, &r.stats);
+  r.status = recover_segments(r.mesh, r.segs, &r.stats, nullptr, mode);
+}
+
+Plc read_model(const std::string& file) {
+  Plc plc;
+  Status st = read_plc_file(std::string(CDT3D_TEST_DATA) + "/" + file, plc);
+  INFO(st.error.to_string());
+  REQUIRE(st.ok());
+  return plc;
 }
 
 // The postconditions of step 2: every subsegment is an edge, the mesh is a
@@ -100,7 +108,7 @@ TEST_CASE("rule 1 splits at the sphere around the near endpoint", "[segments]") 
       {{0, 0, 0}, {4, 0, 0}, {0.5, 0.1, 0}, {0.5, -0.1, 0}, {0.5, 0, 0.1}, {0.5, 0, -0.1}});
   plc.segments.push_back({0, 1});
   Recovered r;
-  recover(plc, r);
+  recover(plc, r, SplitMode::Rules);
   require_recovered(r);
   CHECK(r.stats.missing_initially == 1);
   REQUIRE(r.segs.steiner.size() == 1);
@@ -114,6 +122,25 @@ TEST_CASE("rule 1 splits at the sphere around the near endpoint", "[segments]") 
   CHECK(v[2] == 0);
   CHECK(r.segs.steiner[0].t == Approx(std::sqrt(0.26) / 4).margin(std::ldexp(1.0, -21)));
   CHECK(r.segs.chain[0] == std::vector<VertexId>{0, r.segs.steiner[0].vertex, 1});
+}
+
+TEST_CASE("the default splits at the projection of the reference point", "[segments]") {
+  // The same segment with the ring at x = 1.5: the projection of every ring
+  // vertex is (1.5, 0, 0), at 0.375 of the segment, so one split there
+  // recovers both halves (the ring is outside both diametral balls).
+  Plc plc = plc_from_points(
+      {{0, 0, 0}, {4, 0, 0}, {1.5, 0.1, 0}, {1.5, -0.1, 0}, {1.5, 0, 0.1}, {1.5, 0, -0.1}});
+  plc.segments.push_back({0, 1});
+  Recovered r;
+  recover(plc, r);
+  require_recovered(r);
+  REQUIRE(r.segs.steiner.size() == 1);
+  CHECK(r.stats.projection == 1);
+  CHECK(r.stats.points() == 1);
+  const double* v = r.mesh.point(r.segs.steiner[0].vertex);
+  CHECK(v[0] == 1.5);
+  CHECK(v[1] == 0);
+  CHECK(v[2] == 0);
 }
 
 TEST_CASE("a vertex lying on a segment is reported, not looped on", "[segments]") {
@@ -157,7 +184,7 @@ TEST_CASE("acute vertices get protecting balls", "[segments]") {
     }
     plc.points = pts;
     Recovered r;
-    recover(plc, r);
+    recover(plc, r, SplitMode::Rules);
     INFO("k = " << k);
     require_recovered(r);
     REQUIRE(r.segs.acute[0] == 1);
@@ -194,6 +221,39 @@ TEST_CASE("a long thin box keeps all its segments", "[segments]") {
   Recovered r;
   recover(plc, r);
   require_recovered(r);
+}
+
+TEST_CASE("the default spends fewer points than rules 1-3 on CAD parts", "[segments][corpus]") {
+  // Long thin facets around holes: most split points protect a vertex
+  // shared by many segments (the shells of split_shell).
+  for (const char* file : {"plate_holes_binary.stl", "tray_bottom_ascii.stl"}) {
+    INFO(file);
+    const Plc plc = read_model(file);
+    Recovered proj, rules;
+    recover(plc, proj);
+    require_recovered(proj);
+    recover(plc, rules, SplitMode::Rules);
+    require_recovered(rules);
+    CHECK(proj.stats.shell > 0);
+    CHECK(proj.segs.steiner.size() * 10 < rules.segs.steiner.size() * 7);
+  }
+}
+
+TEST_CASE("redundant split points are removed, every subsegment stays an edge", "[segments][corpus]") {
+  // On tray_bottom and elephant later splits make some earlier ones
+  // redundant; require_recovered checks that the mesh is still Delaunay
+  // with every subsegment an edge after their removal.
+  for (const char* file : {"tray_bottom_ascii.stl", "elephant.obj"}) {
+    INFO(file);
+    Recovered r;
+    recover(read_model(file), r);
+    require_recovered(r);
+    CHECK(r.stats.removed > 0);
+    CHECK(r.stats.points() + r.stats.removed == r.stats.projection + r.stats.shell);
+    for (VertexId v = 0; v < r.mesh.num_vertices(); ++v)
+      if (r.mesh.vtet[v] == kNone && r.mesh.vkind[v] == kVertexNotInserted)
+        CHECK(r.segs.on_segment(v) == nullptr);
+  }
 }
 
 TEST_CASE("segment recovery on every valid model of tests/data", "[segments][corpus]") {

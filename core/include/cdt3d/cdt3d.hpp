@@ -223,6 +223,8 @@ enum class DegeneracyMode : uint8_t {
   Symbolic = 0,
   /// Si & Gärtner §6 literally: perturb segment-safe vertices, else break
   /// points with boundary protection (reproduces the paper's point counts).
+  /// Step 2 then splits segments by §5's rules 1-3 as published, not by the
+  /// default projection splits (Statistics::split_projection).
   Paper = 1,
 };
 
@@ -293,6 +295,18 @@ struct Statistics {
   size_t steiner_segment = 0, steiner_facet = 0, steiner_volume = 0;
   size_t missing_segments = 0;     ///< input segments missing from the Delaunay tetrahedralization D0
   size_t rule1 = 0, rule2 = 0, rule3 = 0, acute_both = 0;  ///< segment recovery (§5)
+  /// Segment recovery (step 2) by default: a missing subsegment is split at
+  /// the projection of its reference point (as in §5: of the vertices in its
+  /// diametral ball, the one with the largest circle through its ends), or
+  /// at its midpoint when that projection falls in
+  /// its outer fifths (split_projection); when the reference point lies on
+  /// a segment sharing an endpoint e with this one, at the reference point's
+  /// distance from e, so that the split points around e form a protecting
+  /// ball (§5, Figure 4; split_shell). A segment split 64 times goes on by
+  /// rules 1-3 (rule1...acute_both), whose termination §5 proves. Then split
+  /// points that later splits made redundant are removed (split_removed; not
+  /// in steiner_segment). DegeneracyMode::Paper uses rules 1-3 only.
+  size_t split_projection = 0, split_shell = 0, split_removed = 0;
   size_t max_splits = 0;           ///< most points on one input segment
   size_t perturbations = 0, break_points = 0, protect_segment = 0, protect_facet = 0;  ///< §6
   size_t merged_facets = 0;        ///< input facets joined into others (merge_coplanar_facets)

@@ -231,6 +231,8 @@ class SmallDelaunay {
   /// result. Errors as delaunay_tetrahedralize's (TooFewPoints, Coplanar...).
   Status build(const double* coords, size_t n);
   const TetMesh& mesh() const { return mesh_; }
+  /// The last result, for queries that use the stamps (find_face).
+  TetMesh& mesh() { return mesh_; }
 
  private:
   TetMesh mesh_;

@@ -25,6 +25,7 @@
 #include "spatial_sort.hpp"
 #include "status.hpp"
 #include "subfaces.hpp"
+#include "vertex_removal.hpp"
 
 namespace cdt3d {
 
@@ -417,8 +418,9 @@ class DegeneracyRemoval {
   Plc scratch_plc_;  // the PLC's points with only the facets to retriangulate
 
   // Perturbation scratch.
-  std::vector<TetId> star_, created_;
-  std::vector<VertexId> link_, nbrs_;
+  VertexRemover remover_{mesh_};
+  std::vector<TetId> created_;
+  std::vector<VertexId> nbrs_;
   std::vector<std::array<VertexId, 2>> pairs_;
 
   // probe() scratch.
@@ -893,108 +895,10 @@ void DegeneracyRemoval::subsegments_at(VertexId u, std::vector<std::array<Vertex
   }
 }
 
-// Removes interior vertex v from the Delaunay tetrahedralization: its star is
-// refilled with the Delaunay tetrahedralization of its link vertices (the
-// tets of DT(V \ {v}) inside the star are exactly the tets of DT(link) on
-// the inner side of the link faces). The link is triangulated in a
-// temporary mesh whose local ids follow the global ids, so the symbolic
-// perturbation decides every tie as it does in the whole mesh. The result
-// must fill the star exactly (no ghost tet is reached from inside, and
-// TetMesh::replace_tets matches every link face once); otherwise nothing
-// changes and the answer is false. Hull vertices are not removed.
+// Removes interior vertex v from the Delaunay tetrahedralization
+// (VertexRemover); false, changing nothing, for a hull vertex.
 bool DegeneracyRemoval::remove_vertex(VertexId v, std::vector<TetId>& created) {
-  created.clear();
-  mesh_.vertex_star(v, star_);
-  if (star_.empty()) return false;
-  struct LinkFace {
-    std::array<uint32_t, 3> key;  // sorted local ids
-    VertexId a, b, c;             // counterclockwise seen from outside the star
-  };
-  std::vector<LinkFace> faces;
-  link_.clear();
-  for (TetId t : star_) {
-    if (mesh_.is_ghost(t)) return false;
-    const int iv = mesh_.index_in_tet(t, v);
-    const VertexId* w = mesh_.tet_vertices(t);
-    faces.push_back({{0, 0, 0}, w[kFaceVertex[iv][0]], w[kFaceVertex[iv][1]], w[kFaceVertex[iv][2]]});
-    for (int j = 0; j < 4; ++j)
-      if (j != iv) link_.push_back(w[j]);
-  }
-  std::sort(link_.begin(), link_.end());
-  link_.erase(std::unique(link_.begin(), link_.end()), link_.end());
-  auto local = [&](VertexId g) {
-    return static_cast<uint32_t>(std::lower_bound(link_.begin(), link_.end(), g) - link_.begin());
-  };
-  std::vector<double> xyz;
-  xyz.reserve(3 * link_.size());
-  for (VertexId u : link_) xyz.insert(xyz.end(), mesh_.point(u), mesh_.point(u) + 3);
-  TetMesh tmp;
-  if (!delaunay_tetrahedralize(tmp, xyz.data(), link_.size()).ok()) return false;
-  if (tmp.num_vertices() != link_.size()) return false;
-  for (LinkFace& f : faces) {
-    f.key = {local(f.a), local(f.b), local(f.c)};
-    std::sort(f.key.begin(), f.key.end());
-  }
-  std::sort(faces.begin(), faces.end(), [](const LinkFace& x, const LinkFace& y) { return x.key < y.key; });
-  for (size_t k = 0; k + 1 < faces.size(); ++k)
-    if (faces[k].key == faces[k + 1].key) return false;
-  auto is_link_face = [&](const std::array<uint32_t, 3>& key) {
-    auto it = std::lower_bound(faces.begin(), faces.end(), key,
-                               [](const LinkFace& x, const std::array<uint32_t, 3>& k) { return x.key < k; });
-    return it != faces.end() && it->key == key;
-  };
-  // Seeds: the tet of DT(link) on the inner side of each link face (the side
-  // of v: orient3d(a, b, c, x) > 0 for a face counterclockwise from outside).
-  std::vector<TetId> inside;
-  for (const LinkFace& f : faces) {
-    const HalfFace hf = tmp.find_face(f.key[0], f.key[1], f.key[2]);
-    if (hf == kNone) return false;
-    TetId t = kNone;
-    for (HalfFace side : {hf, tmp.adjacent(hf)}) {
-      const VertexId d = tmp.opposite(side);
-      if (d != kInfinite &&
-          pred::orient3d(mesh_.point(f.a), mesh_.point(f.b), mesh_.point(f.c), mesh_.point(link_[d])) > 0)
-        t = hf_tet(side);
-    }
-    if (t == kNone) return false;
-    inside.push_back(t);
-  }
-  // (find_face uses the stamps too: mark only now.)
-  std::sort(inside.begin(), inside.end());
-  inside.erase(std::unique(inside.begin(), inside.end()), inside.end());
-  const uint32_t epoch = tmp.next_epoch();
-  for (TetId t : inside) tmp.stamp(t, epoch);
-  // Flood fill without crossing link faces.
-  for (size_t k = 0; k < inside.size(); ++k) {
-    const TetId t = inside[k];
-    for (int i = 0; i < 4; ++i) {
-      std::array<uint32_t, 3> key = {tmp.vertex(t, kFaceVertex[i][0]), tmp.vertex(t, kFaceVertex[i][1]),
-                                     tmp.vertex(t, kFaceVertex[i][2])};
-      std::sort(key.begin(), key.end());
-      if (is_link_face(key)) continue;
-      const TetId n = tmp.neighbor(t, i);
-      if (tmp.is_ghost(n)) return false;
-      if (!tmp.stamped(n, epoch)) {
-        tmp.stamp(n, epoch);
-        inside.push_back(n);
-      }
-    }
-  }
-  // Replace the star; replace_tets checks that the filled tets meet every
-  // link face once. Slots: last star tet first, the order in which
-  // alloc_tet hands them out after the star is freed tet by tet (the
-  // numbering of the output's tets follows the slots).
-  std::vector<std::array<VertexId, 4>> fresh;
-  for (TetId t : inside) {
-    const VertexId* w = tmp.tet_vertices(t);
-    fresh.push_back({link_[w[0]], link_[w[1]], link_[w[2]], link_[w[3]]});
-  }
-  const std::vector<TetId> old(star_.rbegin(), star_.rend());
-  if (!mesh_.replace_tets(old.data(), old.size(), fresh.data(), fresh.size(), &created))
-    return false;
-  mesh_.set_vertex_tet(v, kNone);
-  mesh_.vkind[v] = kVertexNotInserted;
-  return true;
+  return remover_.remove(v, &created);
 }
 
 // Moves Steiner vertex v to `to`: removal, then Bowyer–Watson reinsertion.
@@ -1321,7 +1225,7 @@ Status DegeneracyRemoval::run(const volatile bool* cancel) {
     // Break points and protection points may have destroyed subsegments:
     // recover them (§6, protection step 3).
     SegmentRecoveryStats rs;
-    Status st = recover_segments(mesh_, segs_, &rs, cancel);
+    Status st = recover_segments(mesh_, segs_, &rs, cancel, SplitMode::Rules);
     if (!st.ok()) return st;
     stats_.resplit += rs.points();
     added_ += rs.points();

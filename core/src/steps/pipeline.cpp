@@ -419,9 +419,12 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
   if (opt_.stop_after >= Phase::Segments) {
     if (!begin(Phase::Segments)) return false;
     SegmentRecoveryStats sst;
-    st = recover_segments(mesh_, segs_, &sst, opt_.cancel);
+    const SplitMode mode =
+        opt_.degeneracy == DegeneracyMode::Paper ? SplitMode::Rules : SplitMode::Projection;
+    st = recover_segments(mesh_, segs_, &sst, opt_.cancel, mode);
     s.missing_segments = sst.missing_initially;
     s.rule1 = sst.rule1, s.rule2 = sst.rule2, s.rule3 = sst.rule3, s.acute_both = sst.acute_both;
+    s.split_projection = sst.projection, s.split_shell = sst.shell, s.split_removed = sst.removed;
     s.max_splits = sst.max_splits;
     if (!end(Phase::Segments, st, &s.ms_segments)) return false;
   }

@@ -12,6 +12,7 @@
 #include "point_index.hpp"
 #include "predicates.hpp"
 #include "status.hpp"
+#include "vertex_removal.hpp"
 
 namespace cdt3d {
 
@@ -22,6 +23,16 @@ namespace {
 // local feature size); reaching it means rounding or invalid input made the
 // loop cycle, and we stop with an error instead of looping forever.
 constexpr size_t kMaxSplitsPerSegment = 4096;
+
+// SplitMode::Projection splits a segment this many times at most; then rules
+// 1-3, whose termination §5 proves, take over on that segment. On the models
+// of tests/data no segment gets more than 18 projection splits.
+constexpr size_t kMaxProjectionSplits = 64;
+// The projection of the reference point is used when it falls between these
+// fractions of the subsegment, else the midpoint: a split point next to an
+// end would leave a sliver of a subsegment that the next split shortens
+// little.
+constexpr double kProjectionLow = 0.2, kProjectionHigh = 0.8;
 
 // Moves of a split point that would make a numerically flat tet, as
 // fractions of its subsegment (insert_on_segment); the last one is final.
@@ -74,13 +85,27 @@ Status segment_error(ErrorCode code, const SegmentSet& segs, uint32_t s, const s
 
 class SegmentRecovery {
  public:
-  SegmentRecovery(TetMesh& mesh, SegmentSet& segs, SegmentRecoveryStats& stats)
-      : mesh_(mesh), segs_(segs), stats_(stats), inserter_(mesh) {}
+  SegmentRecovery(TetMesh& mesh, SegmentSet& segs, SegmentRecoveryStats& stats, SplitMode mode)
+      : mesh_(mesh),
+        segs_(segs),
+        stats_(stats),
+        mode_(mode),
+        inserter_(mesh),
+        remover_(mesh),
+        first_record_(segs.steiner.size()) {}
 
   Status run(const volatile bool* cancel);
 
  private:
   Status split(uint32_t s, VertexId u, VertexId w);
+  Status split_by_projection(uint32_t s, VertexId u, VertexId w);
+  bool shell_fraction(uint32_t s, VertexId a, VertexId b, VertexId p, double& f) const;
+  void remove_redundant_points();
+  bool try_remove(VertexId v);
+  bool may_become_edge(VertexId u, VertexId w, VertexId v);
+  std::vector<TetId> star_;
+  struct Con { double ax, ay, b; };
+  std::vector<Con> cons_;
   VertexId reference_point(VertexId a, VertexId b);
   void index_vertices();
   double pick_fraction(uint32_t s, VertexId a, VertexId b, VertexId p);
@@ -93,7 +118,9 @@ class SegmentRecovery {
   TetMesh& mesh_;
   SegmentSet& segs_;
   SegmentRecoveryStats& stats_;
+  SplitMode mode_;
   PointInserter inserter_;
+  VertexRemover remover_;
   PointIndex index_;                  // every vertex of the mesh, for reference_point
   std::vector<VertexId> candidates_;  // reference_point's query result
   std::vector<VertexId> ring_;         // vertices of the last insertion's new tets, but v
@@ -123,6 +150,10 @@ class SegmentRecovery {
     }
     return false;
   }
+  // Per segs_.steiner record from first_record_ on (the ones this run
+  // adds): the subsegment it split.
+  std::vector<std::array<VertexId, 2>> split_of_;
+  size_t first_record_ = 0;
   std::vector<uint32_t> incident_start_, incident_;  // input vertex -> segments (CSR)
   std::vector<std::array<VertexId, 4>> probe_faces_;  // (face, vertex beyond)
 };
@@ -232,8 +263,71 @@ double SegmentRecovery::pick_fraction(uint32_t s, VertexId a, VertexId b, Vertex
   return best;
 }
 
-// Splits the missing subsegment (u, w) of input segment s by rule 1, 2 or 3.
+// The split point of subsegment (a, b) of segment s (a fraction from a) on
+// the sphere around an endpoint e that s shares with the segment of the
+// reference point p, through p: the points that segments leaving e get this
+// way lie on common spheres around e, the protecting ball of §5 (Figure 4),
+// so they do not encroach upon each other's subsegments at e, whatever the
+// angle between the segments. False when p is not a Steiner vertex of such
+// a segment or the sphere does not cross the open subsegment.
+bool SegmentRecovery::shell_fraction(uint32_t s, VertexId a, VertexId b, VertexId p, double& f) const {
+  const SegmentVertex* sp = segs_.on_segment(p);
+  if (!sp || sp->segment == s) return false;
+  const std::array<VertexId, 2>& other = segs_.input[sp->segment];
+  for (int k = 0; k < 2; ++k) {
+    const VertexId e = segs_.input[s][k], far = segs_.input[s][1 - k];
+    if (other[0] != e && other[1] != e) continue;
+    const Vec3 pe = to_vec(mesh_.point(e)), pf = to_vec(mesh_.point(far));
+    const double r = dist(pe, to_vec(mesh_.point(p))) / dist(pe, pf);
+    const Vec3 v = {pe.x + r * (pf.x - pe.x), pe.y + r * (pf.y - pe.y), pe.z + r * (pf.z - pe.z)};
+    const Vec3 pa = to_vec(mesh_.point(a)), ab = to_vec(mesh_.point(b)) - pa;
+    const double g = dot(v - pa, ab) / dot(ab, ab);
+    if (g > 0 && g < 1) {
+      f = g;
+      return true;
+    }
+  }
+  return false;
+}
+
+// SplitMode::Projection: splits the missing subsegment (u, w) of segment s
+// near the vertex that keeps it from being a Delaunay edge. Its reference
+// point p is §5's (of the vertices in its diametral ball, the one with the
+// largest circle through its ends, roughly the one nearest its line); the
+// split point is p's projection onto the subsegment, which puts p outside
+// the diametral balls of both halves when p is close to the segment (the
+// usual case on CAD models: a vertex of a long thin facet next to the
+// segment), or the midpoint when the projection is near an end. When p is a
+// split point of a segment sharing an endpoint with s, the point goes on the
+// sphere around that endpoint through p instead (shell_fraction). Rounded
+// to doubles like every split point (insert_on_segment).
+Status SegmentRecovery::split_by_projection(uint32_t s, VertexId u, VertexId w) {
+  VertexId a = u, b = w;
+  if (segs_.param(s, a) > segs_.param(s, b)) std::swap(a, b);
+  const VertexId p = reference_point(a, b);
+  if (p == kNone)
+    return segment_error(ErrorCode::Internal, segs_, s,
+                         "a missing subsegment has no encroaching vertex");
+  const Vec3 pa = to_vec(mesh_.point(a)), ab = to_vec(mesh_.point(b)) - pa;
+  double f = 0.5;
+  SplitRule rule = SplitRule::Projection;
+  if (shell_fraction(s, a, b, p, f)) {
+    rule = SplitRule::Shell;
+  } else {
+    const double g = dot(to_vec(mesh_.point(p)) - pa, ab) / dot(ab, ab);
+    if (g >= kProjectionLow && g <= kProjectionHigh) f = g;
+  }
+  const Vec3 v = {pa.x + f * ab.x, pa.y + f * ab.y, pa.z + f * ab.z};
+  const double ta = segs_.param(s, a), tb = segs_.param(s, b);
+  return insert_on_segment(s, a, b, v, ta + f * (tb - ta), kNone, rule);
+}
+
+// Splits the missing subsegment (u, w) of input segment s: by projection
+// (the default) while s has fewer than kMaxProjectionSplits points, else by
+// rule 1, 2 or 3.
 Status SegmentRecovery::split(uint32_t s, VertexId u, VertexId w) {
+  if (mode_ == SplitMode::Projection && segs_.chain[s].size() - 2 < kMaxProjectionSplits)
+    return split_by_projection(s, u, w);
   const VertexId s0 = segs_.input[s][0], s1 = segs_.input[s][1];
   const bool acute0 = segs_.acute[s0] != 0, acute1 = segs_.acute[s1] != 0;
 
@@ -396,12 +490,15 @@ Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Ve
   if (segs_.steiner_of.size() <= res.vertex) segs_.steiner_of.resize(res.vertex + 1, kNone);
   segs_.steiner_of[res.vertex] = static_cast<uint32_t>(segs_.steiner.size());
   segs_.steiner.push_back({res.vertex, s, t, origin, rule});
+  split_of_.push_back({u, w});
   if (rule == SplitRule::AcuteBoth) segs_.midpoint[s] = res.vertex;
   switch (rule) {
     case SplitRule::Rule1: ++stats_.rule1; break;
     case SplitRule::Rule2: ++stats_.rule2; break;
     case SplitRule::Rule3: ++stats_.rule3; break;
     case SplitRule::AcuteBoth: ++stats_.acute_both; break;
+    case SplitRule::Projection: ++stats_.projection; break;
+    case SplitRule::Shell: ++stats_.shell; break;
     case SplitRule::Protect: break;
   }
   stats_.max_splits = std::max(stats_.max_splits, chain.size() - 2);
@@ -449,6 +546,158 @@ void SegmentRecovery::queue_destroyed(VertexId v, std::vector<std::array<uint32_
   }
 }
 
+// A floating-point filter for try_remove: whether some sphere through u and
+// w may hold none of v's neighbours but u and w (the exact test is
+// remover_.plan's DT(link)). Centres of spheres through u and w lie in the
+// bisector plane of uw; with z the centre's offset from uw's midpoint m in
+// that plane, neighbour x is outside the sphere when a.z < b, a = 2 (x - m)
+// projected on the plane, b = |x - m|^2 - |uw|^2 / 4. A neighbour with b <= 0
+// (in uw's diametral ball) allows only the half of the directions away from
+// it; the others bound how far z may go. We look along directions sampled in
+// the arc all of them allow. False means no sphere was found: a missed
+// removal at worst (rounding, a narrow arc), never a wrong one, because only
+// the exact test removes.
+bool SegmentRecovery::may_become_edge(VertexId u, VertexId w, VertexId v) {
+  constexpr double kPi = 3.14159265358979323846;
+  constexpr int kSamples = 24;
+  // v's neighbours, in ring_ (no sort needed: the filter's answer does not
+  // depend on their order).
+  mesh_.vertex_star(v, star_);
+  clear_ring();
+  for (TetId t : star_)
+    for (int i = 0; i < 4; ++i) {
+      const VertexId x = mesh_.vertex(t, i);
+      if (x != v && x != kInfinite && ring_mark_[x] != ring_epoch_) ring_mark_[x] = ring_epoch_, ring_.push_back(x);
+    }
+  const Vec3 pu = to_vec(mesh_.point(u)), pw = to_vec(mesh_.point(w));
+  const Vec3 m = {0.5 * (pu.x + pw.x), 0.5 * (pu.y + pw.y), 0.5 * (pu.z + pw.z)};
+  const Vec3 axis = pw - pu;
+  const double h2 = 0.25 * dot(axis, axis);
+  // An orthonormal basis (e1, e2) of the bisector plane.
+  Vec3 e1 = std::fabs(axis.x) < std::fabs(axis.y) ? cross(axis, Vec3{1, 0, 0}) : cross(axis, Vec3{0, 1, 0});
+  e1 = (1 / std::sqrt(dot(e1, e1))) * e1;
+  Vec3 e2 = cross(axis, e1);
+  e2 = (1 / std::sqrt(dot(e2, e2))) * e2;
+  std::vector<Con>& cons = cons_;
+  cons.clear();
+  double lo = -kPi, hi = kPi;  // allowed arc of directions, as angles
+  bool any_inside = false;
+  for (VertexId x : ring_) {
+    if (x == u || x == w) continue;
+    const Vec3 d = to_vec(mesh_.point(x)) - m;
+    const Con c = {2 * dot(d, e1), 2 * dot(d, e2), dot(d, d) - h2};
+    cons.push_back(c);
+    if (c.b > 0) continue;
+    if (c.ax == 0 && c.ay == 0) return false;
+    // Allowed: directions within 90 degrees of -a. Intersect with [lo, hi].
+    const double centre = std::atan2(-c.ay, -c.ax);
+    if (!any_inside) {
+      lo = centre - kPi / 2, hi = centre + kPi / 2, any_inside = true;
+      continue;
+    }
+    double mid = 0.5 * (lo + hi);
+    double off = centre - mid;
+    while (off > kPi) off -= 2 * kPi;
+    while (off < -kPi) off += 2 * kPi;
+    const double c0 = mid + off;
+    lo = std::max(lo, c0 - kPi / 2), hi = std::min(hi, c0 + kPi / 2);
+    if (!(lo < hi)) return false;
+  }
+  if (!any_inside) return true;  // the diametral sphere itself
+  for (int k = 0; k < kSamples; ++k) {
+    const double th = lo + (hi - lo) * (k + 0.5) / kSamples;
+    const double dx = std::cos(th), dy = std::sin(th);
+    double rmin = 0, rmax = HUGE_VAL;
+    for (const Con& c : cons) {
+      const double ad = c.ax * dx + c.ay * dy;
+      if (c.b <= 0) {
+        if (ad >= 0) { rmin = HUGE_VAL; break; }
+        rmin = std::max(rmin, c.b / ad);
+      } else if (ad > 0) {
+        rmax = std::min(rmax, c.b / ad);
+      }
+    }
+    if (rmin < rmax) return true;
+  }
+  return false;
+}
+
+// Removes split point v, between u and w on its segment, when uw is an edge
+// of DT(V \ {v}) and none of the tets that would fill v's star is
+// numerically flat. uw then becomes the subsegment. Hull vertices stay.
+bool SegmentRecovery::try_remove(VertexId v) {
+  const SegmentVertex* sv = segs_.on_segment(v);
+  const uint32_t s = sv->segment;
+  const long i = segs_.chain_position(s, v);
+  std::vector<VertexId>& chain = segs_.chain[s];
+  if (i <= 0 || i + 1 >= static_cast<long>(chain.size())) return false;
+  const VertexId u = chain[i - 1], w = chain[i + 1];
+  if (!may_become_edge(u, w, v)) return false;
+  if (!remover_.plan(v)) return false;
+  bool has_uw = false;
+  for (const auto& t : remover_.fresh()) {
+    const bool hu = t[0] == u || t[1] == u || t[2] == u || t[3] == u;
+    const bool hw = t[0] == w || t[1] == w || t[2] == w || t[3] == w;
+    has_uw = has_uw || (hu && hw);
+    if (t[3] != kInfinite &&
+        numerically_flat(mesh_.point(t[0]), mesh_.point(t[1]), mesh_.point(t[2]), mesh_.point(t[3])))
+      return false;
+  }
+  if (!has_uw || !remover_.commit()) return false;
+  chain.erase(chain.begin() + i);
+  return true;
+}
+
+// The last part of step 2 (SplitMode::Projection): a split point v between
+// u and w can go when uw is an edge of DT(V \ {v}), because the result still
+// has every subsegment as a Delaunay edge: removing a vertex empties spheres,
+// it never fills one, so every other subsegment stays an edge. A later
+// split often makes an earlier one redundant (its reference point is now
+// shielded by closer points). Greedy, in insertion order; a removal changes
+// only the stars of its link vertices, so only the split points among them
+// are tried again. The first pass tries only split points whose neighbours
+// on the segment are no longer the ends of the subsegment they split: a
+// point between the same two ends is still needed, because the vertices
+// have only grown since, and more vertices never make a missing edge
+// Delaunay.
+void SegmentRecovery::remove_redundant_points() {
+  std::vector<VertexId> work;
+  std::vector<uint8_t> queued(mesh_.num_vertices(), 0), gone(mesh_.num_vertices(), 0);
+  for (size_t k = first_record_; k < segs_.steiner.size(); ++k) {
+    const SegmentVertex& sv = segs_.steiner[k];
+    if (sv.rule != SplitRule::Projection && sv.rule != SplitRule::Shell) continue;
+    const std::vector<VertexId>& chain = segs_.chain[sv.segment];
+    const long i = segs_.chain_position(sv.segment, sv.vertex);
+    const VertexId u = chain[i - 1], w = chain[i + 1];
+    const std::array<VertexId, 2>& was = split_of_[k - first_record_];
+    if ((u == was[0] && w == was[1]) || (u == was[1] && w == was[0])) continue;
+    work.push_back(sv.vertex), queued[sv.vertex] = 1;
+  }
+  std::vector<VertexId> link;
+  for (size_t k = 0; k < work.size(); ++k) {
+    const VertexId v = work[k];
+    queued[v] = 0;
+    if (!try_remove(v)) continue;
+    gone[v] = 1;
+    ++stats_.removed;
+    link = remover_.link();
+    for (VertexId x : link) {
+      const SegmentVertex* sx = segs_.on_segment(x);
+      if (!sx || queued[x] || (sx->rule != SplitRule::Projection && sx->rule != SplitRule::Shell)) continue;
+      queued[x] = 1;
+      work.push_back(x);
+    }
+  }
+  if (stats_.removed == 0) return;
+  // Drop the records of the removed points (kept in insertion order).
+  size_t n = 0;
+  for (const SegmentVertex& sv : segs_.steiner)
+    if (!gone[sv.vertex]) segs_.steiner[n++] = sv;
+  segs_.steiner.resize(n);
+  std::fill(segs_.steiner_of.begin(), segs_.steiner_of.end(), kNone);
+  for (uint32_t k = 0; k < n; ++k) segs_.steiner_of[segs_.steiner[k].vertex] = k;
+}
+
 Status SegmentRecovery::run(const volatile bool* cancel) {
   // Segments incident to each input vertex (CSR), for queue_destroyed.
   const size_t nv = segs_.acute.size();
@@ -469,7 +718,10 @@ Status SegmentRecovery::run(const volatile bool* cancel) {
   for (;;) {
     missing_subsegments(mesh_, segs_, queue);
     if (stats_.rounds == 0) stats_.missing_initially = queue.size();
-    if (queue.empty()) return {};
+    if (queue.empty()) {
+      if (mode_ == SplitMode::Projection) remove_redundant_points();
+      return {};
+    }
     ++stats_.rounds;
     for (size_t k = 0; k < queue.size(); ++k) {
       if (cancel && *cancel) {
@@ -573,13 +825,13 @@ void missing_subsegments(TetMesh& mesh, const SegmentSet& segs,
 }
 
 Status recover_segments(TetMesh& mesh, SegmentSet& segs, SegmentRecoveryStats* stats,
-                        const volatile bool* cancel) {
+                        const volatile bool* cancel, SplitMode mode) {
   SegmentRecoveryStats local;
   SegmentRecoveryStats& st = stats ? *stats : local;
   st = SegmentRecoveryStats();
   st.segments = segs.input.size();
   for (uint8_t a : segs.acute) st.acute_vertices += a;
-  SegmentRecovery rec(mesh, segs, st);
+  SegmentRecovery rec(mesh, segs, st, mode);
   return rec.run(cancel);
 }
 

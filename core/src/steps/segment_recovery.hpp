@@ -21,6 +21,19 @@ enum class SplitRule : uint8_t {
   Rule3 = 3,      ///< type-2 segment after rule 2 was rejected (rule 3)
   AcuteBoth = 4,  ///< midpoint of a segment whose two ends are acute (§5)
   Protect = 5,    ///< boundary protection point (step 3, §6)
+  Projection = 6, ///< projection of the reference point, or midpoint (SplitMode::Projection)
+  Shell = 7,      ///< on the sphere around a shared endpoint through the reference point
+};
+
+/// Where step 2 splits a missing subsegment.
+enum class SplitMode : uint8_t {
+  /// The default (Statistics::split_projection says how): projection of the
+  /// reference point, or a protecting sphere around a shared endpoint; rules
+  /// 1-3 once a segment has kMaxProjectionSplits points; then redundant split
+  /// points are removed.
+  Projection,
+  /// §5's rules 1-3 only, as published (with DegeneracyMode::Paper).
+  Rules,
 };
 
 /// What is known about a Steiner vertex that lies on an input segment. Its
@@ -76,7 +89,10 @@ struct SegmentRecoveryStats {
   size_t max_splits = 0;       ///< largest number of points added on one input segment
   size_t rounds = 0;           ///< passes of the outer repeat loop
   size_t flat_moves = 0;       ///< split points moved so as not to make a flat tet
-  size_t points() const { return rule1 + rule2 + rule3 + acute_both; }
+  size_t projection = 0, shell = 0;  ///< SplitMode::Projection's splits
+  size_t removed = 0;          ///< split points removed again as redundant
+  /// Split points left on the segments.
+  size_t points() const { return rule1 + rule2 + rule3 + acute_both + projection + shell - removed; }
 };
 
 /// Builds the SegmentSet of `plc` (all segments unsplit) and marks acute
@@ -91,7 +107,8 @@ void init_segments(const Plc& plc, SegmentSet& segs);
 /// coincide with it), LimitReached when one segment needs too many splits,
 /// Cancelled when *cancel becomes true. Errors name the segment.
 Status recover_segments(TetMesh& mesh, SegmentSet& segs, SegmentRecoveryStats* stats = nullptr,
-                        const volatile bool* cancel = nullptr);
+                        const volatile bool* cancel = nullptr,
+                        SplitMode mode = SplitMode::Projection);
 
 /// Subsegments of `segs` that are not edges of `mesh` (a, b, input segment).
 void missing_subsegments(TetMesh& mesh, const SegmentSet& segs,
