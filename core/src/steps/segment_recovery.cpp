@@ -83,6 +83,19 @@ Status segment_error(ErrorCode code, const SegmentSet& segs, uint32_t s, const s
       .vertex(segs.input[s][0]);
 }
 
+// InvalidPlc when vertex p, which encroaches upon subsegment (a, b) of
+// segment s, lies on its line, i.e. in the interior of the segment (a PLC's
+// vertex may not); such a p is always the reference point (its circle
+// through a and b is infinite). Exact test: a split point computed near p
+// would not coincide with it after rounding, and the segment would seem
+// recovered around a vertex it passes through.
+Status check_not_on_segment(const TetMesh& mesh, const SegmentSet& segs, uint32_t s, VertexId a,
+                            VertexId b, VertexId p) {
+  if (p == kNone || !pred::collinear3d(mesh.point(a), mesh.point(b), mesh.point(p))) return {};
+  return segment_error(ErrorCode::InvalidPlc, segs, s,
+                       "vertex " + std::to_string(p) + " lies on the segment");
+}
+
 class SegmentRecovery {
  public:
   SegmentRecovery(TetMesh& mesh, SegmentSet& segs, SegmentRecoveryStats& stats, SplitMode mode)
@@ -308,6 +321,7 @@ Status SegmentRecovery::split_by_projection(uint32_t s, VertexId u, VertexId w) 
   if (p == kNone)
     return segment_error(ErrorCode::Internal, segs_, s,
                          "a missing subsegment has no encroaching vertex");
+  if (Status st = check_not_on_segment(mesh_, segs_, s, a, b, p); !st.ok()) return st;
   const Vec3 pa = to_vec(mesh_.point(a)), ab = to_vec(mesh_.point(b)) - pa;
   double f = 0.5;
   SplitRule rule = SplitRule::Projection;
@@ -341,6 +355,7 @@ Status SegmentRecovery::split(uint32_t s, VertexId u, VertexId w) {
     VertexId ei = u, ej = w;
     if (segs_.param(s, ei) > segs_.param(s, ej)) std::swap(ei, ej);
     const VertexId p = reference_point(ei, ej);
+    if (Status st = check_not_on_segment(mesh_, segs_, s, ei, ej, p); !st.ok()) return st;
     const double f = p == kNone ? 0.5 : pick_fraction(s, ei, ej, p);
     const Vec3 a = to_vec(mesh_.point(ei)), b = to_vec(mesh_.point(ej));
     const Vec3 v = {a.x + f * (b.x - a.x), a.y + f * (b.y - a.y), a.z + f * (b.z - a.z)};
@@ -367,6 +382,7 @@ Status SegmentRecovery::split(uint32_t s, VertexId u, VertexId w) {
   if (p == kNone)
     return segment_error(ErrorCode::Internal, segs_, s,
                          "a missing subsegment has no encroaching vertex");
+  if (Status st = check_not_on_segment(mesh_, segs_, s, ei, ej, p); !st.ok()) return st;
   const Vec3 a = to_vec(mesh_.point(ei)), b = to_vec(mesh_.point(ej)), pp = to_vec(mesh_.point(p));
 
   if (origin == kNone) {
