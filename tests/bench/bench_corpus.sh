@@ -26,8 +26,10 @@
 #                                            counts the numerically flat tets of M.1.node/.ele,
 #                                            local_delaunay its unconstrained faces that are not
 #                                            locally Delaunay (a CDT has none)
-# Every process runs under `timeout` (BENCH_TIMEOUT, default 300 s); a hang or a
-# crash becomes a row that says so. tetgen runs in a scratch folder
+# Every process runs under tests/bench/run_timed.cpp, which times it from its
+# fork to its end (no shell or /usr/bin/time in the interval), takes user CPU
+# and peak RSS from its rusage, and kills it after BENCH_TIMEOUT (default
+# 300 s); a hang or a crash becomes a row that says so. tetgen runs in a scratch folder
 # (.build/bench/bench/corpus/) so nothing is written next to the models.
 #
 # Tables:
@@ -106,6 +108,10 @@ if [ ! -x "$LD" ] || [ tests/bench/local_delaunay.cpp -nt "$LD" ] || [ tests/ben
   c++ -O2 -std=c++17 -I core/include -I core/src/geometry -I core/src/mesh tests/bench/local_delaunay.cpp "$LIB" -o "$LD" ||
     die "cannot build tests/bench/local_delaunay.cpp"
 fi
+TIMED=$ROOT/.build/bench/bench/run_timed
+if [ ! -x "$TIMED" ] || [ tests/bench/run_timed.cpp -nt "$TIMED" ]; then
+  c++ -O2 -std=c++17 tests/bench/run_timed.cpp -o "$TIMED" || die "cannot build tests/bench/run_timed.cpp"
+fi
 GEN=$ROOT/.build/bench/bench/gen_points
 if [ ! -x "$GEN" ] || [ tests/bench/gen_points.cpp -nt "$GEN" ]; then
   c++ -O2 -std=c++17 tests/bench/gen_points.cpp -o "$GEN" || die "cannot build tests/bench/gen_points.cpp"
@@ -138,21 +144,20 @@ mapfile -t MODELS < <(models | { if [ -n "$FILTER" ]; then grep -E -- "$FILTER" 
 [ ${#MODELS[@]} -gt 0 ] || die "no models selected (CORPUS=$CORPUS BENCH_FILTER=$FILTER)"
 
 # 4. Running.
-# run_once DIR CMD... (in DIR) sets R_RC (124 = timeout), R_WALL (ms, bash's
-# microsecond clock), R_USER (s), R_RSS (KiB), R_OUT (stdout), R_ERR (stderr tail).
+# run_once DIR CMD... (in DIR) sets R_RC (124 = timeout), R_WALL (ms, from
+# just before the command's fork to its end, by run_timed), R_USER (s),
+# R_RSS (KiB), R_OUT (stdout), R_ERR (stderr tail).
 run_once() {
-  local dir=$1 out log t0 t1
+  local dir=$1 out log
   shift
   out=$(mktemp) log=$(mktemp)
-  t0=$EPOCHREALTIME
-  (cd "$dir" && timeout "$TIMEOUT" /usr/bin/time -f '%U %S %M' -o "$log" "$@" >"$out" 2>"$out.err")
+  (cd "$dir" && exec "$TIMED" "$TIMEOUT" "$log" "$@" >"$out" 2>"$out.err")
   R_RC=$?
-  t1=$EPOCHREALTIME
-  R_WALL=$(awk -v a="$t0" -v b="$t1" 'BEGIN{printf "%.1f", 1000 * (b - a)}')
-  R_USER="" R_RSS=""
-  read -r R_USER _ R_RSS < <(grep -E '^[0-9.]+ [0-9.]+ [0-9]+$' "$log" | tail -n 1) || true
+  R_WALL="" R_USER="" R_RSS=""
+  read -r R_WALL R_USER _ R_RSS < <(grep -E '^[0-9.]+ [0-9.]+ [0-9.]+ [0-9]+$' "$log" | tail -n 1) || true
+  [ -n "$R_WALL" ] && R_WALL=$(awk -v w="$R_WALL" 'BEGIN{printf "%.1f", w}')
   R_OUT=$(cat "$out")
-  R_ERR=$(grep -v '^Command exited with non-zero status' "$out.err" | tail -c 600)
+  R_ERR=$(tail -c 600 "$out.err")
   rm -f "$out" "$out.err" "$log"
 }
 run_best() {  # run_best DIR CMD... -> B_* of the fastest successful run (or the failure)
@@ -339,7 +344,7 @@ printf '\r%80s\r' '' >&2
 echo "bench_corpus: CORPUS=$CORPUS, ${#MODELS[@]} models, $(nproc 2>/dev/null || echo ?) cores, load $(cut -d' ' -f1-3 /proc/loadavg) at end, $(date -u '+%Y-%m-%d %H:%M UTC')"
 echo "  cdt3d: $BIN mesh MODEL --json ${CDT3D_FLAGS:+$CDT3D_FLAGS }(timed) / --validate; tetgen $(dpkg-query -W -f='${Version}' tetgen 2>/dev/null) $TG_FLAGS on the converted .poly (Steiner counts from $TG_VFLAGS, flat tets from $TG_OFLAGS); timeout ${TIMEOUT}s; fastest of $RUNS"
 echo
-echo "Table 1: full pipeline. ms = process wall time; user = user CPU s; MiB = peak RSS; Steiner = on segments/in facets/in volume"
+echo "Table 1: full pipeline. ms = process wall time (fork to exit); user = user CPU s; MiB = peak RSS; Steiner = on segments/in facets/in volume"
 h1='%-40s %9s %6s %7s %13s %6s | %9s %6s %7s %13s %6s | %6s %6s %6s\n'
 printf "$h1" model cdt3d_ms user MiB Steiner valid tetgen_ms user MiB Steiner ok ms/t user/t mem/t
 printf '%s\n' "$(printf '%.0s-' {1..170})"

@@ -12,15 +12,25 @@ namespace cdt3d {
 
 namespace {
 
-// Upper bounds of the radius-edge histogram bins (the last bin is open).
-constexpr double kRatioBins[9] = {1, 1.5, 2, 3, 5, 10, 20, 50, 100};
-// Upper bounds (degrees) of the per-tet smallest dihedral angle bins.
-constexpr double kDihedralBins[9] = {1, 5, 10, 15, 20, 30, 40, 50, 60};
+// Upper bounds of the radius-edge histogram bins (the last bin is open), as
+// squares: the ratio is compared squared, so no tet costs a square root for it.
+constexpr double kRatioBinsSquared[9] = {1, 2.25, 4, 9, 25, 100, 400, 2500, 10000};
+// Upper bounds of the per-tet smallest dihedral angle bins, 1, 5, 10, 15,
+// 20, 30, 40, 50 and 60 degrees, as their cosines (decreasing): an angle is
+// at least a bound when its cosine is at most the bound's cosine, so a tet
+// costs no arccosine (those took most of this function's time in the
+// WebAssembly build's profile). Literals, so every platform bins alike.
+constexpr double kDihedralBinCosines[9] = {
+    0.9998476951563913, 0.9961946980917455, 0.984807753012208, 0.9659258262890683,
+    0.9396926207859084, 0.8660254037844387, 0.766044443118978, 0.6427876096865394, 0.5};
+
+double squared(const Vec3& v) { return dot(v, v); }
 
 }  // namespace
 
 void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
-  double min_dihedral = 180, max_dihedral = 0;
+  constexpr double kDegrees = 180 / 3.14159265358979323846;
+  double cos_min_dihedral = -1, cos_max_dihedral = 1;  // of the smallest / largest angle
   stats.radius_edge_histogram.fill(0);
   stats.dihedral_histogram.fill(0);
   stats.flat_tets = 0;
@@ -31,30 +41,38 @@ void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
       const double* c = &mesh.points[3 * static_cast<size_t>(mesh.tets[4 * t + i])];
       p[i] = to_vec(c);
     }
-    double tet_min, tet_max;
-    dihedral_range(p, tet_min, tet_max);
-    min_dihedral = std::min(min_dihedral, tet_min);
-    max_dihedral = std::max(max_dihedral, tet_max);
+    double c_lo, c_hi;  // cosines of the tet's smallest and largest angle
+    dihedral_cosines(p, c_lo, c_hi);
+    cos_min_dihedral = std::max(cos_min_dihedral, c_lo);
+    cos_max_dihedral = std::min(cos_max_dihedral, c_hi);
     size_t dbin = 0;
-    while (dbin < 9 && tet_min >= kDihedralBins[dbin]) ++dbin;
+    while (dbin < 9 && c_lo <= kDihedralBinCosines[dbin]) ++dbin;
     ++stats.dihedral_histogram[dbin];
     // Radius-edge ratio: circumradius over the shortest edge.
     const Vec3 a = p[0] - p[3], b = p[1] - p[3], c = p[2] - p[3];
     const double det = dot(a, cross(b, c));
-    double longest = 0;
+    double longest2 = 0, shortest2 = HUGE_VAL;
     for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) longest = std::max(longest, norm(p[i] - p[j]));
+      for (int j = i + 1; j < 4; ++j) {
+        const double l2 = squared(p[i] - p[j]);
+        longest2 = std::max(longest2, l2), shortest2 = std::min(shortest2, l2);
+      }
     // Numerically flat (or inverted) in doubles: the exact orientation of the
     // stored points is positive, but a user's code that recomputes the volume
     // in floating point would see (almost) nothing.
+    const double longest = std::sqrt(longest2);
     if (!(det > kFlatTetRatio * longest * longest * longest)) ++stats.flat_tets;
-    const double ratio = det != 0 ? radius_edge_ratio(p) : HUGE_VAL;
+    double ratio2 = HUGE_VAL;
+    if (det != 0 && shortest2 > 0) {
+      const Vec3 o = sphere_center(p[0], p[1], p[2], p[3]);
+      if (finite(o)) ratio2 = squared(o - p[0]) / shortest2;
+    }
     size_t bin = 0;
-    while (bin < 9 && ratio >= kRatioBins[bin]) ++bin;
+    while (bin < 9 && ratio2 >= kRatioBinsSquared[bin]) ++bin;
     ++stats.radius_edge_histogram[bin];
   }
-  stats.min_dihedral = n ? min_dihedral : 0;
-  stats.max_dihedral = n ? max_dihedral : 0;
+  stats.min_dihedral = n ? std::acos(cos_min_dihedral) * kDegrees : 0;
+  stats.max_dihedral = n ? std::acos(cos_max_dihedral) * kDegrees : 0;
 }
 
 void size_statistics(Result& result) {
