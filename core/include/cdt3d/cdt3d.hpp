@@ -298,8 +298,8 @@ struct Statistics {
   /// Segment recovery (step 2) by default: a missing subsegment is split at
   /// the projection of its reference point (as in §5: of the vertices in its
   /// diametral ball, the one with the largest circle through its ends), or
-  /// at its midpoint when that projection falls in
-  /// its outer fifths (split_projection); when the reference point lies on
+  /// at its midpoint when that projection falls in its outer fifths
+  /// (split_projection); when the reference point lies on
   /// a segment sharing an endpoint e with this one, at the reference point's
   /// distance from e, so that the split points around e form a protecting
   /// ball (§5, Figure 4; split_shell). A segment split 64 times goes on by

@@ -1,7 +1,11 @@
 // Step 2 (Si & Gärtner 2005 §5): make every segment of the PLC an edge of the
-// Delaunay tetrahedralization by splitting missing segments with rules 1–3.
-// The result D1 is still Delaunay (points are inserted by Bowyer–Watson) and
-// X1 is recorded here: every input segment as a chain of vertices.
+// Delaunay tetrahedralization by splitting missing segments, by default at
+// the projection of §5's reference point (or on a protecting sphere around a
+// shared endpoint), with §5's rules 1-3 as the fallback and as the paper
+// mode (SplitMode), then removing split points that became redundant. The
+// result D1 is still Delaunay (points are inserted by Bowyer–Watson and
+// removed by retriangulating their stars) and X1 is recorded here: every
+// input segment as a chain of vertices.
 #pragma once
 
 #include <cdt3d/cdt3d.hpp>
