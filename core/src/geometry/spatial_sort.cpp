@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "radix_sort.hpp"
+
 namespace cdt3d {
 
 namespace {
@@ -108,32 +110,6 @@ void hilbert_sort(const double* coords, VertexId* first, VertexId* last) {
   std::sort(keyed.begin(), keyed.end(), KeyedLess());
   for (size_t i = 0; i < keyed.size(); ++i) first[i] = keyed[i].v;
 }
-
-namespace {
-
-// LSD radix sort of 64-bit records on bits [lo, hi) (11 bits per pass);
-// stable, so records equal there keep their order.
-void radix_sort(std::vector<uint64_t>& a, int lo, int hi) {
-  constexpr int kDigit = 11;
-  constexpr size_t kBuckets = size_t(1) << kDigit;
-  std::vector<uint64_t> tmp(a.size());
-  std::vector<size_t> count(kBuckets);
-  for (int shift = lo; shift < hi; shift += kDigit) {
-    std::fill(count.begin(), count.end(), 0);
-    for (uint64_t r : a) ++count[(r >> shift) & (kBuckets - 1)];
-    if (std::find(count.begin(), count.end(), a.size()) != count.end()) continue;  // one digit
-    size_t sum = 0;
-    for (size_t& c : count) {
-      const size_t here = c;
-      c = sum;
-      sum += here;
-    }
-    for (uint64_t r : a) tmp[count[(r >> shift) & (kBuckets - 1)]++] = r;
-    a.swap(tmp);
-  }
-}
-
-}  // namespace
 
 void brio_order(const double* coords, const std::vector<VertexId>& vertices, uint64_t seed,
                 std::vector<VertexId>& order) {

@@ -4,6 +4,8 @@
 // Texture coordinates, normals, groups, smoothing and materials are ignored.
 // A trailing backslash continues a statement on the next line; errors name the
 // physical line of the offending token.
+#include <cstring>
+
 #include "io/read_common.hpp"
 
 namespace cdt3d {
@@ -45,6 +47,20 @@ Status corner_index(const Token& t, uint64_t vertices_so_far, const std::string&
   return Status::success();
 }
 
+// Lines that start with "f " or "f\t" (possibly after blanks).
+size_t count_face_lines(const char* p, size_t n) {
+  size_t count = 0;
+  const char* end = p + n;
+  while (p < end) {
+    while (p < end && (*p == ' ' || *p == '\t')) ++p;
+    if (end - p >= 2 && p[0] == 'f' && (p[1] == ' ' || p[1] == '\t')) ++count;
+    const void* nl = std::memchr(p, '\n', static_cast<size_t>(end - p));
+    if (!nl) break;
+    p = static_cast<const char*>(nl) + 1;
+  }
+  return count;
+}
+
 }  // namespace
 
 Status read_obj(const uint8_t* data, size_t size, const std::string& file, Plc& out) {
@@ -55,6 +71,10 @@ Status read_obj(const uint8_t* data, size_t size, const std::string& file, Plc& 
   r.set_line_continuation(true);  // legal OBJ: "f 1 2 \\" goes on on the next line
   PlcBuilder b(out, file, 1);
   b.reserve_vertices(size / 32, size / 32, size / 32);
+  // Growing the facet list by doubling moved and page-faulted it ~17 times
+  // on armadillo (3% of its run); the "f" lines are counted first (a line
+  // continued by a backslash may hide one: reserve is only a hint).
+  out.facets.reserve(count_face_lines(reinterpret_cast<const char*>(data), size));
   Token t;
   std::vector<uint32_t> corners;
   while (r.next(t)) {

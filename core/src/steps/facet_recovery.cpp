@@ -12,6 +12,7 @@
 #include "cavity.hpp"
 #include "geometry.hpp"
 #include "predicates.hpp"
+#include "radix_sort.hpp"
 #include "status.hpp"
 
 namespace cdt3d {
@@ -60,6 +61,12 @@ class MeshQuery {
   std::vector<TetId> queue_;
 };
 
+VertexId max_vertex(const Subfaces& sf) {
+  VertexId m = 0;
+  for (const Triangle& t : sf.tri) m = std::max(m, std::max(t[0], std::max(t[1], t[2])));
+  return m;
+}
+
 // Per subface and edge k (tri[k], tri[k+1]): the subface of the same facet
 // across that edge, or kNone; and whether the edge is shared with another
 // facet or by more than two subfaces (then it is a segment, never flipped).
@@ -75,7 +82,18 @@ void subface_adjacency(const Subfaces& sf, std::vector<uint32_t>& nbr,
       const VertexId a = sf.tri[s][k], b = sf.tri[s][(k + 1) % 3];
       es.push_back({edge_key(a, b), uint64_t(sf.facet[s]) << 32 | (3 * s + k)});
     }
-  std::sort(es.begin(), es.end());
+  // By edge alone, stably (radix on a compacted key of 2b bits): what is
+  // decided below does not depend on the order within one edge's group.
+  const int b = index_bits(size_t(max_vertex(sf)) + 2);
+  const uint64_t mask = (uint64_t(1) << b) - 1;
+  if (b <= 31)
+    radix_sort_by(
+        es, [b, mask](const std::pair<uint64_t, uint64_t>& e) {
+          return ((e.first >> 32) << b) | (e.first & mask);
+        },
+        0, 2 * b);
+  else
+    std::sort(es.begin(), es.end());
   nbr.assign(3 * n, kNone);
   fixed.assign(3 * n, 0);
   auto facet = [](uint64_t x) { return uint32_t(x >> 32); };
@@ -423,21 +441,30 @@ Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* sta
   return Status::success();
 }
 
-// Subfaces are grouped by their smallest vertex (counting sort); one pass
-// over the real tets in slot order (memory order) checks each of their faces
-// against the subfaces of its smallest vertex: cheaper than a star walk per
-// subface. Every face with finite vertices belongs to a real tet.
+// Subfaces are grouped by their smallest vertex (counting sort), each entry
+// holding the other two vertices packed in one 64-bit key next to its
+// subface, so a lookup scans a short contiguous run instead of chasing the
+// subface's triangle; one pass over the real tets in slot order (memory
+// order) checks each of their faces against the group of its smallest
+// vertex: cheaper than a star walk per subface. Every face with finite
+// vertices belongs to a real tet.
 void subface_half_faces(const TetMesh& mesh, const Subfaces& sf, std::vector<HalfFace>& out) {
   const size_t n = sf.tri.size(), nv = mesh.num_vertices();
-  std::vector<uint32_t> start(nv + 1, 0), order(n);
-  auto low = [&](uint32_t s) {
-    return std::min(std::min(sf.tri[s][0], sf.tri[s][1]), sf.tri[s][2]);
+  struct Entry {
+    uint64_t rest;  // the two larger vertices, ascending, packed
+    uint32_t s;
   };
-  for (uint32_t s = 0; s < n; ++s) ++start[low(s) + 1];
+  std::vector<uint32_t> start(nv + 1, 0);
+  std::vector<Entry> entries(n);
+  auto key_of = [&](uint32_t s) { return sorted_triangle(sf.tri[s]); };
+  for (uint32_t s = 0; s < n; ++s) ++start[key_of(s)[0] + 1];
   for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
   {
     std::vector<uint32_t> fill(start.begin(), start.end() - 1);
-    for (uint32_t s = 0; s < n; ++s) order[fill[low(s)]++] = s;
+    for (uint32_t s = 0; s < n; ++s) {
+      const Triangle k = key_of(s);
+      entries[fill[k[0]]++] = {(uint64_t(k[1]) << 32) | k[2], s};
+    }
   }
   out.assign(n, kNone);
   const size_t slots = mesh.num_tet_slots();
@@ -452,14 +479,9 @@ void subface_half_faces(const TetMesh& mesh, const Subfaces& sf, std::vector<Hal
       if (nb != kNoHalfFace && hf_tet(nb) < t && !mesh.is_ghost(hf_tet(nb))) continue;
       const Triangle key =
           sorted_triangle({w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]});
-      for (uint32_t j = start[key[0]]; j < start[key[0] + 1]; ++j) {
-        const uint32_t s = order[j];
-        if (out[s] != kNone) continue;
-        const Triangle& T = sf.tri[s];
-        const VertexId x = T[0] == key[0] ? T[1] : T[0];
-        const VertexId y = T[2] == key[0] ? T[1] : T[2];
-        if ((x == key[1] && y == key[2]) || (x == key[2] && y == key[1])) out[s] = make_hf(t, i);
-      }
+      const uint64_t rest = (uint64_t(key[1]) << 32) | key[2];
+      for (uint32_t j = start[key[0]]; j < start[key[0] + 1]; ++j)
+        if (entries[j].rest == rest && out[entries[j].s] == kNone) out[entries[j].s] = make_hf(t, i);
     }
   }
 }
