@@ -115,7 +115,10 @@ Status recover_segments(TetMesh& mesh, SegmentSet& segs, SegmentRecoveryStats* s
                         SplitMode mode = SplitMode::Projection);
 
 /// Subsegments of `segs` that are not edges of `mesh` (a, b, input segment).
+/// With `only_at`, only subsegments with an end v where (*only_at)[v] is
+/// nonzero are looked at.
 void missing_subsegments(TetMesh& mesh, const SegmentSet& segs,
-                         std::vector<std::array<uint32_t, 3>>& out);
+                         std::vector<std::array<uint32_t, 3>>& out,
+                         const std::vector<uint8_t>* only_at = nullptr);
 
 }  // namespace cdt3d
