@@ -16,6 +16,7 @@
 
 #include "delaunay.hpp"
 #include "corpus.hpp"
+#include "plc_intersect.hpp"
 #include "predicates.hpp"
 #include "segment_recovery.hpp"
 #include "subfaces.hpp"
@@ -378,6 +379,29 @@ TEST_CASE("facets of tests/data models after segment recovery", "[subfaces]") {
     const std::set<Edge> subsegs = all_subsegments(p.segs);
     for (size_t f = 0; f < p.plc.facets.size(); ++f)
       check_facet(p.plc, p.segs, p.mesh, p.sf, f, -1, &subsegs);
+  }
+}
+
+// The pipeline skips the search for embedded points and segments on PLCs
+// that passed the self-intersection test without explicit segments or
+// loose points: the subfaces must be exactly those of the full search.
+TEST_CASE("without embedded points the shortcut gives the same subfaces", "[subfaces]") {
+  for (const char* file : {"fandisk.off", "bunny.off", "plate_holes_binary.stl",
+                           "hexagonal_prism_polygons.ply", "l_block.smesh", "schonhardt.off"}) {
+    INFO(file);
+    Pipeline p;
+    pipeline(file, p);
+    REQUIRE(p.status.ok());
+    REQUIRE(p.plc.segments.empty());
+    std::vector<Intersection> found;
+    find_self_intersections(p.plc, found);
+    REQUIRE(found.empty());
+    Subfaces fast;
+    const Status st = triangulate_facets(p.plc, p.segs, p.mesh, {}, fast, true);
+    INFO(st.error.to_string());
+    REQUIRE(st.ok());
+    CHECK(fast.tri == p.sf.tri);
+    CHECK(fast.facet == p.sf.facet);
   }
 }
 

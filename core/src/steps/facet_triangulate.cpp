@@ -465,9 +465,10 @@ inline void project(const double* p, int drop, double* out) {
 // test is done by the caller).
 class PointGrid {
  public:
-  explicit PointGrid(const Plc& plc) : plc_(plc) {
+  // Without `build` the grid stays empty (every query finds nothing).
+  PointGrid(const Plc& plc, bool build) : plc_(plc) {
     const size_t n = plc.points.size();
-    if (n == 0) return;
+    if (n == 0 || !build) return;
     lo_ = {plc.points[0].x, plc.points[0].y, plc.points[0].z};
     std::array<double, 3> hi = lo_;
     for (const Vec3& p : plc.points) {
@@ -535,8 +536,10 @@ class PointGrid {
 
 class FacetTriangulator {
  public:
-  FacetTriangulator(const Plc& plc, const SegmentSet& segs, const TetMesh& mesh)
-      : plc_(plc), segs_(segs), mesh_(mesh), grid_(plc) {
+  FacetTriangulator(const Plc& plc, const SegmentSet& segs, const TetMesh& mesh,
+                    bool nothing_embedded)
+      : plc_(plc), segs_(segs), mesh_(mesh), nothing_embedded_(nothing_embedded),
+        grid_(plc, !nothing_embedded) {
     // Segments incident to each PLC point (CSR).
     const size_t np = plc.points.size();
     seg_start_.assign(np + 1, 0);
@@ -591,6 +594,7 @@ class FacetTriangulator {
   const Plc& plc_;
   const SegmentSet& segs_;
   const TetMesh& mesh_;
+  const bool nothing_embedded_;  // see triangulate_facets
   PointGrid grid_;
   std::vector<uint32_t> seg_start_, seg_items_;
   std::vector<VertexId> verts_;      // sorted mesh ids of the facet's vertices
@@ -723,7 +727,12 @@ Status FacetTriangulator::choose_projection(size_t f, int& drop) {
       if (pred::orient2d_projected(A, B, C, k) != 0) drop = k;
     if (drop < 0) return facet_error(f, "no projection plane");
   }
-  embedded(f, A, B, C, drop);
+  if (nothing_embedded_) {
+    extra_points_.clear();
+    extra_segs_.clear();
+  } else {
+    embedded(f, A, B, C, drop);
+  }
   return Status::success();
 }
 
@@ -864,8 +873,16 @@ void FacetTriangulator::mark_outside(size_t f, const std::vector<Tri>& T, int dr
 Status FacetTriangulator::run(size_t f, const std::vector<VertexId>* interior, Subfaces& out) {
   if (plc_.facets[f].loops.empty()) return facet_error(f, "the facet has no loop");
   Status st = collect_loops(f);
+  if (!st.ok()) return st;
   int drop = 2;
-  if (st.ok()) st = choose_projection(f, drop);
+  if (nothing_embedded_) {
+    // Most facets of a triangle mesh: no search for embedded points, no
+    // projection (check_plc rejected collinear loops).
+    extra_points_.clear();
+    extra_segs_.clear();
+    if (plain_triangle(f, interior, out)) return Status::success();
+  }
+  st = choose_projection(f, drop);
   if (!st.ok()) return st;
   if (plain_triangle(f, interior, out)) return Status::success();
   int sign = 0;
@@ -903,10 +920,11 @@ Status FacetTriangulator::run(size_t f, const std::vector<VertexId>* interior, S
 }  // namespace
 
 Status triangulate_facets(const Plc& plc, const SegmentSet& segs, const TetMesh& mesh,
-                          const std::vector<std::vector<VertexId>>& interior, Subfaces& out) {
+                          const std::vector<std::vector<VertexId>>& interior, Subfaces& out,
+                          bool nothing_embedded) {
   out.tri.clear();
   out.facet.clear();
-  FacetTriangulator ft(plc, segs, mesh);
+  FacetTriangulator ft(plc, segs, mesh, nothing_embedded);
   for (size_t f = 0; f < plc.facets.size(); ++f) {
     Status st = ft.run(f, f < interior.size() ? &interior[f] : nullptr, out);
     if (!st.ok()) return st;

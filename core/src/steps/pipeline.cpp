@@ -174,6 +174,17 @@ class IntersectionTest {
 #endif
 };
 
+// Every point of `plc` is a vertex of some facet loop.
+bool all_points_on_loops(const Plc& plc) {
+  std::vector<uint8_t> used(plc.points.size(), 0);
+  size_t count = 0;
+  for (const Facet& f : plc.facets)
+    for (const auto& loop : f.loops)
+      for (VertexId v : loop)
+        if (v < used.size() && !used[v]) used[v] = 1, ++count;
+  return count == plc.points.size();
+}
+
 class Pipeline {
  public:
   Pipeline(const Plc& plc, const Options& options, Result& out)
@@ -237,6 +248,10 @@ class Pipeline {
   std::vector<std::vector<VertexId>> facet_interior_;
   std::vector<VertexId> volume_points_;
   Subfaces subfaces_;
+  // The PLC passed the self-intersection test, has no explicit segments and
+  // no point outside the facets' loops, so no point or segment lies inside
+  // a facet (triangulate_facets' `nothing_embedded`).
+  bool nothing_embedded_ = false;
 };
 
 bool Pipeline::begin(Phase phase) {
@@ -448,7 +463,7 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
   // Step 4.
   if (opt_.stop_after >= Phase::Facets) {
     if (!begin(Phase::Facets)) return false;
-    st = triangulate_facets(*plc_, segs_, mesh_, facet_interior_, subfaces_);
+    st = triangulate_facets(*plc_, segs_, mesh_, facet_interior_, subfaces_, nothing_embedded_);
     const bool force = facet_splits_.size() < opt_.debug_forced_facet_splits;
     if (st.ok()) st = recover_facets(mesh_, subfaces_, &fst, opt_.cancel, force);
     s.missing_subfaces = fst.missing_initially, s.regions = fst.regions;
@@ -520,6 +535,8 @@ void Pipeline::run() {
     plc_ = &merged_;
   }
   if (!end(Phase::Read, st, &s.ms_read)) return;
+  nothing_embedded_ = opt_.check_intersections && !opt_.merge_coplanar_facets &&
+                      plc_->segments.empty() && all_points_on_loops(*plc_);
 
   // The perturbation order that keeps the most segments in D0 (sos_order.hpp).
   // Choosing the symbolic perturbation is step 3's work in this design, so

@@ -27,8 +27,17 @@ struct Subfaces {
 /// points of a .poly facet, protecting points of step 3). Coordinates come
 /// from `mesh`. Decisions use exact orientation tests in the coordinate plane
 /// that drops the largest component of the facet normal.
+///
+/// Points and segments of the PLC lying inside a facet (not on its loops)
+/// are found and triangulated in, unless `nothing_embedded` says there are
+/// none: then a triangle with unsplit edges is its own triangulation without
+/// a search. The caller may say so when the PLC passed the exact
+/// self-intersection test (a vertex or edge of one facet inside another is
+/// an improper intersection there), has no explicit segments (those may lie
+/// inside a facet as part of it) and no point outside the facets' loops.
 Status triangulate_facets(const Plc& plc, const SegmentSet& segs, const TetMesh& mesh,
-                          const std::vector<std::vector<VertexId>>& interior, Subfaces& out);
+                          const std::vector<std::vector<VertexId>>& interior, Subfaces& out,
+                          bool nothing_embedded = false);
 
 /// Per subface, a half-face of `mesh` holding it (either side), or kNone
 /// when it is not a face of the mesh (facet_recovery.cpp).
