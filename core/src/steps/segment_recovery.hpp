@@ -115,7 +115,7 @@ Status recover_segments(TetMesh& mesh, SegmentSet& segs, SegmentRecoveryStats* s
                         SplitMode mode = SplitMode::Projection);
 
 /// Subsegments of `segs` that are not edges of `mesh` (a, b, input segment).
-/// With `only_at`, only subsegments with an end v where (*only_at)[v] is
+/// With `only_at`, only subsegments with both ends v where (*only_at)[v] is
 /// nonzero are looked at.
 void missing_subsegments(TetMesh& mesh, const SegmentSet& segs,
                          std::vector<std::array<uint32_t, 3>>& out,
