@@ -607,11 +607,13 @@ Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<Vert
   w.vkind.assign(n, kVertexNotInserted);
   w.vtet.assign(n, kNone);
   // About 6.75 tets per point for uniform points, 6.7-6.9 (ghosts apart)
-  // for the points of the classic surface models; 7.5 leaves room for the
-  // Steiner points of steps 2-4 too. A reserve only takes address space
+  // for the points of the classic surface models; 10 leaves room for the
+  // Steiner points of steps 2-4 too (nefertiti adds a quarter of its points
+  // on segments, each making ~7 tets). A reserve only takes address space
   // until a tet is written there, while each growth copies the arrays into
-  // fresh pages (igea: one 1.25x growth at the end of step 1, ~4% of its run).
-  w.reserve(0, n * 15 / 2 + 1024);
+  // fresh pages (igea: one 1.25x growth at the end of step 1, ~4% of its
+  // run; nefertiti: one in step 2, ~4%).
+  w.reserve(0, n * 10 + 1024);
 
   auto finish = [&](Status s) {
     if (all) {
