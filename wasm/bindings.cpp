@@ -418,9 +418,11 @@ val tetrahedralize_js(val input, val options, val on_progress) {
   if (!st.ok()) return failure(st.error);
   cdt3d::Plc plc;
   double ms_read = 0;
-  // With repair the input checks are repair's business (as `mesh --repair`).
+  // The input checks (check_plc) are tetrahedralize()'s first step, or
+  // repair's business with repair (as `mesh --repair`): reading does not
+  // run them too.
   const bool fix = options["repair"].as<bool>();
-  st = plc_from_js(input, plc, &ms_read, !fix);
+  st = plc_from_js(input, plc, &ms_read, false);
   if (!st.ok()) return failure(st.error);
   cdt3d::RepairReport report;
   if (fix) {
