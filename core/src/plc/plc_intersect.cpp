@@ -915,21 +915,36 @@ void Checker::visit_pairs() {
   const uint32_t nt = static_cast<uint32_t>(tris_.size());
   const uint32_t nf = static_cast<uint32_t>(plc_.facets.size());
   const size_t ncell = cell_start_.empty() ? 0 : cell_start_.size() - 1;
+  // A cell's items are copied next to each other first (box and lowest
+  // cell), so the pair loop reads contiguous memory instead of two random
+  // records per pair (igea 254 -> 250 ms, armadillo 101 -> 94).
+  struct Local {
+    Box box;
+    int32_t c[3];
+  };
+  std::vector<Local> local;
   for (size_t cell = 0; cell < ncell && !full_; ++cell) {
     const uint32_t begin = cell_start_[cell], end = cell_start_[cell + 1];
+    if (end - begin < 2) continue;
     const int32_t cx = static_cast<int32_t>(cell % dims_[0]);
     const int32_t cy = static_cast<int32_t>((cell / dims_[0]) % dims_[1]);
     const int32_t cz = static_cast<int32_t>(cell / (static_cast<size_t>(dims_[0]) * dims_[1]));
+    local.resize(end - begin);
+    for (uint32_t x = begin; x < end; ++x) {
+      const uint32_t i = cell_items_[x];
+      local[x - begin] = {box_[i], {cells_[i][0], cells_[i][1], cells_[i][2]}};
+    }
     for (uint32_t x = begin; x < end && !full_; ++x) {
       const uint32_t i = cell_items_[x];
+      const Local& li = local[x - begin];
       for (uint32_t y = x + 1; y < end && !full_; ++y) {
-        const uint32_t j = cell_items_[y];
+        const Local& lj = local[y - begin];
         // Visit the pair only in the first cell both boxes share.
-        const auto &ci = cells_[i], &cj = cells_[j];
-        if (std::max(ci[0], cj[0]) != cx || std::max(ci[1], cj[1]) != cy ||
-            std::max(ci[2], cj[2]) != cz)
+        if (std::max(li.c[0], lj.c[0]) != cx || std::max(li.c[1], lj.c[1]) != cy ||
+            std::max(li.c[2], lj.c[2]) != cz)
           continue;
-        if (!boxes_overlap(box_[i], box_[j])) continue;
+        if (!boxes_overlap(li.box, lj.box)) continue;
+        const uint32_t j = cell_items_[y];
         if (i < nt && j < nt) {
           const Tri &t1 = tris_[i], &t2 = tris_[j];
           if (t1.facet == t2.facet) continue;
