@@ -252,6 +252,9 @@ class Pipeline {
   // no point outside the facets' loops, so no point or segment lies inside
   // a facet (triangulate_facets' `nothing_embedded`).
   bool nothing_embedded_ = false;
+  // plc_segments(*plc_) from the perturbation-order search, for step 2 (empty
+  // when not computed or used up).
+  std::vector<std::array<VertexId, 2>> input_segments_;
 };
 
 bool Pipeline::begin(Phase phase) {
@@ -422,7 +425,12 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
   } else {
     st = delaunay_tetrahedralize(mesh_, &plc_->points[0].x, plc_->points.size(), nullptr, &dstats);
   }
-  init_segments(*plc_, segs_);
+  if (!input_segments_.empty()) {
+    init_segments(*plc_, segs_, std::move(input_segments_));
+    input_segments_.clear();
+  } else {
+    init_segments(*plc_, segs_);
+  }
   s.input_segments = segs_.input.size();
   facet_interior_.assign(plc_->facets.size(), {});
   if (st.ok()) st = insert_facet_splits();
@@ -546,8 +554,9 @@ void Pipeline::run() {
   if (plc_->points.size() <= kMaxSosOrderPoints && !opt_.merge_coplanar_facets) {
     const auto t0 = Clock::now();
     SosOrderStats os;
-    order_ = segment_friendly_order(*plc_, kSosOrderRounds, d0_, &os);
+    order_ = segment_friendly_order(*plc_, kSosOrderRounds, d0_, &os, &input_segments_);
     if (!order_.empty()) {
+      input_segments_.clear();  // numbered for the points before the order
       permute_plc(*plc_, order_, permuted_);
       plc_ = &permuted_;
     }

@@ -851,8 +851,12 @@ void SegmentSet::subsegments(std::vector<std::array<uint32_t, 3>>& out) const {
 }
 
 void init_segments(const Plc& plc, SegmentSet& segs) {
+  init_segments(plc, segs, plc_segments(plc));
+}
+
+void init_segments(const Plc& plc, SegmentSet& segs, std::vector<std::array<VertexId, 2>>&& known) {
   segs = SegmentSet();
-  segs.input = plc_segments(plc);
+  segs.input = std::move(known);
   segs.chain.reserve(segs.input.size());
   for (const auto& e : segs.input) segs.chain.push_back({e[0], e[1]});
   segs.midpoint.assign(segs.input.size(), kNone);

@@ -103,6 +103,8 @@ struct SegmentRecoveryStats {
 /// vertices: a vertex is acute when two of its segments meet at an angle
 /// smaller than 90° (exact sign of the dot product).
 void init_segments(const Plc& plc, SegmentSet& segs);
+/// The same with plc_segments(plc) already computed (`known`, moved from).
+void init_segments(const Plc& plc, SegmentSet& segs, std::vector<std::array<VertexId, 2>>&& known);
 
 /// Recovers every segment of `segs` in `mesh`, a Delaunay tetrahedralization
 /// whose vertex i is PLC point i (§5, "Delaunay segments recovery"). Inserted

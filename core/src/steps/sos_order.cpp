@@ -304,12 +304,15 @@ size_t recoverable_segments(TetMesh& d, const std::vector<VertexId>& ends) {
 }  // namespace
 
 std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
-                                             TetMesh& d0, SosOrderStats* stats) {
+                                             TetMesh& d0, SosOrderStats* stats,
+                                             std::vector<std::array<VertexId, 2>>* segments) {
   SosOrderStats local;
   SosOrderStats& st = stats ? *stats : local;
   st = SosOrderStats();
   const size_t n = plc.points.size();
-  const auto segs = plc_segments(plc);
+  std::vector<std::array<VertexId, 2>> own;
+  std::vector<std::array<VertexId, 2>>& segs = segments ? *segments : own;
+  segs = plc_segments(plc);
   std::vector<VertexId> order(n), best, ends, best_ends;
   TetMesh trial;  // a whole tetrahedralization, only if a cell's fails
   for (size_t k = 0; k < n; ++k) order[k] = static_cast<VertexId>(k);
