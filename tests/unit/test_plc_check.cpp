@@ -60,6 +60,20 @@ TEST_CASE("check_plc: points must be distinct", "[plc_check]") {
   const Status s = check_plc(plc);
   CHECK(s.error.code == ErrorCode::InvalidArgument);
   CHECK(s.error.vertex == 4);
+  // -0 equals +0: the hash pass must see these two as the same point.
+  Plc z = tetrahedron();
+  z.points.push_back({-0.0, 7, 7});
+  z.points.push_back({0.0, 7, 7});
+  const Status sz = check_plc(z);
+  CHECK(sz.error.code == ErrorCode::InvalidArgument);
+  CHECK(sz.error.vertex == 5);
+  // Many points, one pair equal: named as before (the later one).
+  Plc many = tetrahedron();
+  for (int i = 0; i < 1000; ++i) many.points.push_back({10.0 + i, 0.5 * i, -1.0 * i});
+  many.points.push_back({10.0 + 321, 0.5 * 321, -1.0 * 321});
+  const Status sm = check_plc(many);
+  CHECK(sm.error.code == ErrorCode::InvalidArgument);
+  CHECK(sm.error.vertex == 1004);
 }
 
 TEST_CASE("check_plc: indices in range", "[plc_check]") {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cdt3d/cdt3d.hpp>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <string>
 #include <vector>
@@ -41,9 +42,52 @@ Status check_point(const Plc& plc, const Vec3& p, const char* kind, size_t index
 // contiguously).
 const double* at(const Plc& plc, VertexId v) { return &plc.points[v].x; }
 
-// Distinct points: identical coordinates must have been welded. Sorts copies
-// (coordinates + id) rather than ids, for locality.
+// Whether two of the n items are equal, by an open-addressing hash table:
+// hash(i) and equal(i, j) on item indices. One pass, no sort: the checks
+// below sort only when this finds a pair, to name the same pair as always.
+template <typename Hash, typename Equal>
+bool any_equal_pair(size_t n, Hash hash, Equal equal) {
+  size_t cap = 16;
+  while (cap < 2 * n) cap *= 2;
+  std::vector<uint32_t> slot(cap, UINT32_MAX);
+  for (uint32_t i = 0; i < n; ++i) {
+    for (size_t h = hash(i) & (cap - 1);; h = (h + 1) & (cap - 1)) {
+      if (slot[h] == UINT32_MAX) {
+        slot[h] = i;
+        break;
+      }
+      if (equal(slot[h], i)) return true;
+    }
+  }
+  return false;
+}
+
+uint64_t mix64(uint64_t x) {
+  x ^= x >> 31;
+  x *= 0x7fb5d329728ea185ull;
+  x ^= x >> 27;
+  x *= 0x81dadef4bc2dd44dull;
+  return x ^ (x >> 33);
+}
+
+// Distinct points: identical coordinates must have been welded. A hash pass
+// finds whether any two coincide (-0 and +0 hash alike, as they compare
+// equal); only then are copies (coordinates + id) sorted to name the pair.
 Status check_distinct_points(const Plc& plc) {
+  auto bits = [](double x) {
+    x += 0.0;  // -0 -> +0
+    uint64_t u;
+    std::memcpy(&u, &x, sizeof u);
+    return u;
+  };
+  const auto& P = plc.points;
+  const bool any = any_equal_pair(
+      P.size(),
+      [&](uint32_t i) {
+        return mix64(bits(P[i].x) ^ mix64(bits(P[i].y) ^ mix64(bits(P[i].z))));
+      },
+      [&](uint32_t i, uint32_t j) { return P[i].x == P[j].x && P[i].y == P[j].y && P[i].z == P[j].z; });
+  if (!any) return Status::success();
   struct Item {
     double x, y, z;
     VertexId id;
@@ -304,6 +348,22 @@ Status check_duplicates(const Plc& plc) {
     uint64_t w[3];
     uint32_t facet;
   };
+  // Most PLCs have no duplicate: a hash pass over the keys says so without
+  // the sort (which names the pair when there is one).
+  const bool any = any_equal_pair(
+      nf,
+      [&](uint32_t f) {
+        uint64_t h = 0x9e3779b97f4a7c15ull;
+        for (size_t k = start[f]; k < start[f + 1]; ++k) h = mix64(h ^ keys[k]);
+        return h;
+      },
+      [&](uint32_t x, uint32_t y) {
+        return start[x + 1] - start[x] == start[y + 1] - start[y] &&
+               std::equal(keys.begin() + static_cast<std::ptrdiff_t>(start[x]),
+                          keys.begin() + static_cast<std::ptrdiff_t>(start[x + 1]),
+                          keys.begin() + static_cast<std::ptrdiff_t>(start[y]));
+      });
+  if (!any) return Status::success();
   std::vector<Entry> entries(nf);
   for (size_t fi = 0; fi < nf; ++fi) {
     uint32_t word[6] = {0, 0, 0, 0, 0, 0};
