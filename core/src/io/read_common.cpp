@@ -11,6 +11,8 @@
 #include <charconv>
 #endif
 
+#include "hash.hpp"
+
 namespace cdt3d {
 namespace io {
 
@@ -593,19 +595,10 @@ uint64_t bits_of(double d) {
   return u;
 }
 
-uint64_t mix(uint64_t h) {
-  h ^= h >> 33;
-  h *= 0xff51afd7ed558ccdull;
-  h ^= h >> 33;
-  h *= 0xc4ceb9fe1a85ec53ull;
-  h ^= h >> 33;
-  return h;
-}
-
 uint64_t hash_point(const Vec3& p) {
-  uint64_t h = mix(bits_of(p.x) + 0x9e3779b97f4a7c15ull);
-  h = mix(h ^ bits_of(p.y));
-  h = mix(h ^ (bits_of(p.z) * 0x9e3779b97f4a7c15ull));
+  uint64_t h = hash_mix(bits_of(p.x) + 0x9e3779b97f4a7c15ull);
+  h = hash_mix(h ^ bits_of(p.y));
+  h = hash_mix(h ^ (bits_of(p.z) * 0x9e3779b97f4a7c15ull));
   return h;
 }
 

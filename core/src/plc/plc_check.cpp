@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "hash.hpp"
 #include "predicates.hpp"
 #include "status.hpp"
 
@@ -62,14 +63,6 @@ bool any_equal_pair(size_t n, Hash hash, Equal equal) {
   return false;
 }
 
-uint64_t mix64(uint64_t x) {
-  x ^= x >> 31;
-  x *= 0x7fb5d329728ea185ull;
-  x ^= x >> 27;
-  x *= 0x81dadef4bc2dd44dull;
-  return x ^ (x >> 33);
-}
-
 // Distinct points: identical coordinates must have been welded. A hash pass
 // finds whether any two coincide (-0 and +0 hash alike, as they compare
 // equal); only then are copies (coordinates + id) sorted to name the pair.
@@ -84,7 +77,7 @@ Status check_distinct_points(const Plc& plc) {
   const bool any = any_equal_pair(
       P.size(),
       [&](uint32_t i) {
-        return mix64(bits(P[i].x) ^ mix64(bits(P[i].y) ^ mix64(bits(P[i].z))));
+        return hash_mix(bits(P[i].x) ^ hash_mix(bits(P[i].y) ^ hash_mix(bits(P[i].z))));
       },
       [&](uint32_t i, uint32_t j) { return P[i].x == P[j].x && P[i].y == P[j].y && P[i].z == P[j].z; });
   if (!any) return Status::success();
@@ -354,7 +347,7 @@ Status check_duplicates(const Plc& plc) {
       nf,
       [&](uint32_t f) {
         uint64_t h = 0x9e3779b97f4a7c15ull;
-        for (size_t k = start[f]; k < start[f + 1]; ++k) h = mix64(h ^ keys[k]);
+        for (size_t k = start[f]; k < start[f + 1]; ++k) h = hash_mix(h ^ keys[k]);
         return h;
       },
       [&](uint32_t x, uint32_t y) {
