@@ -473,7 +473,7 @@ Status located(Status s, Subject who) {
 
 }  // namespace
 
-Status check_coords(double x, double y, double z, const std::string& file, int64_t line,
+Status coords_error(double x, double y, double z, const std::string& file, int64_t line,
                     int64_t record, Subject who) {
   const double c[3] = {x, y, z};
   for (int k = 0; k < 3; ++k) {

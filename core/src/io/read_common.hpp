@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cdt3d/cdt3d.hpp>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -161,9 +162,23 @@ Status int_from_token(const Token& t, int64_t& out, const std::string& file, con
 Status expect_int(TextReader& r, int64_t& out, int64_t& line, const std::string& file,
                   const char* what);
 
-/// Checks a coordinate triple: NonFinite or CoordinateRange naming the subject.
-Status check_coords(double x, double y, double z, const std::string& file, int64_t line,
+/// The error check_coords reports for a triple that is not coords_ok.
+Status coords_error(double x, double y, double z, const std::string& file, int64_t line,
                     int64_t record, Subject who);
+
+/// Finite and within kMaxCoordinate (NaN fails every comparison).
+inline bool coords_ok(double x, double y, double z) {
+  return std::fabs(x) <= kMaxCoordinate && std::fabs(y) <= kMaxCoordinate &&
+         std::fabs(z) <= kMaxCoordinate;
+}
+
+/// Checks a coordinate triple: NonFinite or CoordinateRange naming the subject.
+/// Inline, so the readers' loops build no Status for a good triple.
+inline Status check_coords(double x, double y, double z, const std::string& file, int64_t line,
+                           int64_t record, Subject who) {
+  if (coords_ok(x, y, z)) return Status::success();
+  return coords_error(x, y, z, file, line, record, who);
+}
 
 // ---------------------------------------------------------------------------
 // Building a Plc
