@@ -65,10 +65,12 @@ struct Regions {
 // Constrained half-faces: hf_sub[hf] is the subface on half-face hf (both
 // sides), sub_hf[i] the half-face of subface i. A subface listed twice
 // counts once, the first time.
+// `sub_hf` may come in holding the half-faces of an earlier mesh (one per
+// subface): then only the entries that changed are looked up again.
 Status constrained_half_faces(TetMesh& mesh, const Subfaces& subfaces,
                               std::vector<uint32_t>& hf_sub, std::vector<HalfFace>& sub_hf) {
   hf_sub.assign(4 * mesh.num_tet_slots(), kNone);
-  subface_half_faces(mesh, subfaces, sub_hf);
+  refresh_subface_half_faces(mesh, subfaces, sub_hf);
   for (size_t i = 0; i < subfaces.tri.size(); ++i) {
     const auto& s = subfaces.tri[i];
     const HalfFace hf = sub_hf[i];
@@ -199,10 +201,11 @@ Status nothing_kept_error(const Plc& plc) {
 }  // namespace
 
 Status carve(const Plc& plc, TetMesh& mesh, const Subfaces& subfaces, bool keep_convex_hull,
-             CarveResult& out) {
+             CarveResult& out, const std::vector<HalfFace>* half_faces) {
   out = CarveResult();
   std::vector<uint32_t> hf_sub;
   std::vector<HalfFace> sub_hf;
+  if (half_faces) sub_hf = *half_faces;
   Status st = constrained_half_faces(mesh, subfaces, hf_sub, sub_hf);
   if (!st.ok()) return st;
   Regions R;

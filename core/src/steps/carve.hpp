@@ -44,8 +44,10 @@ struct CarveResult {
 /// mesh; InvalidPlc "the surface does not enclose a volume" when no tet is
 /// kept, naming the first open boundary edge (a loop edge used by exactly one
 /// facet; Error.facet, Error.vertex = its first end) when there is one.
+/// `half_faces` (optional): subface_half_faces of an earlier state of the
+/// mesh (facet recovery's result), refreshed instead of recomputed.
 Status carve(const Plc& plc, TetMesh& mesh, const Subfaces& subfaces, bool keep_convex_hull,
-             CarveResult& out);
+             CarveResult& out, const std::vector<HalfFace>* half_faces = nullptr);
 
 /// Gives the exterior the numerically flat kept tets that lie in a boundary
 /// facet: such a tet has two subfaces of one facet as faces, with outside

@@ -157,9 +157,9 @@ class SubfaceIndex {
   size_t mask_ = 0;
 };
 
-// missing[s] = 1 unless subface s is a face of the mesh.
-void find_missing(const TetMesh& mesh, const Subfaces& sf, std::vector<uint8_t>& missing) {
-  std::vector<HalfFace> hf;
+// missing[s] = 1 unless subface s is a face of the mesh; hf: subface_half_faces.
+void find_missing(const TetMesh& mesh, const Subfaces& sf, std::vector<uint8_t>& missing,
+                  std::vector<HalfFace>& hf) {
   subface_half_faces(mesh, sf, hf);
   for (size_t s = 0; s < hf.size(); ++s) missing[s] = hf[s] == kNone;
 }
@@ -274,7 +274,8 @@ size_t flip_subfaces_toward_mesh(TetMesh& mesh, Subfaces& subfaces) {
   std::vector<uint32_t> nbr;
   std::vector<uint8_t> fixed, missing(subfaces.tri.size());
   subface_adjacency(subfaces, nbr, fixed);
-  find_missing(mesh, subfaces, missing);
+  std::vector<HalfFace> hf;
+  find_missing(mesh, subfaces, missing, hf);
   return flip_toward_mesh_impl(mesh, subfaces, q, nbr, fixed, missing);
 }
 
@@ -327,7 +328,8 @@ void missing_region(uint32_t s0, const Subfaces& sf, MeshQuery& q, const std::ve
 }  // namespace
 
 Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* stats,
-                      const volatile bool* cancel, bool force_failure) {
+                      const volatile bool* cancel, bool force_failure,
+                      std::vector<HalfFace>* half_faces) {
   FacetRecoveryStats st;
   if (stats) *stats = st;
   // Statistics are reported on failure as well (what was done until then).
@@ -349,7 +351,8 @@ Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* sta
   std::vector<uint32_t> nbr;
   std::vector<uint8_t> fixed, missing(n);
   subface_adjacency(sf, nbr, fixed);
-  find_missing(mesh, sf, missing);
+  std::vector<HalfFace> hf;
+  find_missing(mesh, sf, missing, hf);
   st.subface_flips = flip_toward_mesh_impl(mesh, sf, q, nbr, fixed, missing);
   const SubfaceIndex index(sf);  // after the flips
 
@@ -438,6 +441,9 @@ Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* sta
       return make_error(ErrorCode::Internal, "Facet recovery ended with a subface missing.")
           .facet(sf.facet[s]);
     }
+  // As found before the cavities changed the mesh: the user refreshes them
+  // (refresh_subface_half_faces) once, after any later change too.
+  if (half_faces) *half_faces = std::move(hf);
   return Status::success();
 }
 
@@ -483,6 +489,27 @@ void subface_half_faces(const TetMesh& mesh, const Subfaces& sf, std::vector<Hal
       for (uint32_t j = start[key[0]]; j < start[key[0] + 1]; ++j)
         if (entries[j].rest == rest && out[entries[j].s] == kNone) out[entries[j].s] = make_hf(t, i);
     }
+  }
+}
+
+void refresh_subface_half_faces(TetMesh& mesh, const Subfaces& sf, std::vector<HalfFace>& hf) {
+  const size_t n = sf.tri.size();
+  if (hf.size() != n) {
+    subface_half_faces(mesh, sf, hf);
+    return;
+  }
+  const size_t slots = mesh.num_tet_slots();
+  for (size_t s = 0; s < n; ++s) {
+    const Triangle& T = sf.tri[s];
+    const HalfFace h = hf[s];
+    if (h != kNone && hf_tet(h) < slots && !mesh.is_dead(hf_tet(h))) {
+      const VertexId* w = mesh.tet_vertices(hf_tet(h));
+      const int i = hf_face(h);
+      if (sorted_triangle({w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]}) ==
+          sorted_triangle(T))
+        continue;
+    }
+    hf[s] = mesh.find_face(T[0], T[1], T[2]);
   }
 }
 

@@ -69,7 +69,11 @@ size_t flip_subfaces_toward_mesh(TetMesh& mesh, Subfaces& subfaces);
 /// `force_failure` (tests): the first missing region counts as
 /// unrecoverable without trying, as if both cavity retetrahedralization and
 /// gift-wrapping had failed on it.
+/// On success `half_faces` (optional) gets subface_half_faces of the mesh
+/// before recovery (right for the subfaces that were present then and whose
+/// tets no cavity took): input for refresh_subface_half_faces.
 Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* stats = nullptr,
-                      const volatile bool* cancel = nullptr, bool force_failure = false);
+                      const volatile bool* cancel = nullptr, bool force_failure = false,
+                      std::vector<HalfFace>* half_faces = nullptr);
 
 }  // namespace cdt3d

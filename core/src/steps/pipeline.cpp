@@ -248,6 +248,7 @@ class Pipeline {
   std::vector<std::vector<VertexId>> facet_interior_;
   std::vector<VertexId> volume_points_;
   Subfaces subfaces_;
+  std::vector<HalfFace> subface_hf_;  // per subface: a half-face (recover_facets)
   // The PLC passed the self-intersection test, has no explicit segments and
   // no point outside the facets' loops, so no point or segment lies inside
   // a facet (triangulate_facets' `nothing_embedded`).
@@ -473,7 +474,7 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
     if (!begin(Phase::Facets)) return false;
     st = triangulate_facets(*plc_, segs_, mesh_, facet_interior_, subfaces_, nothing_embedded_);
     const bool force = facet_splits_.size() < opt_.debug_forced_facet_splits;
-    if (st.ok()) st = recover_facets(mesh_, subfaces_, &fst, opt_.cancel, force);
+    if (st.ok()) st = recover_facets(mesh_, subfaces_, &fst, opt_.cancel, force, &subface_hf_);
     s.missing_subfaces = fst.missing_initially, s.regions = fst.regions;
     s.cavities = fst.cavities, s.largest_cavity = fst.largest_cavity, s.fallbacks = fst.fallbacks;
     if (!end(Phase::Facets, st, &s.ms_facets)) return false;
@@ -607,10 +608,10 @@ void Pipeline::run() {
     remove_flat_tets(mesh_, subfaces_, segs_, &ff);
     s.flat_flips = ff.flips;
     CarveResult carved;
-    st = carve(*plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved);
+    st = carve(*plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved, &subface_hf_);
     if (st.ok() && move_flat_tets_outside(mesh_, segs_, carved, subfaces_) > 0) {
       carved = CarveResult();
-      st = carve(*plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved);
+      st = carve(*plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved, &subface_hf_);
     }
     if (st.ok() && !opt_.keep_convex_hull) st = check_open_facets(carved);
     if (st.ok()) mesh_to_result(carved.tets, &carved.attribute, &carved);

@@ -43,4 +43,11 @@ Status triangulate_facets(const Plc& plc, const SegmentSet& segs, const TetMesh&
 /// when it is not a face of the mesh (facet_recovery.cpp).
 void subface_half_faces(const TetMesh& mesh, const Subfaces& sf, std::vector<HalfFace>& out);
 
+/// subface_half_faces for a mesh that changed since `hf` was right (one
+/// entry per subface): an entry whose tet is alive and whose face has the
+/// subface's vertices stays, the others are looked up around a vertex
+/// (TetMesh::find_face). Cheaper than the pass over all tets when few
+/// tets changed; with the wrong size, that pass runs instead.
+void refresh_subface_half_faces(TetMesh& mesh, const Subfaces& sf, std::vector<HalfFace>& hf);
+
 }  // namespace cdt3d
