@@ -425,6 +425,39 @@ TEST_CASE("facet recovery on the small models", "[facets]") {
   }
 }
 
+// Carving starts from the half-faces facet recovery found before its
+// cavities, refreshed: each must end up holding its subface, as a full pass
+// over the tets finds, and a wrong entry is looked up again.
+TEST_CASE("refreshed subface half-faces hold their subfaces", "[facets]") {
+  size_t changed = 0;
+  for (const char* name : {"fandisk.off", "plate_holes_binary.stl", "bunny.off"}) {
+    INFO(name);
+    Run r;
+    REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) + "/" + name, r.plc).ok());
+    prepare(r);
+    std::vector<HalfFace> hf;
+    REQUIRE(recover_facets(r.mesh, r.sf, &r.st, nullptr, false, &hf).ok());
+    REQUIRE(hf.size() == r.sf.tri.size());
+    changed += r.st.missing_initially;  // cavities changed the mesh
+    hf[0] = kNone;
+    if (hf.size() > 1) hf[1] = hf[1] ^ 1u;  // another face of the same tet
+    refresh_subface_half_faces(r.mesh, r.sf, hf);
+    std::vector<HalfFace> full;
+    subface_half_faces(r.mesh, r.sf, full);
+    for (size_t s = 0; s < hf.size(); ++s) {
+      REQUIRE(hf[s] != kNone);
+      REQUIRE(full[s] != kNone);
+      const HalfFace h = hf[s];
+      const VertexId* w = r.mesh.tet_vertices(hf_tet(h));
+      const int i = hf_face(h);
+      CHECK(key3(w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]) ==
+            key3(r.sf.tri[s][0], r.sf.tri[s][1], r.sf.tri[s][2]));
+      CHECK((h == full[s] || h == r.mesh.adjacent(full[s])));
+    }
+  }
+  CHECK(changed > 0);
+}
+
 TEST_CASE("facet recovery on every valid model of tests/data", "[facets][corpus]") {
   size_t ran = 0;
   for (const std::string& file : corpus::valid_models()) {
