@@ -94,11 +94,12 @@ constexpr size_t kMaxFacetSplits = 64;
 // cells).
 constexpr size_t kSosOrderRounds = 8;
 constexpr size_t kMaxSosOrderPoints = 200000;
-// Below this many facets the self-intersection test takes a few ms: a second
-// thread saved nothing measurable there (plate_holes, 1.2k facets: 160 ms
-// either way) and only made step 1's clock noisier (the two threads share
-// the allocator and the memory bus).
-constexpr size_t kMinFacetsBeside = 5000;
+// Below this many facets the self-intersection test takes well under a
+// millisecond, about what starting a thread costs. From 1,000 facets on the
+// thread pays: decimated_knight (1,000 facets) 9.5 -> 8.5 ms (fastest of 15
+// processes, 2026-11-26); it was 5,000 while the rest of the run was slower
+// and hid the test (plate_holes, 1.2k facets: 160 ms either way then).
+constexpr size_t kMinFacetsBeside = 1000;
 
 // The exact self-intersection test, on a second thread where there is one.
 // It only reads the PLC, like step 1 (and the search for the perturbation
