@@ -207,6 +207,26 @@ class SegmentRecovery {
   std::vector<std::array<VertexId, 2>> split_of_;
   size_t first_record_ = 0;
   std::vector<uint32_t> incident_start_, incident_;  // input vertex -> segments (CSR)
+  // Chain neighbours, kept up to date by every split and removal, so the
+  // scans after an insertion need no search in the chains: per entry of
+  // incident_, the neighbour of that input vertex along that segment; per
+  // vertex on a segment, the previous and next vertex of its chain.
+  std::vector<VertexId> end_nbr_, prev_, next_;
+  void index_chain_neighbours();
+  // The neighbour of chain vertex x on the side of segment s towards its
+  // second endpoint (after) or first endpoint (!after) becomes n.
+  void set_chain_neighbour(uint32_t s, VertexId x, bool after, VertexId n);
+  // Calls f(w) for each chain neighbour w of vertex u (segment s), in chain
+  // order per segment (input vertices: in incident_ order).
+  template <typename F>
+  void for_chain_neighbours(VertexId u, F&& f) const {
+    if (const SegmentVertex* sv = segs_.on_segment(u)) {
+      f(sv->segment, prev_[u]);
+      f(sv->segment, next_[u]);
+    } else if (u + 1 < incident_start_.size()) {
+      for (uint32_t k = incident_start_[u]; k < incident_start_[u + 1]; ++k) f(incident_[k], end_nbr_[k]);
+    }
+  }
   std::vector<std::array<VertexId, 4>> probe_faces_;  // (face, vertex beyond)
 };
 
@@ -271,24 +291,12 @@ int SegmentRecovery::split_cost(uint32_t s, VertexId a, VertexId b, const double
   clear_ring();
   for (const auto& f : probe_faces_) add_ring_face({f[0], f[1], f[2]});
   int cost = 4 * (!in_ring(a) + !in_ring(b));
-  auto count = [&](uint32_t t, VertexId x) {
-    const long i = segs_.chain_position(t, x);
-    if (i < 0) return;
-    const std::vector<VertexId>& chain = segs_.chain[t];
-    for (long j : {i - 1, i + 1}) {
-      if (j < 0 || j >= static_cast<long>(chain.size())) continue;
-      const VertexId y = chain[j];
-      if (x > y || !in_ring(y) || (t == s && ((x == a && y == b) || (x == b && y == a)))) continue;
+  for (VertexId x : ring_)
+    for_chain_neighbours(x, [&](uint32_t t, VertexId y) {
+      if (y == kNone || x > y || !in_ring(y) || (t == s && ((x == a && y == b) || (x == b && y == a))))
+        return;
       if (!ring_edge(x, y)) ++cost;
-    }
-  };
-  for (VertexId x : ring_) {
-    if (const SegmentVertex* sv = segs_.on_segment(x)) {
-      count(sv->segment, x);
-    } else if (x + 1 < incident_start_.size()) {
-      for (uint32_t k = incident_start_[x]; k < incident_start_[x + 1]; ++k) count(incident_[k], x);
-    }
-  }
+    });
   return cost;
 }
 
@@ -540,7 +548,12 @@ Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Ve
 
   // Keep the chain ordered from the segment's first to its second endpoint.
   const long iu = segs_.chain_position(s, u), iw = segs_.chain_position(s, w);
-  chain.insert(chain.begin() + std::max(iu, iw), res.vertex);
+  const long at = std::max(iu, iw);
+  chain.insert(chain.begin() + at, res.vertex);
+  if (prev_.size() <= res.vertex) prev_.resize(res.vertex + 1, kNone), next_.resize(res.vertex + 1, kNone);
+  prev_[res.vertex] = chain[at - 1], next_[res.vertex] = chain[at + 1];
+  set_chain_neighbour(s, chain[at - 1], true, res.vertex);
+  set_chain_neighbour(s, chain[at + 1], false, res.vertex);
 
   if (segs_.steiner_of.size() <= res.vertex) segs_.steiner_of.resize(res.vertex + 1, kNone);
   segs_.steiner_of[res.vertex] = static_cast<uint32_t>(segs_.steiner.size());
@@ -583,25 +596,12 @@ void SegmentRecovery::queue_destroyed(VertexId v, std::vector<std::array<uint32_
   if (touched_.size() < mesh_.num_vertices()) touched_.resize(mesh_.num_vertices(), 0);
   touched_[v] = 1;
   for (VertexId u : ring_) touched_[u] = 1;
-  for (VertexId u : ring_) {
-    auto check = [&](uint32_t s) {
-      const long i = segs_.chain_position(s, u);
-      if (i < 0) return;
-      const std::vector<VertexId>& chain = segs_.chain[s];
-      for (long j : {i - 1, i + 1}) {
-        if (j < 0 || j >= static_cast<long>(chain.size())) continue;
-        const VertexId w = chain[j];
-        if (w == v || u > w || !in_ring(w)) continue;  // each pair once (u < w)
-        if (ring_edge(u, w)) continue;
-        if (mesh_.find_edge(u, w) == kNone) queue.push_back({u, w, s});
-      }
-    };
-    if (const SegmentVertex* sv = segs_.on_segment(u)) {
-      check(sv->segment);
-    } else if (u + 1 < incident_start_.size()) {
-      for (uint32_t k = incident_start_[u]; k < incident_start_[u + 1]; ++k) check(incident_[k]);
-    }
-  }
+  for (VertexId u : ring_)
+    for_chain_neighbours(u, [&](uint32_t s, VertexId w) {
+      if (w == kNone || w == v || u > w || !in_ring(w)) return;  // each pair once (u < w)
+      if (ring_edge(u, w)) return;
+      if (mesh_.find_edge(u, w) == kNone) queue.push_back({u, w, s});
+    });
 }
 
 // A floating-point filter for try_remove: whether some sphere through u and
@@ -703,6 +703,8 @@ bool SegmentRecovery::try_remove(VertexId v) {
   }
   if (!has_uw || !remover_.commit()) return false;
   chain.erase(chain.begin() + i);
+  set_chain_neighbour(s, u, true, w);
+  set_chain_neighbour(s, w, false, u);
   return true;
 }
 
@@ -756,6 +758,28 @@ void SegmentRecovery::remove_redundant_points() {
   for (uint32_t k = 0; k < n; ++k) segs_.steiner_of[segs_.steiner[k].vertex] = k;
 }
 
+void SegmentRecovery::index_chain_neighbours() {
+  end_nbr_.assign(incident_.size(), kNone);
+  prev_.assign(mesh_.num_vertices(), kNone);
+  next_.assign(mesh_.num_vertices(), kNone);
+  for (uint32_t s = 0; s < segs_.chain.size(); ++s) {
+    const std::vector<VertexId>& c = segs_.chain[s];
+    set_chain_neighbour(s, c.front(), true, c[1]);
+    set_chain_neighbour(s, c.back(), false, c[c.size() - 2]);
+    for (size_t i = 1; i + 1 < c.size(); ++i) prev_[c[i]] = c[i - 1], next_[c[i]] = c[i + 1];
+  }
+}
+
+void SegmentRecovery::set_chain_neighbour(uint32_t s, VertexId x, bool after, VertexId n) {
+  if (x == segs_.input[s][0] || x == segs_.input[s][1]) {
+    for (uint32_t k = incident_start_[x]; k < incident_start_[x + 1]; ++k)
+      if (incident_[k] == s) end_nbr_[k] = n;
+    return;
+  }
+  if (prev_.size() <= x) prev_.resize(x + 1, kNone), next_.resize(x + 1, kNone);
+  (after ? next_ : prev_)[x] = n;
+}
+
 Status SegmentRecovery::run(const volatile bool* cancel) {
   // Segments incident to each input vertex (CSR), for queue_destroyed.
   const size_t nv = segs_.acute.size();
@@ -767,6 +791,7 @@ Status SegmentRecovery::run(const volatile bool* cancel) {
   std::vector<uint32_t> fill(incident_start_.begin(), incident_start_.end() - 1);
   for (uint32_t s = 0; s < segs_.input.size(); ++s)
     for (VertexId e : segs_.input[s]) incident_[fill[e]++] = s;
+  index_chain_neighbours();
 
   // The repeat loop of the pseudo-code. Missing subsegments stay missing
   // until split (insertions add edges only at the new vertex), and every
