@@ -655,6 +655,18 @@ std::array<P3, 4> coplanar_quad(Rng& r, bool cocircular) {
   return out;
 }
 
+// incircle_coplanar of p and of p with its first two points swapped (the
+// answer does not depend on the orientation) against the oracle; returns
+// the oracle's sign.
+int check_incircle_coplanar(const std::array<P3, 4>& p) {
+  const int want = incircle_coplanar_q(p[0], p[1], p[2], p[3]);
+  SIGN_CHECK(pred::incircle_coplanar(p[0].data(), p[1].data(), p[2].data(), p[3].data()), want,
+             describe(p));
+  SIGN_CHECK(pred::incircle_coplanar(p[1].data(), p[0].data(), p[2].data(), p[3].data()), want,
+             describe(p));
+  return want;
+}
+
 }  // namespace
 
 TEST_CASE("incircle_coplanar matches the exact circumcenter oracle", "[predicates]") {
@@ -664,15 +676,40 @@ TEST_CASE("incircle_coplanar matches the exact circumcenter oracle", "[predicate
     const std::array<P3, 4> p = coplanar_quad(r, it % 2 == 0);
     if (pred::collinear3d(p[0].data(), p[1].data(), p[2].data())) continue;
     REQUIRE(orient3d_q(p[0], p[1], p[2], p[3]) == 0);
-    const int want = incircle_coplanar_q(p[0], p[1], p[2], p[3]);
-    zeros += want == 0;
+    zeros += check_incircle_coplanar(p) == 0;
     ++tested;
-    SIGN_CHECK(pred::incircle_coplanar(p[0].data(), p[1].data(), p[2].data(), p[3].data()), want,
-               describe(p));
-    SIGN_CHECK(pred::incircle_coplanar(p[1].data(), p[0].data(), p[2].data(), p[3].data()), want,
-               describe(p));
   }
   CHECK(tested > 6000);
+  CHECK(zeros > 1000);
+}
+
+TEST_CASE("incircle_coplanar in axis-parallel planes matches the oracle", "[predicates]") {
+  // CAD hull faces: the four points share one coordinate exactly (the 2D
+  // path). Rectangle corners are co-circular whatever the rounding of their
+  // decimal coordinates; the fourth point is a corner, a corner moved by an
+  // ulp, or a random decimal point.
+  Rng r(29);
+  int zeros = 0, tested = 0;
+  for (int it = 0; it < 6000; ++it) {
+    const int k = it % 3, i = k == 0 ? 1 : 0, j = k == 2 ? 1 : 2;
+    const double level = r.range(-50, 50) * 0.127;
+    const double u[2] = {r.range(-40, 40) * 0.1, r.range(-40, 40) * 0.1};
+    const double v[2] = {r.range(-40, 40) * 0.3, r.range(-40, 40) * 0.3};
+    std::array<P3, 4> rect;
+    for (int c = 0; c < 4; ++c) {
+      rect[c][k] = level;
+      rect[c][i] = u[c & 1];
+      rect[c][j] = v[(c >> 1) & 1];
+    }
+    std::array<P3, 4> p = {rect[0], rect[1], rect[3], rect[2]};
+    std::swap(p[0], p[r.range(0, 2)]);
+    if (it % 4 == 1) p[3][i] = bump(p[3][i], r.range(0, 1) ? 1 : -1);
+    if (it % 4 == 2) p[3][i] = r.range(-60, 60) * 0.1, p[3][j] = r.range(-60, 60) * 0.3;
+    if (pred::collinear3d(p[0].data(), p[1].data(), p[2].data())) continue;
+    zeros += check_incircle_coplanar(p) == 0;
+    ++tested;
+  }
+  CHECK(tested > 3000);
   CHECK(zeros > 1000);
 }
 

@@ -255,6 +255,127 @@ int int_insphere(const wide::i128 (*d)[3]) {
   return wide::sign(det);
 }
 
+// The one-limb forms again, written for the machine's 64 x 64 -> 128-bit
+// multiply: the generic limb loops above took ~3,000 instructions per
+// insphere on CAD points (tray_bottom: 20k exact calls in step 1, 45% of
+// its Delaunay phase), this ~600. Entries below 2^62 (integer_differences).
+//
+// A signed value below 2^189 in magnitude as hi 2^64 + lo, lo unsigned:
+// what a 3x3 minor of such entries needs (< 2^189, as int_det3<1>).
+struct I192 {
+  wide::i128 hi;
+  uint64_t lo;
+};
+
+// a += x for |x| < 2^127: x = (x >> 64) 2^64 + (uint64_t)x, >> arithmetic.
+inline void add_into(I192& a, wide::i128 x) {
+  const uint64_t xl = static_cast<uint64_t>(x);
+  const uint64_t s = a.lo + xl;
+  a.hi += (x >> 64) + static_cast<wide::i128>(s < xl);
+  a.lo = s;
+}
+
+// a += f m for |f| < 2^62 and |m| < 2^125: m = mh 2^64 + ml with |mh| < 2^61,
+// so f mh < 2^123 and f ml < 2^126, both exact in i128.
+inline void add_product(I192& a, int64_t f, wide::i128 m) {
+  const int64_t mh = static_cast<int64_t>(m >> 64);
+  const uint64_t ml = static_cast<uint64_t>(m);
+  a.hi += static_cast<wide::i128>(f) * mh;
+  add_into(a, static_cast<wide::i128>(f) * static_cast<wide::i128>(ml));
+}
+
+// [PQ] = Px Qy - Py Qx, below 2^125: exact in i128.
+inline wide::i128 minor2_1(const int64_t* p, const int64_t* q) {
+  return static_cast<wide::i128>(p[0]) * q[1] - static_cast<wide::i128>(p[1]) * q[0];
+}
+
+// det | P ; Q ; R | = Pz [QR] - Qz [PR] + Rz [PQ], below 3 2^62 2^125 < 2^189.
+inline I192 det3_1(const int64_t* p, const int64_t* q, const int64_t* r) {
+  I192 a{0, 0};
+  add_product(a, p[2], minor2_1(q, r));
+  add_product(a, -q[2], minor2_1(p, r));
+  add_product(a, r[2], minor2_1(p, q));
+  return a;
+}
+
+// The insphere sum (below 2^317, as int_insphere<1>) as sum col[k] 2^(64 k):
+// each 128-bit product adds its low half to one column and its high half to
+// the next, and the carries are propagated once, in sign(). A column takes
+// at most 12 halves below 2^64 in magnitude: no overflow.
+struct I320 {
+  wide::i128 col[5] = {0, 0, 0, 0, 0};
+  template <int K>
+  void add_unsigned(wide::u128 v) {
+    col[K] += static_cast<uint64_t>(v);
+    col[K + 1] += static_cast<uint64_t>(v >> 64);
+  }
+  template <int K>
+  void add_signed(wide::i128 v) {
+    col[K] += static_cast<uint64_t>(v);
+    col[K + 1] += v >> 64;  // arithmetic: v = (v >> 64) 2^64 + (uint64_t)v
+  }
+  int sign() const {
+    // Normalize to five unsigned limbs and a final carry c: the value is
+    // c 2^320 + limbs, and |value| < 2^317 leaves c = 0 (value >= 0) or -1.
+    wide::i128 carry = 0;
+    uint64_t any = 0;
+    for (int k = 0; k < 5; ++k) {
+      const wide::i128 t = col[k] + carry;
+      any |= static_cast<uint64_t>(t);
+      carry = t >> 64;
+    }
+    return carry < 0 ? -1 : any != 0;
+  }
+};
+
+// s += l d for a lift l < 2^126 (l1 2^64 + l0) and |d| < 2^189 (d = (h1 2^64
+// + h0) 2^64 + lo, h1 signed): six 64 x 64 products, each exact in 128 bits
+// (|l0 h1|, |l1 h1| < 2^126 since |h1| < 2^62).
+inline void add_lift_times(I320& s, wide::u128 l, const I192& d) {
+  const uint64_t l0 = static_cast<uint64_t>(l), l1 = static_cast<uint64_t>(l >> 64);
+  const uint64_t h0 = static_cast<uint64_t>(d.hi);
+  const int64_t h1 = static_cast<int64_t>(d.hi >> 64);
+  s.add_unsigned<0>(static_cast<wide::u128>(l0) * d.lo);
+  s.add_unsigned<1>(static_cast<wide::u128>(l1) * d.lo);
+  s.add_unsigned<1>(static_cast<wide::u128>(l0) * h0);
+  s.add_unsigned<2>(static_cast<wide::u128>(l1) * h0);
+  s.add_signed<2>(static_cast<wide::i128>(h1) * static_cast<wide::i128>(l0));
+  s.add_signed<3>(static_cast<wide::i128>(h1) * static_cast<wide::i128>(l1));
+}
+
+inline I192 negated(const I192& a) {
+  return I192{-a.hi - static_cast<wide::i128>(a.lo != 0), ~a.lo + 1};
+}
+
+// |P|^2 below 3 2^124 < 2^126.
+inline wide::u128 lift_1(const int64_t* p) {
+  wide::u128 l = 0;
+  for (int k = 0; k < 3; ++k) l += static_cast<wide::u128>(static_cast<wide::i128>(p[k]) * p[k]);
+  return l;
+}
+
+int int_orient3d_1(const wide::i128 (*d)[3]) {
+  int64_t r[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) r[i][k] = static_cast<int64_t>(d[i][k]);
+  const I192 det = det3_1(r[0], r[1], r[2]);
+  return det.hi < 0 ? -1 : (det.hi != 0 || det.lo != 0);
+}
+
+// As int_insphere<1>: -|A|^2 [BCD] + |B|^2 [ACD] - |C|^2 [ABD] + |D|^2 [ABC].
+int int_insphere_1(const wide::i128 (*d)[3]) {
+  int64_t r[4][3];
+  for (int i = 0; i < 4; ++i)
+    for (int k = 0; k < 3; ++k) r[i][k] = static_cast<int64_t>(d[i][k]);
+  static constexpr int kOthers[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+  I320 sum;
+  for (int i = 0; i < 4; ++i) {
+    const I192 minor = det3_1(r[kOthers[i][0]], r[kOthers[i][1]], r[kOthers[i][2]]);
+    add_lift_times(sum, lift_1(r[i]), i % 2 == 0 ? negated(minor) : minor);
+  }
+  return sum.sign();
+}
+
 // incircle's difference form on integer rows (as incircle_rows):
 // la [BC] + lb [CA] + lc [AB], each term below 2^(128D-3) 2^(128D-3), the sum
 // below 2^(256D-4): fits 4D limbs.
@@ -496,6 +617,44 @@ int insphere_rows(const double (*q)[3]) {
 
 namespace detail {
 
+int orient3d_undecided(const double* a, const double* b, const double* c, const double* d) {
+  const Orient3dTerms t = orient3d_terms(a, b, c, d);
+  // Small integer coordinates (grid and many CAD models, where the filter
+  // fails on every exactly coplanar quadruple): the evaluation of the filter
+  // is exact (kOrient3dSmallInteger), so its sign is the answer.
+  if (t.sx + t.sy + t.sz <= kOrient3dSmallInteger && integers(a, b, c, d)) return sign_of(t.det);
+  // Four points in one axis-parallel plane (CAD models; nearly all the exact
+  // zeros there): a column of the matrix is zero, so the determinant is. A
+  // computed difference is 0 exactly when the two coordinates are equal (x - y
+  // rounds to 0 only for x == y, subnormals included), so the test is exact.
+  if (zero_column(t.adx, t.bdx, t.cdx, 0) | zero_column(t.ady, t.bdy, t.cdy, 0) |
+      zero_column(t.adz, t.bdz, t.cdz, 0))
+    return 0;
+  return orient3d_exact(a, b, c, d);
+}
+
+int insphere_undecided(const double* a, const double* b, const double* c, const double* d,
+                       const double* e) {
+  const InsphereTerms t = insphere_terms(a, b, c, d, e);
+  // As in orient3d: exact for small integer coordinates (co-spherical grid
+  // points reach this line on every tie).
+  if (t.sx + t.sy + t.sz <= kInsphereSmallInteger && integers(a, b, c, d) && integers(e, e, e, e))
+    return sign_of(t.det);
+  // Five points in one axis-parallel plane: a zero column again (see orient3d).
+  if (zero_column(t.aex, t.bex, t.cex, t.dex) | zero_column(t.aey, t.bey, t.cey, t.dey) |
+      zero_column(t.aez, t.bez, t.cez, t.dez))
+    return 0;
+  if (insphere_in_range(t)) {
+    const double rows[4][3] = {
+        {t.aex, t.aey, t.aez}, {t.bex, t.bey, t.bez}, {t.cex, t.cey, t.cez}, {t.dex, t.dey, t.dez}};
+    const double lifts[4] = {t.la, t.lb, t.lc, t.ld};
+    const double perm = insphere_permanent(rows, lifts);
+    if ((std::fabs(t.det) > kInspherePermanentEps * perm) & (perm >= kInspherePermanentLo))
+      return sign_of(t.det);
+  }
+  return insphere_exact(a, b, c, d, e);
+}
+
 int orient3d_exact(const double* a, const double* b, const double* c, const double* d) {
   ++g_counters.orient3d_exact;
   const double* p[4] = {a, b, c, d};
@@ -505,7 +664,7 @@ int orient3d_exact(const double* a, const double* b, const double* c, const doub
   load_raw(p, 4, 3, q);
   wide::i128 xd[3][3];
   if (const int limbs = integer_differences(q, 4, 3, xd))
-    return limbs == 1 ? int_orient3d<1>(xd) : int_orient3d<2>(xd);
+    return limbs == 1 ? int_orient3d_1(xd) : int_orient3d<2>(xd);
   load_scaled(p, 4, 3, kOrient3dScale, q);
   if (differences(q, 3, 3, diff)) {
     double det[24];
@@ -548,7 +707,7 @@ int insphere_exact(const double* a, const double* b, const double* c, const doub
   load_raw(p, 5, 3, q);
   wide::i128 xd[4][3];
   if (const int limbs = integer_differences(q, 5, 3, xd))
-    return limbs == 1 ? int_insphere<1>(xd) : int_insphere<2>(xd);
+    return limbs == 1 ? int_insphere_1(xd) : int_insphere<2>(xd);
   load_scaled(p, 5, 3, kInsphereScale, q);
   // The expansion forms cost microseconds on 53-bit coordinates, and the
   // same five points come back: the search for the perturbation order
@@ -727,6 +886,17 @@ int dot_sign(const double* a, const double* v, const double* b) {
 
 
 int incircle_coplanar(const double* a, const double* b, const double* c, const double* d) {
+  // Four points in one axis-parallel plane (the hull faces of CAD models,
+  // tested by every ghost tet in conflict search): dropping that coordinate
+  // is exact, so the 2D predicates decide, oriented by the projected face.
+  for (int k = 0; k < 3; ++k) {
+    if (a[k] != b[k] || a[k] != c[k] || a[k] != d[k]) continue;
+    const int i = k == 0 ? 1 : 0, j = k == 2 ? 1 : 2;
+    const double pa[2] = {a[i], a[j]}, pb[2] = {b[i], b[j]}, pc[2] = {c[i], c[j]},
+                 pd[2] = {d[i], d[j]};
+    const int o = orient2d(pa, pb, pc);
+    return o == 0 ? 0 : o * incircle(pa, pb, pc, pd);
+  }
   // Rounded normal, only to pick a well-conditioned axis first.
   const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
   const double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};

@@ -281,84 +281,97 @@ inline bool integers(const double* a, const double* b, const double* c, const do
 
 }  // namespace detail
 
+namespace detail {
+
+// The first stages' values of orient3d (the filter's inputs), computed by one
+// expression tree wherever they are needed, so that the out-of-line rest
+// (orient3d_undecided) sees the very doubles the inline filter saw.
+struct Orient3dTerms {
+  double adx, ady, adz, bdx, bdy, bdz, cdx, cdy, cdz, det, sx, sy, sz;
+};
+inline Orient3dTerms orient3d_terms(const double* a, const double* b, const double* c,
+                                    const double* d) {
+  Orient3dTerms t;
+  t.adx = a[0] - d[0], t.ady = a[1] - d[1], t.adz = a[2] - d[2];
+  t.bdx = b[0] - d[0], t.bdy = b[1] - d[1], t.bdz = b[2] - d[2];
+  t.cdx = c[0] - d[0], t.cdy = c[1] - d[1], t.cdz = c[2] - d[2];
+  t.det = t.adx * (t.bdy * t.cdz - t.bdz * t.cdy) + t.bdx * (t.cdy * t.adz - t.cdz * t.ady) +
+          t.cdx * (t.ady * t.bdz - t.adz * t.bdy);
+  t.sx = (std::fabs(t.adx) + std::fabs(t.bdx)) + std::fabs(t.cdx);
+  t.sy = (std::fabs(t.ady) + std::fabs(t.bdy)) + std::fabs(t.cdy);
+  t.sz = (std::fabs(t.adz) + std::fabs(t.bdz)) + std::fabs(t.cdz);
+  return t;
+}
+inline bool orient3d_decided(const Orient3dTerms& t) {
+  const double p = t.sx * t.sy * t.sz;
+  return (std::fabs(t.det) > kOrient3dEps * p) & (p >= kOrient3dLo) &
+         (t.sx + t.sy + t.sz <= kOrient3dHi);
+}
+
+// Likewise for insphere.
+struct InsphereTerms {
+  double aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez;
+  double la, lb, lc, ld, det, sx, sy, sz;
+};
+inline InsphereTerms insphere_terms(const double* a, const double* b, const double* c,
+                                    const double* d, const double* e) {
+  InsphereTerms t;
+  t.aex = a[0] - e[0], t.aey = a[1] - e[1], t.aez = a[2] - e[2];
+  t.bex = b[0] - e[0], t.bey = b[1] - e[1], t.bez = b[2] - e[2];
+  t.cex = c[0] - e[0], t.cey = c[1] - e[1], t.cez = c[2] - e[2];
+  t.dex = d[0] - e[0], t.dey = d[1] - e[1], t.dez = d[2] - e[2];
+  const double ab = t.aex * t.bey - t.bex * t.aey;
+  const double bc = t.bex * t.cey - t.cex * t.bey;
+  const double cd = t.cex * t.dey - t.dex * t.cey;
+  const double da = t.dex * t.aey - t.aex * t.dey;
+  const double ac = t.aex * t.cey - t.cex * t.aey;
+  const double bd = t.bex * t.dey - t.dex * t.bey;
+  const double abc = t.aez * bc - t.bez * ac + t.cez * ab;
+  const double bcd = t.bez * cd - t.cez * bd + t.dez * bc;
+  const double cda = t.cez * da + t.dez * ac + t.aez * cd;
+  const double dab = t.dez * ab + t.aez * bd + t.bez * da;
+  t.la = t.aex * t.aex + t.aey * t.aey + t.aez * t.aez;
+  t.lb = t.bex * t.bex + t.bey * t.bey + t.bez * t.bez;
+  t.lc = t.cex * t.cex + t.cey * t.cey + t.cez * t.cez;
+  t.ld = t.dex * t.dex + t.dey * t.dey + t.dez * t.dez;
+  t.det = (t.ld * abc - t.lc * dab) + (t.lb * cda - t.la * bcd);
+  t.sx = (std::fabs(t.aex) + std::fabs(t.bex)) + (std::fabs(t.cex) + std::fabs(t.dex));
+  t.sy = (std::fabs(t.aey) + std::fabs(t.bey)) + (std::fabs(t.cey) + std::fabs(t.dey));
+  t.sz = (std::fabs(t.aez) + std::fabs(t.bez)) + (std::fabs(t.cez) + std::fabs(t.dez));
+  return t;
+}
+inline bool insphere_in_range(const InsphereTerms& t) {
+  return (t.sx >= kInsphereLo) & (t.sy >= kInsphereLo) & (t.sz >= kInsphereLo) &
+         (t.sx + t.sy + t.sz <= kInsphereHi);
+}
+inline bool insphere_decided(const InsphereTerms& t) {
+  const double bound = kInsphereEps * t.sx * t.sy * t.sz * ((t.la + t.lb) + (t.lc + t.ld));
+  return (std::fabs(t.det) > bound) & insphere_in_range(t);
+}
+
+// The stages after a failed filter (predicates.cpp), out of line: inlined,
+// their live values made the compiler spill the filter's registers to the
+// stack on every call (insphere was ~250 instructions per call, on the hot
+// path of every insertion).
+int orient3d_undecided(const double* a, const double* b, const double* c, const double* d);
+int insphere_undecided(const double* a, const double* b, const double* c, const double* d,
+                       const double* e);
+
+}  // namespace detail
+
 inline int orient3d(const double* a, const double* b, const double* c, const double* d) {
   detail::count_call(detail::g_counters.orient3d_calls);
-  const double adx = a[0] - d[0], ady = a[1] - d[1], adz = a[2] - d[2];
-  const double bdx = b[0] - d[0], bdy = b[1] - d[1], bdz = b[2] - d[2];
-  const double cdx = c[0] - d[0], cdy = c[1] - d[1], cdz = c[2] - d[2];
-  const double det =
-      adx * (bdy * cdz - bdz * cdy) + bdx * (cdy * adz - cdz * ady) + cdx * (ady * bdz - adz * bdy);
-  const double sx = (std::fabs(adx) + std::fabs(bdx)) + std::fabs(cdx);
-  const double sy = (std::fabs(ady) + std::fabs(bdy)) + std::fabs(cdy);
-  const double sz = (std::fabs(adz) + std::fabs(bdz)) + std::fabs(cdz);
-  const double p = sx * sy * sz;
-  const bool decided = (std::fabs(det) > detail::kOrient3dEps * p) & (p >= detail::kOrient3dLo) &
-                       (sx + sy + sz <= detail::kOrient3dHi);
-  if (decided) return detail::sign_of(det);
-  // Small integer coordinates (grid and many CAD models, where the filter
-  // fails on every exactly coplanar quadruple): the evaluation above is
-  // exact (detail::kSmallInteger), so its sign is the answer.
-  if (sx + sy + sz <= detail::kOrient3dSmallInteger && detail::integers(a, b, c, d))
-    return detail::sign_of(det);
-  // Four points in one axis-parallel plane (CAD models; nearly all the exact
-  // zeros there): a column of the matrix is zero, so the determinant is. A
-  // computed difference is 0 exactly when the two coordinates are equal (x - y
-  // rounds to 0 only for x == y, subnormals included), so the test is exact.
-  if (detail::zero_column(adx, bdx, cdx, 0) | detail::zero_column(ady, bdy, cdy, 0) |
-      detail::zero_column(adz, bdz, cdz, 0))
-    return 0;
-  return detail::orient3d_exact(a, b, c, d);
+  const detail::Orient3dTerms t = detail::orient3d_terms(a, b, c, d);
+  if (detail::orient3d_decided(t)) return detail::sign_of(t.det);
+  return detail::orient3d_undecided(a, b, c, d);
 }
 
 inline int insphere(const double* a, const double* b, const double* c, const double* d,
                     const double* e) {
   detail::count_call(detail::g_counters.insphere_calls);
-  const double aex = a[0] - e[0], aey = a[1] - e[1], aez = a[2] - e[2];
-  const double bex = b[0] - e[0], bey = b[1] - e[1], bez = b[2] - e[2];
-  const double cex = c[0] - e[0], cey = c[1] - e[1], cez = c[2] - e[2];
-  const double dex = d[0] - e[0], dey = d[1] - e[1], dez = d[2] - e[2];
-  const double ab = aex * bey - bex * aey;
-  const double bc = bex * cey - cex * bey;
-  const double cd = cex * dey - dex * cey;
-  const double da = dex * aey - aex * dey;
-  const double ac = aex * cey - cex * aey;
-  const double bd = bex * dey - dex * bey;
-  const double abc = aez * bc - bez * ac + cez * ab;
-  const double bcd = bez * cd - cez * bd + dez * bc;
-  const double cda = cez * da + dez * ac + aez * cd;
-  const double dab = dez * ab + aez * bd + bez * da;
-  const double la = aex * aex + aey * aey + aez * aez;
-  const double lb = bex * bex + bey * bey + bez * bez;
-  const double lc = cex * cex + cey * cey + cez * cez;
-  const double ld = dex * dex + dey * dey + dez * dez;
-  const double det = (ld * abc - lc * dab) + (lb * cda - la * bcd);
-  const double sx = (std::fabs(aex) + std::fabs(bex)) + (std::fabs(cex) + std::fabs(dex));
-  const double sy = (std::fabs(aey) + std::fabs(bey)) + (std::fabs(cey) + std::fabs(dey));
-  const double sz = (std::fabs(aez) + std::fabs(bez)) + (std::fabs(cez) + std::fabs(dez));
-  const double bound = detail::kInsphereEps * sx * sy * sz * ((la + lb) + (lc + ld));
-  const bool decided = (std::fabs(det) > bound) & (sx >= detail::kInsphereLo) &
-                       (sy >= detail::kInsphereLo) & (sz >= detail::kInsphereLo) &
-                       (sx + sy + sz <= detail::kInsphereHi);
-  if (decided) return detail::sign_of(det);
-  // As in orient3d: exact for small integer coordinates (co-spherical grid
-  // points reach this line on every tie).
-  if (sx + sy + sz <= detail::kInsphereSmallInteger && detail::integers(a, b, c, d) &&
-      detail::integers(e, e, e, e))
-    return detail::sign_of(det);
-  // Five points in one axis-parallel plane: a zero column again (see orient3d).
-  if (detail::zero_column(aex, bex, cex, dex) | detail::zero_column(aey, bey, cey, dey) |
-      detail::zero_column(aez, bez, cez, dez))
-    return 0;
-  if ((sx >= detail::kInsphereLo) & (sy >= detail::kInsphereLo) & (sz >= detail::kInsphereLo) &
-      (sx + sy + sz <= detail::kInsphereHi)) {
-    const double rows[4][3] = {{aex, aey, aez}, {bex, bey, bez}, {cex, cey, cez}, {dex, dey, dez}};
-    const double lifts[4] = {la, lb, lc, ld};
-    const double perm = detail::insphere_permanent(rows, lifts);
-    if ((std::fabs(det) > detail::kInspherePermanentEps * perm) &
-        (perm >= detail::kInspherePermanentLo))
-      return detail::sign_of(det);
-  }
-  return detail::insphere_exact(a, b, c, d, e);
+  const detail::InsphereTerms t = detail::insphere_terms(a, b, c, d, e);
+  if (detail::insphere_decided(t)) return detail::sign_of(t.det);
+  return detail::insphere_undecided(a, b, c, d, e);
 }
 
 inline int detail::orient2d_xy(double ax, double ay, double bx, double by, double cx, double cy) {
