@@ -376,6 +376,22 @@ int int_insphere_1(const wide::i128 (*d)[3]) {
   return sum.sign();
 }
 
+// As int_incircle<1>: la [BC] + lb [CA] + lc [AB], 2D lifts below 2^125 and
+// minors below 2^125, each term below 2^250.
+int int_incircle_1(const wide::i128 (*d)[3]) {
+  int64_t r[3][2];
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 2; ++k) r[i][k] = static_cast<int64_t>(d[i][k]);
+  I320 sum;
+  for (int i = 0; i < 3; ++i) {
+    const wide::i128 minor = minor2_1(r[(i + 1) % 3], r[(i + 2) % 3]);
+    const wide::u128 lift = static_cast<wide::u128>(static_cast<wide::i128>(r[i][0]) * r[i][0]) +
+                            static_cast<wide::u128>(static_cast<wide::i128>(r[i][1]) * r[i][1]);
+    add_lift_times(sum, lift, I192{minor >> 64, static_cast<uint64_t>(minor)});
+  }
+  return sum.sign();
+}
+
 // incircle's difference form on integer rows (as incircle_rows):
 // la [BC] + lb [CA] + lc [AB], each term below 2^(128D-3) 2^(128D-3), the sum
 // below 2^(256D-4): fits 4D limbs.
@@ -617,6 +633,34 @@ int insphere_rows(const double (*q)[3]) {
 
 namespace detail {
 
+// The row of a column of coordinate differences that is its only nonzero
+// entry, or -1 (none, or more than one). A computed difference is 0 exactly
+// when the coordinates are equal (see orient3d), so the test is exact.
+int single_nonzero_row(const double* col, int rows) {
+  int row = -1;
+  for (int r = 0; r < rows; ++r)
+    if (col[r] != 0) {
+      if (row >= 0) return -1;
+      row = r;
+    }
+  return row;
+}
+
+// Points that share an axis-parallel plane with the reference point but one
+// (CAD and thin-plate models: a tet with three vertices on a face of the
+// part and one off it, tested against a point of that face): expanding the
+// determinant along that column leaves one entry times a 2D determinant of
+// the other rows in the two remaining coordinates, which the exact 2D
+// predicates evaluate far more cheaply than the 3D exact stage. Entry (i, k)
+// of an n x n determinant carries the cofactor sign (-1)^(i + k); dropping
+// coordinate k keeps the other two in order (and, for insphere, the lift,
+// whose k term is 0 on those rows), so the minor is orient2d / incircle of
+// the projected points in the given order.
+inline void projected(const double* p, int k, double* out) {
+  out[0] = p[k == 0 ? 1 : 0];
+  out[1] = p[k == 2 ? 1 : 2];
+}
+
 int orient3d_undecided(const double* a, const double* b, const double* c, const double* d) {
   const Orient3dTerms t = orient3d_terms(a, b, c, d);
   // Small integer coordinates (grid and many CAD models, where the filter
@@ -630,6 +674,18 @@ int orient3d_undecided(const double* a, const double* b, const double* c, const 
   if (zero_column(t.adx, t.bdx, t.cdx, 0) | zero_column(t.ady, t.bdy, t.cdy, 0) |
       zero_column(t.adz, t.bdz, t.cdz, 0))
     return 0;
+  const double* p[3] = {a, b, c};
+  const double cols[3][3] = {{t.adx, t.bdx, t.cdx}, {t.ady, t.bdy, t.cdy}, {t.adz, t.bdz, t.cdz}};
+  for (int k = 0; k < 3; ++k) {
+    const int i = single_nonzero_row(cols[k], 3);
+    if (i < 0) continue;
+    double q[3][2];  // the other two rows' points, then d
+    for (int r = 0, n = 0; r < 3; ++r)
+      if (r != i) projected(p[r], k, q[n++]);
+    projected(d, k, q[2]);
+    const int minor = orient2d(q[0], q[1], q[2]);
+    return ((i + k) % 2 == 0 ? 1 : -1) * sign_of(cols[k][i]) * minor;
+  }
   return orient3d_exact(a, b, c, d);
 }
 
@@ -644,6 +700,20 @@ int insphere_undecided(const double* a, const double* b, const double* c, const 
   if (zero_column(t.aex, t.bex, t.cex, t.dex) | zero_column(t.aey, t.bey, t.cey, t.dey) |
       zero_column(t.aez, t.bez, t.cez, t.dez))
     return 0;
+  const double* p[4] = {a, b, c, d};
+  const double cols[3][4] = {{t.aex, t.bex, t.cex, t.dex},
+                             {t.aey, t.bey, t.cey, t.dey},
+                             {t.aez, t.bez, t.cez, t.dez}};
+  for (int k = 0; k < 3; ++k) {
+    const int i = single_nonzero_row(cols[k], 4);
+    if (i < 0) continue;
+    double q[4][2];  // the other three rows' points, then e
+    for (int r = 0, n = 0; r < 4; ++r)
+      if (r != i) projected(p[r], k, q[n++]);
+    projected(e, k, q[3]);
+    const int minor = incircle(q[0], q[1], q[2], q[3]);
+    return ((i + k) % 2 == 0 ? 1 : -1) * sign_of(cols[k][i]) * minor;
+  }
   if (insphere_in_range(t)) {
     const double rows[4][3] = {
         {t.aex, t.aey, t.aez}, {t.bex, t.bey, t.bez}, {t.cex, t.cey, t.cez}, {t.dex, t.dey, t.dez}};
@@ -802,7 +872,7 @@ int incircle_exact(const double* a, const double* b, const double* c, const doub
   const double xy[4][3] = {{a[0], a[1], 0}, {b[0], b[1], 0}, {c[0], c[1], 0}, {d[0], d[1], 0}};
   wide::i128 xd[3][3];
   if (const int limbs = integer_differences(xy, 4, 2, xd))
-    return limbs == 1 ? int_incircle<1>(xd) : int_incircle<2>(xd);
+    return limbs == 1 ? int_incircle_1(xd) : int_incircle<2>(xd);
   double r[4][2] = {{a[0], a[1]}, {b[0], b[1]}, {c[0], c[1]}, {d[0], d[1]}};
   return memoized_sign(r, t_incircle_memo, [](const double (*rows)[2]) { return incircle_rows(rows); });
 }
