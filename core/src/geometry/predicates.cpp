@@ -661,6 +661,24 @@ inline void projected(const double* p, int k, double* out) {
   out[1] = p[k == 2 ? 1 : 2];
 }
 
+// The expansion for N rows (points p[0..N-1] minus ref, columns cols[k]):
+// the sign, or 2 when no column has a single nonzero row. minor2d takes the
+// N projected points (the other rows', then ref's).
+template <int N, typename Minor2d>
+int sign_by_single_column(const double* const* p, const double* ref, const double (*cols)[N],
+                          Minor2d minor2d) {
+  for (int k = 0; k < 3; ++k) {
+    const int i = single_nonzero_row(cols[k], N);
+    if (i < 0) continue;
+    double q[N][2];
+    for (int r = 0, n = 0; r < N; ++r)
+      if (r != i) projected(p[r], k, q[n++]);
+    projected(ref, k, q[N - 1]);
+    return ((i + k) % 2 == 0 ? 1 : -1) * sign_of(cols[k][i]) * minor2d(q);
+  }
+  return 2;
+}
+
 int orient3d_undecided(const double* a, const double* b, const double* c, const double* d) {
   const Orient3dTerms t = orient3d_terms(a, b, c, d);
   // Small integer coordinates (grid and many CAD models, where the filter
@@ -676,16 +694,10 @@ int orient3d_undecided(const double* a, const double* b, const double* c, const 
     return 0;
   const double* p[3] = {a, b, c};
   const double cols[3][3] = {{t.adx, t.bdx, t.cdx}, {t.ady, t.bdy, t.cdy}, {t.adz, t.bdz, t.cdz}};
-  for (int k = 0; k < 3; ++k) {
-    const int i = single_nonzero_row(cols[k], 3);
-    if (i < 0) continue;
-    double q[3][2];  // the other two rows' points, then d
-    for (int r = 0, n = 0; r < 3; ++r)
-      if (r != i) projected(p[r], k, q[n++]);
-    projected(d, k, q[2]);
-    const int minor = orient2d(q[0], q[1], q[2]);
-    return ((i + k) % 2 == 0 ? 1 : -1) * sign_of(cols[k][i]) * minor;
-  }
+  const int s = sign_by_single_column<3>(p, d, cols, [](const double (*q)[2]) {
+    return orient2d(q[0], q[1], q[2]);
+  });
+  if (s != 2) return s;
   return orient3d_exact(a, b, c, d);
 }
 
@@ -704,16 +716,10 @@ int insphere_undecided(const double* a, const double* b, const double* c, const 
   const double cols[3][4] = {{t.aex, t.bex, t.cex, t.dex},
                              {t.aey, t.bey, t.cey, t.dey},
                              {t.aez, t.bez, t.cez, t.dez}};
-  for (int k = 0; k < 3; ++k) {
-    const int i = single_nonzero_row(cols[k], 4);
-    if (i < 0) continue;
-    double q[4][2];  // the other three rows' points, then e
-    for (int r = 0, n = 0; r < 4; ++r)
-      if (r != i) projected(p[r], k, q[n++]);
-    projected(e, k, q[3]);
-    const int minor = incircle(q[0], q[1], q[2], q[3]);
-    return ((i + k) % 2 == 0 ? 1 : -1) * sign_of(cols[k][i]) * minor;
-  }
+  const int s = sign_by_single_column<4>(p, e, cols, [](const double (*q)[2]) {
+    return incircle(q[0], q[1], q[2], q[3]);
+  });
+  if (s != 2) return s;
   if (insphere_in_range(t)) {
     const double rows[4][3] = {
         {t.aex, t.aey, t.aez}, {t.bex, t.bey, t.bez}, {t.cex, t.cey, t.cez}, {t.dex, t.dey, t.dez}};
