@@ -684,7 +684,7 @@ int orient3d_undecided(const double* a, const double* b, const double* c, const 
   // Small integer coordinates (grid and many CAD models, where the filter
   // fails on every exactly coplanar quadruple): the evaluation of the filter
   // is exact (kOrient3dSmallInteger), so its sign is the answer.
-  if (t.sx + t.sy + t.sz <= kOrient3dSmallInteger && integers(a, b, c, d)) return sign_of(t.det);
+  if (t.sx + t.sy + t.sz <= kOrient3dSmallInteger && integers({a, b, c, d})) return sign_of(t.det);
   // Four points in one axis-parallel plane (CAD models; nearly all the exact
   // zeros there): a column of the matrix is zero, so the determinant is. A
   // computed difference is 0 exactly when the two coordinates are equal (x - y
@@ -706,7 +706,7 @@ int insphere_undecided(const double* a, const double* b, const double* c, const 
   const InsphereTerms t = insphere_terms(a, b, c, d, e);
   // As in orient3d: exact for small integer coordinates (co-spherical grid
   // points reach this line on every tie).
-  if (t.sx + t.sy + t.sz <= kInsphereSmallInteger && integers(a, b, c, d) && integers(e, e, e, e))
+  if (t.sx + t.sy + t.sz <= kInsphereSmallInteger && integers({a, b, c, d, e}))
     return sign_of(t.det);
   // Five points in one axis-parallel plane: a zero column again (see orient3d).
   if (zero_column(t.aex, t.bex, t.cex, t.dex) | zero_column(t.aey, t.bey, t.cey, t.dey) |

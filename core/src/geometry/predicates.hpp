@@ -272,10 +272,17 @@ inline int zero_column(double p, double q, double r, double s) {
   return static_cast<int>(p == 0) & static_cast<int>(q == 0) & static_cast<int>(r == 0) &
          static_cast<int>(s == 0);
 }
-inline bool integers(const double* a, const double* b, const double* c, const double* d) {
+// x is an integer below 2^52 in magnitude. The round trip through int64_t
+// is one conversion each way (std::trunc is a libm call on baseline x86-64,
+// and the small-integer test ran on every tie of grid models); the range
+// test comes first, so the conversion is defined (NaN fails it).
+inline bool small_integer(double x) {
+  return std::fabs(x) < 0x1p+52 && x == static_cast<double>(static_cast<int64_t>(x));
+}
+inline bool integers(std::initializer_list<const double*> points) {
   bool ok = true;
-  for (const double* p : {a, b, c, d})
-    for (int k = 0; k < 3; ++k) ok = ok && p[k] == std::trunc(p[k]) && std::fabs(p[k]) < 0x1p+52;
+  for (const double* p : points)
+    for (int k = 0; k < 3; ++k) ok = ok && small_integer(p[k]);
   return ok;
 }
 
