@@ -143,9 +143,45 @@ bool differences(const double (*q)[3], int last, int dim, double (*d)[3]) {
 // below count on), or 0 when the coordinates span more than 125 bits or one
 // is subnormal, infinite or NaN: the expansion forms take those.
 int integer_differences(const double (*q)[3], int n, int dim, wide::i128 (*d)[3]) {
+  // The span first: the lowest set bit and the top of the largest
+  // coordinate, from the bits (exact).
+  int lo = INT32_MAX, hi = INT32_MIN;
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < dim; ++k) {
+      uint64_t bits;
+      std::memcpy(&bits, &q[i][k], sizeof bits);
+      const int biased = static_cast<int>((bits >> 52) & 0x7ff);
+      const uint64_t frac = bits & ((uint64_t(1) << 52) - 1);
+      if (biased == 0 && frac == 0) continue;  // +-0
+      if (biased == 0 || biased == 0x7ff) return 0;
+      lo = std::min(lo, biased - 1075 + __builtin_ctzll(frac | (uint64_t(1) << 52)));
+      hi = std::max(hi, biased - 1075 + 53);  // |x| < 2^hi
+    }
+  const int last = n - 1;
+  if (hi != INT32_MIN && hi - lo <= 62 && lo >= -1022 && lo <= 1022) {
+    // One limb, the common case: x 2^-lo is an integer below 2^62 with at
+    // most 53 significant bits, so the product by the power of two (a
+    // normal double for -1022 <= lo <= 1022) is exact (no rounding, no
+    // overflow or underflow) and so is the conversion to int64_t.
+    uint64_t scale_bits = static_cast<uint64_t>(1023 - lo) << 52;
+    double scale;
+    std::memcpy(&scale, &scale_bits, sizeof scale);
+    int64_t x[5][3];
+    for (int i = 0; i < n; ++i)
+      for (int k = 0; k < dim; ++k) x[i][k] = static_cast<int64_t>(q[i][k] * scale);
+    uint64_t all = 0;
+    for (int i = 0; i < last; ++i)
+      for (int k = 0; k < dim; ++k) {
+        const int64_t v = x[i][k] - x[last][k];
+        d[i][k] = v;
+        all |= static_cast<uint64_t>(v < 0 ? -v : v);
+      }
+    return all < (uint64_t(1) << 62) ? 1 : 2;
+  }
+  // Otherwise by shifts of the significands (two limbs, or a scale beyond
+  // the doubles' exponent range).
   uint64_t mant[5][3];
   int expo[5][3];
-  int lo = INT32_MAX, hi = INT32_MIN;
   for (int i = 0; i < n; ++i)
     for (int k = 0; k < dim; ++k) {
       uint64_t bits;
@@ -154,17 +190,13 @@ int integer_differences(const double (*q)[3], int n, int dim, wide::i128 (*d)[3]
       const uint64_t frac = bits & ((uint64_t(1) << 52) - 1);
       mant[i][k] = 0, expo[i][k] = 0;
       if (biased == 0 && frac == 0) continue;  // +-0
-      if (biased == 0 || biased == 0x7ff) return 0;
       const uint64_t m = frac | (uint64_t(1) << 52);
       const int tz = __builtin_ctzll(m);
       mant[i][k] = m >> tz;  // odd: |x| = mant 2^expo
       expo[i][k] = biased - 1075 + tz;
-      lo = std::min(lo, expo[i][k]);
-      hi = std::max(hi, biased - 1075 + 53);  // |x| < 2^hi
     }
   if (hi == INT32_MIN) lo = hi = 0;  // all zero
   if (hi - lo > 125) return 0;
-  const int last = n - 1;
   if (hi - lo <= 62) {
     // |X| < 2^62: the differences fit in 64 bits.
     int64_t x[5][3];
