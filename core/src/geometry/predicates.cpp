@@ -136,6 +136,38 @@ bool differences(const double (*q)[3], int last, int dim, double (*d)[3]) {
   return exact_all;
 }
 
+// |x| = mant 2^expo with mant odd (mant 0 for +-0), and |x| < 2^top; false
+// for subnormals, infinities and NaN.
+bool split_double(double x, uint64_t& mant, int& expo, int& top) {
+  uint64_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  const int biased = static_cast<int>((bits >> 52) & 0x7ff);
+  const uint64_t frac = bits & ((uint64_t(1) << 52) - 1);
+  mant = 0, expo = 0, top = 0;
+  if (biased == 0 && frac == 0) return true;  // +-0
+  if (biased == 0 || biased == 0x7ff) return false;
+  const uint64_t m = frac | (uint64_t(1) << 52);
+  const int tz = __builtin_ctzll(m);
+  mant = m >> tz;
+  expo = biased - 1075 + tz;
+  top = biased - 1075 + 53;
+  return true;
+}
+
+// d = x[i] - x[last] for 64-bit integer points; the limbs (1 or 2) that
+// hold every difference below 2^62 or 2^126.
+int int64_differences(const int64_t (*x)[3], int n, int dim, wide::i128 (*d)[3]) {
+  const int last = n - 1;
+  uint64_t all = 0;
+  for (int i = 0; i < last; ++i)
+    for (int k = 0; k < dim; ++k) {
+      const int64_t v = x[i][k] - x[last][k];
+      d[i][k] = v;
+      all |= static_cast<uint64_t>(v < 0 ? -v : v);
+    }
+  return all < (uint64_t(1) << 62) ? 1 : 2;
+}
+
 // Integer differences (wide_int.hpp): every coordinate of the n points of q
 // divided by 2^L, for the lowest set bit 2^L among them (exact), minus the
 // last point's. Returns the number of limbs (1 or 2) that holds every
@@ -144,20 +176,19 @@ bool differences(const double (*q)[3], int last, int dim, double (*d)[3]) {
 // is subnormal, infinite or NaN: the expansion forms take those.
 int integer_differences(const double (*q)[3], int n, int dim, wide::i128 (*d)[3]) {
   // The span first: the lowest set bit and the top of the largest
-  // coordinate, from the bits (exact).
+  // coordinate (exact, from the bits).
+  uint64_t mant[5][3];
+  int expo[5][3];
   int lo = INT32_MAX, hi = INT32_MIN;
   for (int i = 0; i < n; ++i)
     for (int k = 0; k < dim; ++k) {
-      uint64_t bits;
-      std::memcpy(&bits, &q[i][k], sizeof bits);
-      const int biased = static_cast<int>((bits >> 52) & 0x7ff);
-      const uint64_t frac = bits & ((uint64_t(1) << 52) - 1);
-      if (biased == 0 && frac == 0) continue;  // +-0
-      if (biased == 0 || biased == 0x7ff) return 0;
-      lo = std::min(lo, biased - 1075 + __builtin_ctzll(frac | (uint64_t(1) << 52)));
-      hi = std::max(hi, biased - 1075 + 53);  // |x| < 2^hi
+      int top;
+      if (!split_double(q[i][k], mant[i][k], expo[i][k], top)) return 0;
+      if (mant[i][k] == 0) continue;
+      lo = std::min(lo, expo[i][k]);
+      hi = std::max(hi, top);
     }
-  const int last = n - 1;
+  int64_t x[5][3];
   if (hi != INT32_MIN && hi - lo <= 62 && lo >= -1022 && lo <= 1022) {
     // One limb, the common case: x 2^-lo is an integer below 2^62 with at
     // most 53 significant bits, so the product by the power of two (a
@@ -166,66 +197,36 @@ int integer_differences(const double (*q)[3], int n, int dim, wide::i128 (*d)[3]
     uint64_t scale_bits = static_cast<uint64_t>(1023 - lo) << 52;
     double scale;
     std::memcpy(&scale, &scale_bits, sizeof scale);
-    int64_t x[5][3];
     for (int i = 0; i < n; ++i)
       for (int k = 0; k < dim; ++k) x[i][k] = static_cast<int64_t>(q[i][k] * scale);
-    uint64_t all = 0;
-    for (int i = 0; i < last; ++i)
-      for (int k = 0; k < dim; ++k) {
-        const int64_t v = x[i][k] - x[last][k];
-        d[i][k] = v;
-        all |= static_cast<uint64_t>(v < 0 ? -v : v);
-      }
-    return all < (uint64_t(1) << 62) ? 1 : 2;
+    return int64_differences(x, n, dim, d);
   }
   // Otherwise by shifts of the significands (two limbs, or a scale beyond
   // the doubles' exponent range).
-  uint64_t mant[5][3];
-  int expo[5][3];
-  for (int i = 0; i < n; ++i)
-    for (int k = 0; k < dim; ++k) {
-      uint64_t bits;
-      std::memcpy(&bits, &q[i][k], sizeof bits);
-      const int biased = static_cast<int>((bits >> 52) & 0x7ff);
-      const uint64_t frac = bits & ((uint64_t(1) << 52) - 1);
-      mant[i][k] = 0, expo[i][k] = 0;
-      if (biased == 0 && frac == 0) continue;  // +-0
-      const uint64_t m = frac | (uint64_t(1) << 52);
-      const int tz = __builtin_ctzll(m);
-      mant[i][k] = m >> tz;  // odd: |x| = mant 2^expo
-      expo[i][k] = biased - 1075 + tz;
-    }
   if (hi == INT32_MIN) lo = hi = 0;  // all zero
   if (hi - lo > 125) return 0;
   if (hi - lo <= 62) {
     // |X| < 2^62: the differences fit in 64 bits.
-    int64_t x[5][3];
     for (int i = 0; i < n; ++i)
       for (int k = 0; k < dim; ++k) {
         // (A zero has mant 0 and no exponent: no shift.)
         const int64_t v = mant[i][k] ? static_cast<int64_t>(mant[i][k] << (expo[i][k] - lo)) : 0;
         x[i][k] = q[i][k] < 0 ? -v : v;
       }
-    uint64_t all = 0;
-    for (int i = 0; i < last; ++i)
-      for (int k = 0; k < dim; ++k) {
-        const int64_t v = x[i][k] - x[last][k];
-        d[i][k] = v;
-        all |= static_cast<uint64_t>(v < 0 ? -v : v);
-      }
-    return all < (uint64_t(1) << 62) ? 1 : 2;
+    return int64_differences(x, n, dim, d);
   }
-  wide::i128 x[5][3];
+  const int last = n - 1;
+  wide::i128 xw[5][3];
   for (int i = 0; i < n; ++i)
     for (int k = 0; k < dim; ++k) {
       const wide::i128 v =
           mant[i][k] ? static_cast<wide::i128>(mant[i][k]) << (expo[i][k] - lo) : 0;
-      x[i][k] = q[i][k] < 0 ? -v : v;
+      xw[i][k] = q[i][k] < 0 ? -v : v;
     }
   wide::u128 all = 0;
   for (int i = 0; i < last; ++i)
     for (int k = 0; k < dim; ++k) {
-      d[i][k] = x[i][k] - x[last][k];
+      d[i][k] = xw[i][k] - xw[last][k];
       all |= static_cast<wide::u128>(d[i][k] < 0 ? -d[i][k] : d[i][k]);
     }
   return all < (static_cast<wide::u128>(1) << 62) ? 1 : 2;
