@@ -289,9 +289,10 @@ int int_insphere(const wide::i128 (*d)[3]) {
 }
 
 // The one-limb forms again, written for the machine's 64 x 64 -> 128-bit
-// multiply: the generic limb loops above took ~3,000 instructions per
-// insphere on CAD points (tray_bottom: 20k exact calls in step 1, 45% of
-// its Delaunay phase), this ~600. Entries below 2^62 (integer_differences).
+// multiply: with the generic limb loops above an exact insphere took ~3,000
+// instructions on CAD points (tray_bottom: 20k exact calls in step 1, 45% of
+// its Delaunay phase), with these ~1,900 (callgrind). Entries below 2^62
+// (integer_differences).
 //
 // A signed value below 2^189 in magnitude as hi 2^64 + lo, lo unsigned:
 // what a 3x3 minor of such entries needs (< 2^189, as int_det3<1>).
@@ -1000,9 +1001,9 @@ int incircle_coplanar(const double* a, const double* b, const double* c, const d
   // is exact, so the 2D predicates decide, oriented by the projected face.
   for (int k = 0; k < 3; ++k) {
     if (a[k] != b[k] || a[k] != c[k] || a[k] != d[k]) continue;
-    const int i = k == 0 ? 1 : 0, j = k == 2 ? 1 : 2;
-    const double pa[2] = {a[i], a[j]}, pb[2] = {b[i], b[j]}, pc[2] = {c[i], c[j]},
-                 pd[2] = {d[i], d[j]};
+    double pa[2], pb[2], pc[2], pd[2];
+    detail::projected(a, k, pa), detail::projected(b, k, pb);
+    detail::projected(c, k, pc), detail::projected(d, k, pd);
     const int o = orient2d(pa, pb, pc);
     return o == 0 ? 0 : o * incircle(pa, pb, pc, pd);
   }

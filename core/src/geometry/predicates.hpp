@@ -286,10 +286,6 @@ inline bool integers(std::initializer_list<const double*> points) {
   return ok;
 }
 
-}  // namespace detail
-
-namespace detail {
-
 // The first stages' values of orient3d (the filter's inputs), computed by one
 // expression tree wherever they are needed, so that the out-of-line rest
 // (orient3d_undecided) sees the very doubles the inline filter saw.
