@@ -778,6 +778,11 @@ TEST_CASE("insphere_sos equals the explicitly perturbed determinant", "[predicat
     ties += insphere_q(p[0], p[1], p[2], p[3], p[4]) == 0;
     const int k[5] = {0, 1, 2, 3, 4};
     SIGN_CHECK(sos(p, ids, k), want, describe(p));
+    // The tie entry (the caller already has the exact zero) decides alone.
+    if (insphere_q(p[0], p[1], p[2], p[3], p[4]) == 0)
+      SIGN_CHECK(pred::insphere_tie(p[0].data(), p[1].data(), p[2].data(), p[3].data(),
+                                    p[4].data(), ids[0], ids[1], ids[2], ids[3], ids[4]),
+                 want, describe(p));
     if (orient3d_q(p[0], p[1], p[2], p[3]) != 0) CHECK(want != 0);
     // Permuting points together with their ids permutes the perturbed rows.
     int perm[5] = {0, 1, 2, 3, 4};
@@ -889,6 +894,9 @@ TEST_CASE("incircle_coplanar_sos is the limit of insphere_sos", "[predicates][so
       continue;
     }
     ++checked;
+    SIGN_CHECK(pred::incircle_coplanar_sos_on_plane(a.data(), b.data(), c.data(), e.data(), ids[0],
+                                                    ids[1], ids[2], ids[3]),
+               got, describe(p));
     const int circle = incircle_coplanar_q(a, b, c, e);
     ties += circle == 0;
     if (circle != 0) SIGN_CHECK(got, circle, describe(p));

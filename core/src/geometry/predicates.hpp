@@ -119,6 +119,12 @@ inline uint32_t sos_first(uint32_t a, uint32_t b, uint32_t c, uint32_t d) {
 /// query e is outside when it comes first. See sos.cpp for the derivation.
 int insphere_sos(const double* a, const double* b, const double* c, const double* d,
                  const double* e, uint32_t ia, uint32_t ib, uint32_t ic, uint32_t id, uint32_t ie);
+/// insphere_sos for a caller that already has insphere(a, b, c, d, e) == 0:
+/// the perturbation alone, without evaluating the exact zero a second time
+/// (on co-spherical CAD points that second evaluation was a fifth of the
+/// Delaunay step).
+int insphere_tie(const double* a, const double* b, const double* c, const double* d,
+                 const double* e, uint32_t ia, uint32_t ib, uint32_t ic, uint32_t id, uint32_t ie);
 
 /// Perturbed "in circle of a hull face" test used for ghost tets: for e coplanar
 /// with a, b, c (orient3d == 0), decides whether e is in conflict with the
@@ -135,6 +141,11 @@ int insphere_sos(const double* a, const double* b, const double* c, const double
 /// a, b, c are not collinear.
 int incircle_coplanar_sos(const double* a, const double* b, const double* c, const double* e,
                           uint32_t ia, uint32_t ib, uint32_t ic, uint32_t ie);
+/// incircle_coplanar_sos for a caller that already has orient3d(a, b, c, e)
+/// == 0 (again without a second exact evaluation of that zero).
+int incircle_coplanar_sos_on_plane(const double* a, const double* b, const double* c,
+                                   const double* e, uint32_t ia, uint32_t ib, uint32_t ic,
+                                   uint32_t ie);
 
 /// Counters for filter efficiency, one set per thread (the pipeline may run
 /// its self-intersection test on a second thread); for statistics only.

@@ -32,6 +32,11 @@ int insphere_sos(const double* a, const double* b, const double* c, const double
                  const double* e, uint32_t ia, uint32_t ib, uint32_t ic, uint32_t id, uint32_t ie) {
   const int s = insphere(a, b, c, d, e);
   if (s != 0) return s;
+  return insphere_tie(a, b, c, d, e, ia, ib, ic, id, ie);
+}
+
+int insphere_tie(const double* a, const double* b, const double* c, const double* d,
+                 const double* e, uint32_t ia, uint32_t ib, uint32_t ic, uint32_t id, uint32_t ie) {
   ++detail::g_counters.sos_ties;
   const double* p[5] = {a, b, c, d, e};
   const uint32_t ids[5] = {ia, ib, ic, id, ie};
@@ -72,6 +77,12 @@ int incircle_coplanar_sos(const double* a, const double* b, const double* c, con
                           uint32_t ia, uint32_t ib, uint32_t ic, uint32_t ie) {
   const int o = orient3d(a, b, c, e);
   if (o != 0) return o;
+  return incircle_coplanar_sos_on_plane(a, b, c, e, ia, ib, ic, ie);
+}
+
+int incircle_coplanar_sos_on_plane(const double* a, const double* b, const double* c,
+                                   const double* e, uint32_t ia, uint32_t ib, uint32_t ic,
+                                   uint32_t ie) {
   const int s = incircle_coplanar(a, b, c, e);
   if (s != 0) return s;
   ++detail::g_counters.sos_ties;

@@ -88,12 +88,13 @@ PointInserter::in_conflict(TetId t, const double* p, VertexId v) const {
     const double* d = mesh_.point(w[3]);
     const int s = pred::insphere(a, b, c, d, p);
     if (s != 0) return s > 0;
-    return pred::insphere_sos(a, b, c, d, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(w[3]), sos(v)) >
+    return pred::insphere_tie(a, b, c, d, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(w[3]), sos(v)) >
            0;
   }
   const int o = pred::orient3d(a, b, c, p);
   if (o != 0) return o > 0;
-  return pred::incircle_coplanar_sos(a, b, c, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(v)) > 0;
+  return pred::incircle_coplanar_sos_on_plane(a, b, c, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(v)) >
+         0;
 }
 
 int conflict_sign(const TetMesh& mesh, TetId t, const double* p) {

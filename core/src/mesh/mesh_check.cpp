@@ -168,7 +168,7 @@ Status check_delaunay(const TetMesh& m) {
       const VertexId e = m.tv[4 * size_t(hf_tet(hf)) + hf_face(hf)];
       const double *a = m.point(w[0]), *b = m.point(w[1]), *c = m.point(w[2]);
       if (pred::orient3d(a, b, c, m.point(e)) != 0) continue;
-      if (pred::incircle_coplanar_sos(a, b, c, m.point(e), w[0], w[1], w[2], e) > 0)
+      if (pred::incircle_coplanar_sos_on_plane(a, b, c, m.point(e), w[0], w[1], w[2], e) > 0)
         return make_error(ErrorCode::Internal,
                           "delaunay: hull edge of " + tet_name(m, t) +
                               " is not locally Delaunay in its plane (vertex " + std::to_string(e) +
