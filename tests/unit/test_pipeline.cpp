@@ -153,9 +153,11 @@ TEST_CASE("a self-intersecting PLC names its facets and lists every pair", "[pip
   CHECK(!r.intersecting_facets.empty());
 }
 
-TEST_CASE("the self-intersection test on a second thread changes nothing", "[pipeline]") {
-  // Beside step 1 (Options::threads, the default) or before it: the same
-  // mesh, the same error with the same pairs.
+TEST_CASE("the work on a second thread changes nothing", "[pipeline]") {
+  // With Options::threads (the default) the self-intersection test runs
+  // beside step 1, and half of the facet triangulations and of the quality
+  // statistics beside the other half: the same mesh, the same statistics,
+  // the same error with the same pairs as on one thread.
   Plc plc;
   REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) + "/elephant.obj", plc).ok());
   Options one;
@@ -163,9 +165,26 @@ TEST_CASE("the self-intersection test on a second thread changes nothing", "[pip
   const Result a = tetrahedralize(plc), b = tetrahedralize(plc, one);
   REQUIRE(a.status.ok());
   REQUIRE(b.status.ok());
+  REQUIRE(a.mesh.tets.size() / 4 >= 20000);  // enough tets for the statistics' split
   CHECK(a.mesh.points == b.mesh.points);
   CHECK(a.mesh.tets == b.mesh.tets);
   CHECK(a.mesh.faces == b.mesh.faces);
+  CHECK(a.mesh.face_markers == b.mesh.face_markers);
+  CHECK(a.stats.min_dihedral == b.stats.min_dihedral);
+  CHECK(a.stats.max_dihedral == b.stats.max_dihedral);
+  CHECK(a.stats.radius_edge_histogram == b.stats.radius_edge_histogram);
+  CHECK(a.stats.dihedral_histogram == b.stats.dihedral_histogram);
+  CHECK(a.stats.flat_tets == b.stats.flat_tets);
+  CHECK(a.stats.missing_subfaces == b.stats.missing_subfaces);
+  // Both halves of the statistics are counted: every tet is in one bin.
+  const size_t tets = a.mesh.tets.size() / 4;
+  size_t in_ratio_bins = 0, in_angle_bins = 0;
+  for (size_t k = 0; k < 10; ++k) {
+    in_ratio_bins += a.stats.radius_edge_histogram[k];
+    in_angle_bins += a.stats.dihedral_histogram[k];
+  }
+  CHECK(in_ratio_bins == tets);
+  CHECK(in_angle_bins == tets);
 
   // The elephant (12k facets: enough for the second thread) cut by one big
   // triangle through the middle of its bounding box.

@@ -4,8 +4,10 @@
 #include "stats.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
+#include "beside.hpp"
 #include "geometry.hpp"
 
 namespace cdt3d {
@@ -26,16 +28,16 @@ constexpr double kDihedralBinCosines[9] = {
 
 double squared(const Vec3& v) { return dot(v, v); }
 
-}  // namespace
-
-void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
-  constexpr double kDegrees = 180 / 3.14159265358979323846;
+// The quality numbers of tets [begin, end): cosines of the smallest and the
+// largest angle over them, the two histograms and the flat count.
+struct QualityPart {
   double cos_min_dihedral = -1, cos_max_dihedral = 1;  // of the smallest / largest angle
-  stats.radius_edge_histogram.fill(0);
-  stats.dihedral_histogram.fill(0);
-  stats.flat_tets = 0;
-  const size_t n = mesh.tets.size() / 4;
-  for (size_t t = 0; t < n; ++t) {
+  std::array<size_t, 10> radius_edge{}, dihedral{};
+  size_t flat = 0;
+};
+
+void quality_of_range(const TetMeshData& mesh, size_t begin, size_t end, QualityPart& q) {
+  for (size_t t = begin; t < end; ++t) {
     Vec3 p[4];
     for (int i = 0; i < 4; ++i) {
       const double* c = &mesh.points[3 * static_cast<size_t>(mesh.tets[4 * t + i])];
@@ -43,11 +45,11 @@ void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
     }
     double c_lo, c_hi;  // cosines of the tet's smallest and largest angle
     dihedral_cosines(p, c_lo, c_hi);
-    cos_min_dihedral = std::max(cos_min_dihedral, c_lo);
-    cos_max_dihedral = std::min(cos_max_dihedral, c_hi);
+    q.cos_min_dihedral = std::max(q.cos_min_dihedral, c_lo);
+    q.cos_max_dihedral = std::min(q.cos_max_dihedral, c_hi);
     size_t dbin = 0;
     while (dbin < 9 && c_lo <= kDihedralBinCosines[dbin]) ++dbin;
-    ++stats.dihedral_histogram[dbin];
+    ++q.dihedral[dbin];
     // Radius-edge ratio: circumradius over the shortest edge.
     const Vec3 a = p[0] - p[3], b = p[1] - p[3], c = p[2] - p[3];
     const double det = dot(a, cross(b, c));
@@ -61,7 +63,7 @@ void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
     // stored points is positive, but a user's code that recomputes the volume
     // in floating point would see (almost) nothing.
     const double longest = std::sqrt(longest2);
-    if (!(det > kFlatTetRatio * longest * longest * longest)) ++stats.flat_tets;
+    if (!(det > kFlatTetRatio * longest * longest * longest)) ++q.flat;
     double ratio2 = HUGE_VAL;
     if (det != 0 && shortest2 > 0) {
       const Vec3 o = sphere_center(p[0], p[1], p[2], p[3]);
@@ -69,8 +71,31 @@ void quality_statistics(const TetMeshData& mesh, Statistics& stats) {
     }
     size_t bin = 0;
     while (bin < 9 && ratio2 >= kRatioBinsSquared[bin]) ++bin;
-    ++stats.radius_edge_histogram[bin];
+    ++q.radius_edge[bin];
   }
+}
+
+// Below this many tets a second thread costs more than it saves.
+constexpr size_t kMinTetsBeside = 20000;
+
+}  // namespace
+
+void quality_statistics(const TetMeshData& mesh, Statistics& stats, bool beside) {
+  constexpr double kDegrees = 180 / 3.14159265358979323846;
+  const size_t n = mesh.tets.size() / 4;
+  // Two halves of the tets, the second on the other core: the sums and
+  // extremes merge exactly, so the numbers do not depend on the split.
+  QualityPart lo, hi;
+  run_beside(
+      beside && n >= kMinTetsBeside, [&] { quality_of_range(mesh, 0, n / 2, lo); },
+      [&] { quality_of_range(mesh, n / 2, n, hi); });
+  for (size_t k = 0; k < 10; ++k) {
+    stats.radius_edge_histogram[k] = lo.radius_edge[k] + hi.radius_edge[k];
+    stats.dihedral_histogram[k] = lo.dihedral[k] + hi.dihedral[k];
+  }
+  stats.flat_tets = lo.flat + hi.flat;
+  const double cos_min_dihedral = std::max(lo.cos_min_dihedral, hi.cos_min_dihedral);
+  const double cos_max_dihedral = std::min(lo.cos_max_dihedral, hi.cos_max_dihedral);
   stats.min_dihedral = n ? std::acos(cos_min_dihedral) * kDegrees : 0;
   stats.max_dihedral = n ? std::acos(cos_max_dihedral) * kDegrees : 0;
 }

@@ -81,8 +81,9 @@ inline constexpr StatisticsField kStatisticsFields[] = {
 
 /// Fills min_dihedral, max_dihedral (degrees), radius_edge_histogram,
 /// dihedral_histogram and flat_tets of
-/// `stats` from the tets of `mesh`.
-void quality_statistics(const TetMeshData& mesh, Statistics& stats);
+/// `stats` from the tets of `mesh`; `beside`: half of a large mesh on a
+/// second thread where there are threads (the same numbers either way).
+void quality_statistics(const TetMeshData& mesh, Statistics& stats, bool beside = false);
 
 /// Fills points, tets, faces and the Steiner counts by kind of
 /// `result.stats` from the result's arrays.

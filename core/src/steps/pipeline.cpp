@@ -19,15 +19,8 @@
 #include <new>
 #include <string>
 #include <vector>
-// A second thread where the platform has threads (not single-threaded
-// WebAssembly) and the build has exceptions (to carry a failure across).
-#if (!defined(__EMSCRIPTEN__) || defined(__EMSCRIPTEN_PTHREADS__)) && \
-    (defined(__cpp_exceptions) || defined(__EXCEPTIONS))
-#include <system_error>
-#include <thread>
-#define CDT3D_HAS_THREADS 1
-#endif
 
+#include "beside.hpp"
 #include "carve.hpp"
 #include "degeneracy.hpp"
 #include "delaunay.hpp"
@@ -473,7 +466,8 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
   // Step 4.
   if (opt_.stop_after >= Phase::Facets) {
     if (!begin(Phase::Facets)) return false;
-    st = triangulate_facets(*plc_, segs_, mesh_, facet_interior_, subfaces_, nothing_embedded_);
+    st = triangulate_facets(*plc_, segs_, mesh_, facet_interior_, subfaces_, nothing_embedded_,
+                            opt_.threads);
     const bool force = facet_splits_.size() < opt_.debug_forced_facet_splits;
     if (st.ok()) st = recover_facets(mesh_, subfaces_, &fst, opt_.cancel, force, &subface_hf_);
     s.missing_subfaces = fst.missing_initially, s.regions = fst.regions;
@@ -618,7 +612,7 @@ void Pipeline::run() {
     if (st.ok()) mesh_to_result(carved.tets, &carved.attribute, &carved);
     if (!end(Phase::Carve, st, &s.ms_carve)) return;
   }
-  quality_statistics(out_.mesh, s);
+  quality_statistics(out_.mesh, s, opt_.threads);
   s.min_dihedral_before = s.min_dihedral;
   s.radius_edge_histogram_before = s.radius_edge_histogram;
   s.dihedral_histogram_before = s.dihedral_histogram;
@@ -626,7 +620,7 @@ void Pipeline::run() {
     if (!begin(Phase::Refine)) return;
     st = refine_quality(*plc_, opt_.quality, opt_.cancel, {&Pipeline::refine_progress, this}, out_);
     if (!end(Phase::Refine, st, &s.ms_refine)) return;
-    quality_statistics(out_.mesh, s);
+    quality_statistics(out_.mesh, s, opt_.threads);
   }
   s.ms_total = ms_since(t_total);
 

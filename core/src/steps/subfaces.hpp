@@ -35,9 +35,11 @@ struct Subfaces {
 /// self-intersection test (a vertex or edge of one facet inside another is
 /// an improper intersection there), has no explicit segments (those may lie
 /// inside a facet as part of it) and no point outside the facets' loops.
+/// `beside`: the second half of a large PLC's facets on a second thread
+/// where there are threads (the same subfaces in the same order either way).
 Status triangulate_facets(const Plc& plc, const SegmentSet& segs, const TetMesh& mesh,
                           const std::vector<std::vector<VertexId>>& interior, Subfaces& out,
-                          bool nothing_embedded = false);
+                          bool nothing_embedded = false, bool beside = false);
 
 /// Per subface, a half-face of `mesh` holding it (either side), or kNone
 /// when it is not a face of the mesh (facet_recovery.cpp).
