@@ -260,9 +260,11 @@ struct Options {
   /// off for input known to be clean.
   bool check_intersections = true;
   /// Native builds: run the self-intersection test on a second thread beside
-  /// step 1, which reads the same PLC (the result is the same either way;
-  /// WebAssembly builds always use one thread). tetrahedralize() may also be
-  /// called from several threads at once.
+  /// step 1, which reads the same PLC, and half of the facet triangulations
+  /// (large PLCs) and of the quality statistics (large meshes) beside the
+  /// other half (the result is the same either way; WebAssembly builds
+  /// always use one thread). tetrahedralize() may also be called from
+  /// several threads at once.
   bool threads = true;
   /// Join facets that share an edge and lie in one plane into one polygon
   /// facet (TetGen's default; off here, like tetgen -M): their common edges
