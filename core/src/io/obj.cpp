@@ -13,14 +13,26 @@ namespace cdt3d {
 namespace io {
 namespace {
 
-// Resolves the vertex part of a corner token ("12", "-1", "3/4/5", "3//5")
-// to a 0-based file index.
-Status corner_index(const Token& t, uint64_t vertices_so_far, const std::string& file,
-                    int64_t facet, uint32_t& out) {
+// Length of the vertex part of a corner token ("12", "-1", "3/4/5", "3//5").
+size_t vertex_part(const Token& t) {
   size_t len = 0;
   while (len < t.n && t.p[len] != '/') ++len;
+  return len;
+}
+
+// A 1-based (negative: relative to the vertices read so far) index as a
+// 0-based file index; -1 when it names no vertex (0, or before the first)
+// or lies beyond kMaxItems.
+int64_t resolve_index(int64_t i, uint64_t vertices_so_far) {
+  const int64_t resolved = i > 0 ? i - 1 : i < 0 ? static_cast<int64_t>(vertices_so_far) + i : -1;
+  return resolved >= 0 && static_cast<uint64_t>(resolved) < kMaxItems ? resolved : -1;
+}
+
+// Resolves the vertex part of a corner token to a 0-based file index.
+Status corner_index(const Token& t, uint64_t vertices_so_far, const std::string& file,
+                    int64_t facet, uint32_t& out) {
   Token head = t;
-  head.n = len;
+  head.n = vertex_part(t);
   int64_t i = 0;
   Status s = int_from_token(head, i, file, "vertex index");
   if (!s.ok()) {
@@ -28,13 +40,8 @@ Status corner_index(const Token& t, uint64_t vertices_so_far, const std::string&
     s.error.facet = facet;
     return s;
   }
-  int64_t resolved = -1;
-  if (i > 0) {
-    resolved = i - 1;
-  } else if (i < 0) {
-    resolved = static_cast<int64_t>(vertices_so_far) + i;
-  }
-  if (i == 0 || resolved < 0 || static_cast<uint64_t>(resolved) >= kMaxItems) {
+  const int64_t resolved = resolve_index(i, vertices_so_far);
+  if (resolved < 0) {
     Status e = fail(ErrorCode::IndexOutOfRange,
                     "Vertex index " + std::to_string(i) +
                         " is out of range: " + std::to_string(vertices_so_far) +
@@ -66,12 +73,10 @@ bool fast_corners(TextReader& r, uint64_t vertices_so_far, std::vector<uint32_t>
   out.clear();
   Token t;
   while (r.next_on_line(t)) {
-    size_t len = 0;
-    while (len < t.n && t.p[len] != '/') ++len;
     int64_t i = 0;
-    if (parse_int(t.p, len, i) != NumParse::Ok || i == 0) return false;
-    const int64_t resolved = i > 0 ? i - 1 : static_cast<int64_t>(vertices_so_far) + i;
-    if (resolved < 0 || static_cast<uint64_t>(resolved) >= kMaxItems) return false;
+    if (parse_int(t.p, vertex_part(t), i) != NumParse::Ok) return false;
+    const int64_t resolved = resolve_index(i, vertices_so_far);
+    if (resolved < 0) return false;
     out.push_back(static_cast<uint32_t>(resolved));
   }
   return true;

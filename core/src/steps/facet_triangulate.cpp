@@ -936,6 +936,7 @@ Status triangulate_facets(const Plc& plc, const SegmentSet& segs, const TetMesh&
   const size_t nf = plc.facets.size();
   const size_t mid = beside && nf >= kMinFacetsBeside ? nf / 2 : nf;
   auto triangulate = [&](size_t begin, size_t end, Subfaces& sub, Status& st) {
+    if (begin == end) return;  // no triangulator (its indexes) for an empty half
     FacetTriangulator ft(plc, segs, mesh, nothing_embedded);
     for (size_t f = begin; f < end && st.ok(); ++f)
       st = ft.run(f, f < interior.size() ? &interior[f] : nullptr, sub);
