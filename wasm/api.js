@@ -321,6 +321,8 @@ function wrap(mod, abortReason) {
 
   const api = {
     version: mod._version(),
+    // The two-thread module (Node, node.js) has Emscripten's thread pool.
+    threaded: typeof mod.PThread === 'object' && mod.PThread !== null,
     errorCodes: Object.freeze(mod._errorCodes()),
 
     readPlc(bytes, fileName) {

@@ -121,6 +121,13 @@ export interface Cdt3d {
   /** Every code a Cdt3dError can carry. */
   readonly errorCodes: readonly Cdt3dErrorCode[];
   /**
+   * True for the two-thread module that Node gets by default: a call then
+   * does some of its work (the self-intersection test, half of the facet
+   * triangulations and statistics) on a second core. False in browsers and
+   * workers, and under Node with `createCdt3d({ threads: false })`.
+   */
+  readonly threaded: boolean;
+  /**
    * Parses a PLC (.stl ASCII/binary, .off, .obj, .ply, .poly, .smesh) and
    * checks it. `fileName` picks the format by extension and names the file in
    * errors.
@@ -491,6 +498,13 @@ export interface CreateCdt3dOptions {
   wasmBinary?: ArrayBuffer | Uint8Array;
   /** Where to fetch `path` ("cdt3d.wasm") from; `prefix` is the script's folder. */
   locateFile?: (path: string, prefix: string) => string;
+  /**
+   * Node only: false loads the single-threaded module. By default Node gets
+   * the two-thread module (one extra worker thread, started with the
+   * instance) unless `wasmBinary` or `locateFile` is given, which name the
+   * single-threaded module's .wasm. Ignored in browsers and workers.
+   */
+  threads?: boolean;
 }
 
 /**

@@ -19,11 +19,12 @@ commands:
   mesh MODEL [-o PREFIX] [--format node|vtk|mesh] [--keep-hull] [--validate]
              [--stats] [--json] [-q] [--merge] [--paper-degeneracy] [--no-intersection-check]
              [--stop-after PHASE] [--quality [RATIO]] [--max-volume V] [--min-dihedral D]
-             [--max-points N]
+             [--max-points N] [--one-thread]
                            constrained Delaunay tetrahedralization of MODEL;
                            --quality (radius-edge bound RATIO >= 1, default 2.0),
                            --max-volume, --min-dihedral (0-70 degrees, by flips and
-                           smoothing) and --max-points each turn quality refinement on
+                           smoothing) and --max-points each turn quality refinement on;
+                           --one-thread: the single-threaded module (same result)
 
 MODEL: .stl (ASCII/binary) .off .obj .ply .poly .smesh
 exit codes: 0 success, 1 input or meshing error, 2 usage error
@@ -40,7 +41,7 @@ const QUALITY_FLAGS = { '--quality': 'radiusEdge', '--max-volume': 'maxVolume', 
 const NUMBER = /^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$/;
 
 function parse(args) {
-  const opts = { input: null, prefix: null, format: 'node', json: false, quiet: false, stats: false, tet: {}, qualityFlags: [] };
+  const opts = { input: null, prefix: null, format: 'node', json: false, quiet: false, stats: false, threads: true, tet: {}, qualityFlags: [] };
   for (let i = 0; i < args.length; ++i) {
     const a = args[i];
     if (Object.hasOwn(QUALITY_FLAGS, a)) {
@@ -57,6 +58,7 @@ function parse(args) {
     } else if (a === '--json') opts.json = true;
     else if (a === '-q') opts.quiet = true;
     else if (a === '--stats') opts.stats = true;
+    else if (a === '--one-thread') opts.threads = false;
     else if (a === '--keep-hull') opts.tet.keepConvexHull = true;
     else if (a === '--validate') opts.tet.validate = true;
     else if (a === '--no-intersection-check') opts.tet.checkIntersections = false;
@@ -161,7 +163,7 @@ async function main(argv) {
   if (command !== 'mesh' && command !== 'info') return usage(`unknown command '${command}'`);
   const opts = parse(rest);
   if (opts.error) return usage(opts.error);
-  const cdt = await createCdt3d();
+  const cdt = await createCdt3d({ threads: opts.threads });
   try {
     const bytes = readFileSync(opts.input);
     if (command === 'info') {

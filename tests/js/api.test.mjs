@@ -69,7 +69,7 @@ describe('package', () => {
 
   test('the instance is frozen and has the documented members', () => {
     assert.ok(Object.isFrozen(cdt));
-    assert.deepEqual(Object.keys(cdt).sort(), ['delaunay', 'errorCodes', 'memoryUsage', 'readPlc', 'readSurface', 'repair', 'tetrahedralize', 'validate', 'version', 'write']);
+    assert.deepEqual(Object.keys(cdt).sort(), ['delaunay', 'errorCodes', 'memoryUsage', 'readPlc', 'readSurface', 'repair', 'tetrahedralize', 'threaded', 'validate', 'version', 'write']);
   });
 });
 

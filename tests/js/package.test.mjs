@@ -11,6 +11,7 @@ import { corpusFile, importPackage, packageDir, repoRoot } from './support.mjs';
 
 const SHIPPED = [
   'LICENSE', 'README.md', 'api.js', 'cdt3d.d.ts', 'cli.js', 'dist/cdt3d.js', 'dist/cdt3d.wasm',
+  'dist/node/cdt3d.js', 'dist/node/cdt3d.wasm', 'dist/node/cdt3d.worker.js', 'dist/node/package.json',
   'index.js', 'node.js', 'package.json', 'worker-entry.js', 'worker.d.ts', 'worker.js',
 ];
 
@@ -50,7 +51,7 @@ test('the installed tarball works when imported by name', async () => {
     const mesh = cdt.tetrahedralize(info, { validate: true });
     const { meshInWorker } = await import('cdt3d/worker');
     const inWorker = await meshInWorker(readFileSync(${JSON.stringify(path.join(repoRoot, model))}), {}, { fileName: 'm.off' });
-    console.log(JSON.stringify({ info, error, tets: mesh.stats.tets, workerTets: inWorker.stats.tets }));`;
+    console.log(JSON.stringify({ info, error, tets: mesh.stats.tets, workerTets: inWorker.stats.tets, threaded: cdt.threaded }));`;
   const r = spawnSync(process.execPath, ['--input-type=module', '-e', script], { cwd: project, encoding: 'utf8' });
   assert.equal(r.status, 0, r.stderr);
   const got = JSON.parse(r.stdout);
@@ -61,6 +62,9 @@ test('the installed tarball works when imported by name', async () => {
   assert.equal(got.error, 'empty');
   assert.equal(got.tets, 1);
   assert.equal(got.workerTets, 1);
+  // The installed copy finds its two-thread module (dist/node/, CommonJS by
+  // its own package.json inside this ES-module package).
+  assert.equal(got.threaded, true);
   // The bin: `npx cdt3d mesh` writes a VTK file and exits 0; bad usage exits 2.
   const vtk = path.join(project, 'out');
   const bin = spawnSync('npx', ['--offline', 'cdt3d', 'mesh', path.join(repoRoot, model), '-o', vtk, '--format', 'vtk', '-q'], { cwd: project, encoding: 'utf8' });

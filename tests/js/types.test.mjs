@@ -82,7 +82,7 @@ test('interface RepairReport declares exactly the report repair() and tetrahedra
 });
 
 test('CreateCdt3dOptions declares the options createCdt3d checks', () => {
-  assert.deepEqual(interfaceMembers('CreateCdt3dOptions').sort(), ['locateFile', 'wasmBinary']);
+  assert.deepEqual(interfaceMembers('CreateCdt3dOptions').sort(), ['locateFile', 'threads', 'wasmBinary']);
 });
 
 test('the package exports what the declarations export', () => {

@@ -73,12 +73,19 @@ struct Tri {
 inline int next3(int i) { return i == 2 ? 0 : i + 1; }
 inline int prev3(int i) { return i == 0 ? 2 : i - 1; }
 
+// One per facet triangulator, reused from facet to facet: its buffers keep
+// their capacity, so a facet costs no allocation once the larger ones have
+// been seen (with two threads each allocation also takes the allocator's
+// lock, for which the two halves of triangulate_facets queued in the
+// WebAssembly build).
 class Cdt2 {
  public:
-  /// xy: 2 coordinates per local vertex; ids: mesh ids (perturbation order).
+  /// xy: 2 coordinates per local vertex; ids: mesh ids (perturbation order);
+  /// read at each build(), so the caller refills them between facets.
   Cdt2(const std::vector<double>& xy, const std::vector<VertexId>& ids) : xy_(xy), ids_(ids) {}
 
-  /// Triangulates the points. Empty string on success, else what failed.
+  /// Triangulates the points, replacing the previous triangulation. Empty
+  /// string on success, else what failed.
   std::string build();
   /// Inserts the constraint edge (a, b).
   std::string insert_constraint(uint32_t a, uint32_t b);
@@ -97,8 +104,6 @@ class Cdt2 {
   }
   /// Perturbed incircle: > 0 when d is inside the circle of ccw (a, b, c).
   int incircle_sos(uint32_t a, uint32_t b, uint32_t c, uint32_t d) const;
-
-  size_t flips = 0;
 
  private:
   void add_constrained(uint32_t a, uint32_t b) {
@@ -149,7 +154,12 @@ class Cdt2 {
   std::vector<uint64_t> constrained_;
   std::vector<uint32_t> tstamp_;
   uint32_t epoch_ = 0;
-  std::vector<int32_t> star_buf_, queue_;
+  std::vector<int32_t> star_buf_;
+  // Scratch of build() (sweep order, hull links, new fan), make_delaunay()
+  // (edges to check) and insert_constraint() (crossed edges, flip queue).
+  std::vector<uint32_t> order_, hnext_, hprev_, stack_;
+  std::vector<int32_t> hedge_, created_;
+  std::vector<std::array<uint32_t, 2>> crossed_, flip_queue_;
 };
 
 int Cdt2::incircle_sos(uint32_t a, uint32_t b, uint32_t c, uint32_t d) const {
@@ -177,7 +187,8 @@ std::string Cdt2::build() {
   constrained_.clear();
   vtri_.assign(n, -1);
   if (n < 3) return "fewer than 3 vertices";
-  std::vector<uint32_t> order(n);
+  std::vector<uint32_t>& order = order_;
+  order.resize(n);
   for (uint32_t i = 0; i < n; ++i) order[i] = i;
   std::sort(order.begin(), order.end(), [this](uint32_t a, uint32_t b) {
     const double* A = &xy_[2 * a];
@@ -214,8 +225,12 @@ std::string Cdt2::build() {
 
   // Hull as a circular list (counterclockwise, interior on the left) with the
   // half-edge (3 t + i) of the hull triangle along each hull edge.
-  std::vector<uint32_t> hnext(n, 0), hprev(n, 0);
-  std::vector<int32_t> hedge(n, -1);
+  std::vector<uint32_t>& hnext = hnext_;
+  std::vector<uint32_t>& hprev = hprev_;
+  std::vector<int32_t>& hedge = hedge_;
+  hnext.assign(n, 0);
+  hprev.assign(n, 0);
+  hedge.assign(n, -1);
   for (size_t t = 0; t < tris_.size(); ++t) {
     for (int i = 0; i < 3; ++i) {
       if (tris_[t].n[i] != -1) continue;
@@ -226,7 +241,7 @@ std::string Cdt2::build() {
     }
   }
 
-  std::vector<int32_t> created;
+  std::vector<int32_t>& created = created_;
   for (uint32_t j = k + 1; j < n; ++j) {
     const uint32_t q = order[j];
     const uint32_t r = order[j - 1];
@@ -335,7 +350,6 @@ void Cdt2::flip(int32_t t, int i) {
   relink(u_bx, u, t);
   relink(t_ca, t, u);
   vtri_[a] = t, vtri_[b] = t, vtri_[x] = t, vtri_[c] = u;
-  ++flips;
 }
 
 std::string Cdt2::insert_constraint(uint32_t a, uint32_t b) {
@@ -365,7 +379,8 @@ std::string Cdt2::insert_constraint(uint32_t a, uint32_t b) {
   }
   if (t < 0) return "no triangle around a constraint edge's end faces it";
   // Walk along a -> b collecting the crossed edges (p right, q left of ab).
-  std::vector<std::array<uint32_t, 2>> crossed;
+  std::vector<std::array<uint32_t, 2>>& crossed = crossed_;
+  crossed.clear();
   for (size_t guard = 0;; ++guard) {
     if (guard > 4 * tris_.size() + 8) return "the walk along a constraint edge does not end";
     if (is_constrained(p, q))
@@ -388,7 +403,8 @@ std::string Cdt2::insert_constraint(uint32_t a, uint32_t b) {
     else q = r;
   }
   // Flip the crossed edges away; non-convex ones wait for their turn.
-  std::vector<std::array<uint32_t, 2>> queue(crossed.begin(), crossed.end());
+  std::vector<std::array<uint32_t, 2>>& queue = flip_queue_;
+  queue.assign(crossed.begin(), crossed.end());
   size_t head = 0;
   const size_t limit = 64 + 16 * crossed.size() * crossed.size() + 16 * tris_.size();
   for (size_t steps = 0; head < queue.size(); ++steps) {
@@ -417,8 +433,8 @@ std::string Cdt2::insert_constraint(uint32_t a, uint32_t b) {
 }
 
 std::string Cdt2::make_delaunay() {
-  std::vector<uint32_t> stack;  // half-edge ids 3 t + i
-  stack.reserve(3 * tris_.size());
+  std::vector<uint32_t>& stack = stack_;  // half-edge ids 3 t + i
+  stack.clear();
   for (size_t t = tris_.size(); t-- > 0;)
     for (int i = 2; i >= 0; --i) stack.push_back(static_cast<uint32_t>(3 * t + i));
   const size_t n = ids_.size();
@@ -570,7 +586,7 @@ class FacetTriangulator {
   Status outer_loop_orientation(size_t f, int& sign) const;
   Status insert_constraints(size_t f, Cdt2& cdt);
   void mark_outside(size_t f, const std::vector<Tri>& T, int drop,
-                    std::vector<uint8_t>& out_mark) const;
+                    std::vector<uint8_t>& out_mark);
 
   // Local id (index in verts_) of mesh vertex v, which must be in verts_.
   uint32_t local(VertexId v) const {
@@ -608,6 +624,9 @@ class FacetTriangulator {
   std::vector<uint64_t> loop_keys_;  // loop subsegments, sorted local-id keys
   std::vector<VertexId> loop_vertices_, extra_points_, box_;
   std::vector<uint32_t> loop_segs_, extra_segs_;
+  Cdt2 cdt_{xy_, verts_};             // after xy_ and verts_, which it reads
+  std::vector<uint8_t> out_mark_;     // per triangle of cdt_: outside the facet
+  std::vector<int32_t> flood_;        // mark_outside's stack
 };
 
 bool FacetTriangulator::in_some_loop(size_t f, const double* p, int drop) const {
@@ -828,9 +847,10 @@ Status FacetTriangulator::insert_constraints(size_t f, Cdt2& cdt) {
 // Region: marks what the outside and the hole points reach without crossing
 // a loop edge.
 void FacetTriangulator::mark_outside(size_t f, const std::vector<Tri>& T, int drop,
-                                     std::vector<uint8_t>& out_mark) const {
+                                     std::vector<uint8_t>& out_mark) {
   out_mark.assign(T.size(), 0);
-  std::vector<int32_t> stack;
+  std::vector<int32_t>& stack = flood_;
+  stack.clear();
   auto flood = [&]() {
     while (!stack.empty()) {
       const int32_t t = stack.back();
@@ -895,7 +915,7 @@ Status FacetTriangulator::run(size_t f, const std::vector<VertexId>* interior, S
   if (st.ok()) st = outer_loop_orientation(f, sign);
   if (!st.ok()) return st;
 
-  Cdt2 cdt(xy_, verts_);
+  Cdt2& cdt = cdt_;
   std::string msg = cdt.build();
   if (!msg.empty()) return facet_error(f, msg);
   // Delaunay first: subsegments are then usually edges already or cross few.
@@ -907,7 +927,7 @@ Status FacetTriangulator::run(size_t f, const std::vector<VertexId>* interior, S
   if (!msg.empty()) return facet_error(f, msg);
 
   const std::vector<Tri>& T = cdt.tris();
-  std::vector<uint8_t> out_mark;
+  std::vector<uint8_t>& out_mark = out_mark_;
   mark_outside(f, T, drop, out_mark);
   size_t kept = 0;
   for (size_t t = 0; t < T.size(); ++t) {
