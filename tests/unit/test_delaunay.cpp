@@ -196,6 +196,29 @@ TEST_CASE("SmallDelaunay reused equals a fresh unsorted build, degenerate sets i
   CHECK(small.build(flat, 4).error.code == ErrorCode::Coplanar);
 }
 
+TEST_CASE("SmallDelaunay's co-spherical mode gives the same tetrahedralization", "[delaunay][sos]") {
+  // Exactly co-spherical sets (a cube's corners, integer points on spheres,
+  // in two orders each): skipping the exact insphere zero must not change
+  // what the perturbation decides.
+  std::vector<std::vector<double>> sets = {grid(2, 2, 2), integer_sphere(3), integer_sphere(5),
+                                           integer_sphere(9)};
+  for (size_t k = 0, n = sets.size(); k < n; ++k) {
+    std::vector<double> reversed;
+    for (size_t i = sets[k].size() / 3; i-- > 0;)
+      reversed.insert(reversed.end(), &sets[k][3 * i], &sets[k][3 * i] + 3);
+    sets.push_back(reversed);
+  }
+  SmallDelaunay plain, cospherical;
+  for (const auto& pts : sets) {
+    const size_t n = pts.size() / 3;
+    INFO(n << " points");
+    REQUIRE(plain.build(pts.data(), n).ok());
+    REQUIRE(cospherical.build(pts.data(), n, /*cospherical=*/true).ok());
+    validate(cospherical.mesh());
+    CHECK(canonical_tets(cospherical.mesh()) == canonical_tets(plain.mesh()));
+  }
+}
+
 TEST_CASE("integer points on spheres (co-spherical)", "[delaunay]") {
   for (int r : {3, 5, 7, 13, 25, 65, 85}) {
     INFO("r = " << r);

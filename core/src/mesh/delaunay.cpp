@@ -86,7 +86,7 @@ PointInserter::in_conflict(TetId t, const double* p, VertexId v) const {
   const double* c = mesh_.point(w[2]);
   if (w[3] != kInfinite) {
     const double* d = mesh_.point(w[3]);
-    const int s = pred::insphere(a, b, c, d, p);
+    const int s = cospherical_ ? 0 : pred::insphere(a, b, c, d, p);
     if (s != 0) return s > 0;
     return pred::insphere_tie(a, b, c, d, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(w[3]), sos(v)) >
            0;
@@ -685,7 +685,8 @@ Status build_guarded(TetMesh& m, const std::vector<VertexId>& vertices,
 
 SmallDelaunay::SmallDelaunay() : inserter_(mesh_) {}
 
-Status SmallDelaunay::build(const double* coords, size_t n) {
+Status SmallDelaunay::build(const double* coords, size_t n, bool cospherical) {
+  inserter_.set_cospherical(cospherical);
   mesh_.clear();
   mesh_.coords.assign(coords, coords + 3 * n);
   mesh_.vkind.assign(n, kVertexNotInserted);

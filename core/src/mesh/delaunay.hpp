@@ -167,6 +167,13 @@ class PointInserter {
   /// flat tets.
   void set_reject_flat(bool on) { reject_flat_ = on; }
 
+  /// Promise that every point inserted from now on lies exactly on the
+  /// circumsphere of every real tet (the vertices of one cell of the
+  /// Delaunay subdivision, sos_order.cpp): each insphere test is then a tie,
+  /// so the conflict test goes straight to the perturbation instead of
+  /// evaluating an exact zero first. Wrong answers if the promise is false.
+  void set_cospherical(bool on) { cospherical_ = on; }
+
   uint64_t walk_steps = 0;   ///< statistics, cumulative
   uint64_t cavity_tets = 0;  ///< statistics, cumulative
 
@@ -199,6 +206,7 @@ class PointInserter {
   TetMesh& mesh_;
   const VertexId* sos_id_ = nullptr;
   bool reject_flat_ = false;
+  bool cospherical_ = false;
   Rng rng_;
   TetId last_tet_ = kNone;
   std::vector<TetId> cavity_;
@@ -229,7 +237,10 @@ class SmallDelaunay {
   SmallDelaunay& operator=(const SmallDelaunay&) = delete;
   /// Tetrahedralizes points coords[3i..3i+2], i < n, replacing the last
   /// result. Errors as delaunay_tetrahedralize's (TooFewPoints, Coplanar...).
-  Status build(const double* coords, size_t n);
+  /// `cospherical`: the caller knows the points lie exactly on one sphere
+  /// (PointInserter::set_cospherical), which saves the exact zero of every
+  /// insphere test.
+  Status build(const double* coords, size_t n, bool cospherical = false);
   const TetMesh& mesh() const { return mesh_; }
   /// The last result, for queries that use the stamps (find_face).
   TetMesh& mesh() { return mesh_; }

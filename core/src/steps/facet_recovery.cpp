@@ -119,7 +119,19 @@ class SubfaceIndex {
     const size_t n = sf.tri.size();
     by_key_.resize(n);
     for (uint32_t s = 0; s < n; ++s) by_key_[s] = {sorted_triangle(sf.tri[s]), s};
-    std::sort(by_key_.begin(), by_key_.end());
+    // By triple, then subface: a stable radix sort of the subfaces listed in
+    // order gives std::sort's order of the pairs when a triple packs into 64
+    // bits (comparing the arrays cost 2.7% of bunny's run).
+    const int b = index_bits(size_t(max_vertex(sf)) + 1);
+    if (3 * b <= 64)
+      radix_sort_by(
+          by_key_,
+          [b](const std::pair<Triangle, uint32_t>& e) {
+            return (uint64_t(e.first[0]) << (2 * b)) | (uint64_t(e.first[1]) << b) | e.first[2];
+          },
+          0, 3 * b);
+    else
+      std::sort(by_key_.begin(), by_key_.end());
     size_t cap = 16;
     while (cap < 2 * n + 16) cap *= 2;
     mask_ = cap - 1;

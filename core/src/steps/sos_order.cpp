@@ -226,7 +226,8 @@ bool CellEdges::triangulate_cell(uint32_t cell) {
   cell_order_[cell].clear();
   // The result is the same in any insertion order; a cell has a few points,
   // too few for the spatial sort to pay.
-  if (!scratch_.build(xyz_.data(), k).ok()) return false;
+  // The vertices of a cell lie on its sphere (class comment), exactly.
+  if (!scratch_.build(xyz_.data(), k, /*cospherical=*/true).ok()) return false;
   const TetMesh& m = scratch_.mesh();
   std::vector<uint64_t>& edges = cell_edges_[cell];
   edges.clear();
