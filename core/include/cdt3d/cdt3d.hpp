@@ -259,11 +259,12 @@ struct Options {
   /// Reject self-intersecting input before meshing (exact; fast). Only turn it
   /// off for input known to be clean.
   bool check_intersections = true;
-  /// Native builds: run the self-intersection test on a second thread beside
+  /// Builds with threads (native, and the npm package's WebAssembly module
+  /// for Node): run the self-intersection test on a second thread beside
   /// step 1, which reads the same PLC, and half of the facet triangulations
   /// (large PLCs) and of the quality statistics (large meshes) beside the
-  /// other half (the result is the same either way; WebAssembly builds
-  /// always use one thread). tetrahedralize() may also be called from
+  /// other half (the result is the same either way; the browser module
+  /// always uses one thread). tetrahedralize() may also be called from
   /// several threads at once.
   bool threads = true;
   /// Join facets that share an edge and lie in one plane into one polygon

@@ -1,7 +1,8 @@
 // Two independent halves of one job, the second on a thread of its own where
-// the platform has threads (native builds; WebAssembly here is
-// single-threaded) and the build has exceptions (to carry an allocation
-// failure across). The pipeline's other work on the second core (the
+// the platform has threads (native builds, and the WebAssembly module the
+// npm package loads under Node, built with Emscripten's pthreads; the
+// browser module is single-threaded) and the build has exceptions (to carry
+// an allocation failure across). The pipeline's other work on the second core (the
 // self-intersection test beside step 1) is done by then.
 #pragma once
 
