@@ -196,18 +196,28 @@ TEST_CASE("SmallDelaunay reused equals a fresh unsorted build, degenerate sets i
   CHECK(small.build(flat, 4).error.code == ErrorCode::Coplanar);
 }
 
-TEST_CASE("SmallDelaunay's co-spherical mode gives the same tetrahedralization", "[delaunay][sos]") {
-  // Exactly co-spherical sets (a cube's corners, integer points on spheres,
-  // in two orders each): skipping the exact insphere zero must not change
-  // what the perturbation decides.
-  std::vector<std::vector<double>> sets = {grid(2, 2, 2), integer_sphere(3), integer_sphere(5),
-                                           integer_sphere(9)};
+namespace {
+
+// Appends each point set again with its points in reverse order (another
+// perturbation order).
+void add_reversed(std::vector<std::vector<double>>& sets) {
   for (size_t k = 0, n = sets.size(); k < n; ++k) {
     std::vector<double> reversed;
     for (size_t i = sets[k].size() / 3; i-- > 0;)
       reversed.insert(reversed.end(), &sets[k][3 * i], &sets[k][3 * i] + 3);
     sets.push_back(reversed);
   }
+}
+
+}  // namespace
+
+TEST_CASE("SmallDelaunay's co-spherical mode gives the same tetrahedralization", "[delaunay][sos]") {
+  // Exactly co-spherical sets (a cube's corners, integer points on spheres,
+  // in two orders each): skipping the exact insphere zero must not change
+  // what the perturbation decides.
+  std::vector<std::vector<double>> sets = {grid(2, 2, 2), integer_sphere(3), integer_sphere(5),
+                                           integer_sphere(9)};
+  add_reversed(sets);
   SmallDelaunay plain, cospherical;
   for (const auto& pts : sets) {
     const size_t n = pts.size() / 3;
@@ -216,6 +226,25 @@ TEST_CASE("SmallDelaunay's co-spherical mode gives the same tetrahedralization",
     REQUIRE(cospherical.build(pts.data(), n, /*cospherical=*/true).ok());
     validate(cospherical.mesh());
     CHECK(canonical_tets(cospherical.mesh()) == canonical_tets(plain.mesh()));
+  }
+}
+
+TEST_CASE("a translated co-spherical set gets the same tetrahedralization", "[delaunay][sos]") {
+  // What the perturbation-order search's cache of cell tetrahedralizations
+  // (sos_order.cpp) relies on: points moved by an exact translation, in the
+  // same order, are tetrahedralized alike, ties and all.
+  std::vector<std::vector<double>> sets = {grid(2, 2, 2), integer_sphere(5), integer_sphere(9)};
+  add_reversed(sets);
+  SmallDelaunay here, there;
+  for (const auto& pts : sets) {
+    const size_t n = pts.size() / 3;
+    INFO(n << " points");
+    std::vector<double> moved = pts;
+    const double offset[3] = {1024, -3, 0.5};  // exact on these coordinates
+    for (size_t i = 0; i < moved.size(); ++i) moved[i] += offset[i % 3];
+    REQUIRE(here.build(pts.data(), n, true).ok());
+    REQUIRE(there.build(moved.data(), n, true).ok());
+    CHECK(canonical_tets(there.mesh()) == canonical_tets(here.mesh()));
   }
 }
 

@@ -3,6 +3,9 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
+#include <unordered_map>
+#include <utility>
 
 #include "delaunay.hpp"
 #include "geometry.hpp"
@@ -64,6 +67,25 @@ uint64_t pair_key(VertexId a, VertexId b) {
   return (static_cast<uint64_t>(a) << 32) | b;
 }
 
+// d = a - b, and whether that is exact: the rounding error of the
+// difference (Knuth's two-sum, exact in floating point) is zero.
+bool exact_difference(double a, double b, double& d) {
+  d = a - b;
+  const double bv = a - d, av = d + bv;
+  return (a - av) + (bv - b) == 0;
+}
+
+struct ShapeHash {
+  size_t operator()(const std::vector<uint64_t>& key) const {
+    uint64_t h = key.size();
+    for (uint64_t x : key) {
+      h ^= x + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2);
+      h *= 0xbf58476d1ce4e5b9ull;
+    }
+    return static_cast<size_t>(h ^ (h >> 31));
+  }
+};
+
 // Which segments a perturbation order keeps, without a Delaunay
 // tetrahedralization of all the points per order.
 //
@@ -103,6 +125,7 @@ class CellEdges {
   void mark_fixed_segments(const TetMesh& d);
   bool has_edge(uint32_t cell, VertexId u, VertexId v);
   bool triangulate_cell(uint32_t cell);
+  bool shape_key(size_t k);
 
   const Plc& plc_;
   const std::vector<std::array<VertexId, 2>>& segs_;
@@ -119,6 +142,13 @@ class CellEdges {
   std::vector<VertexId> local_;
   std::vector<double> xyz_;
   SmallDelaunay scratch_;
+  // Cell tetrahedralizations already built, by shape (shape_key): their
+  // edges as pairs of positions in the order. Grid and CAD models repeat a
+  // few cell shapes (the cubes of a grid) in a few orders.
+  std::unordered_map<std::vector<uint64_t>, std::vector<std::pair<uint32_t, uint32_t>>, ShapeHash>
+      by_shape_;
+  std::vector<uint64_t> shape_;
+  std::vector<std::pair<uint32_t, uint32_t>> local_edges_;
 };
 
 // Union-find of the tets over the co-spherical faces (see the class comment).
@@ -208,9 +238,27 @@ void CellEdges::mark_fixed_segments(const TetMesh& d) {
   }
 }
 
+// The shape of the k points in xyz_: their coordinates minus the first
+// point's, in order, when every difference is exact (false otherwise). Two
+// cells of one shape have the same tetrahedralization, position for
+// position: every predicate the construction decides by is the sign of a
+// polynomial in the coordinate differences (with the perturbation, of the
+// lifted points' minors, which a translation does not change either), and
+// the perturbed Delaunay tetrahedralization is unique.
+bool CellEdges::shape_key(size_t k) {
+  shape_.resize(3 * (k - 1));
+  for (size_t i = 1; i < k; ++i)
+    for (int c = 0; c < 3; ++c) {
+      double d;
+      if (!exact_difference(xyz_[3 * i + c], xyz_[c], d)) return false;
+      std::memcpy(&shape_[3 * (i - 1) + c], &d, sizeof d);
+    }
+  return true;
+}
+
 // Tetrahedralizes the cell's vertices in the current order (their relative
 // order is all the perturbation looks at), unless that order is the one
-// last triangulated.
+// last triangulated or a cell of the same shape was triangulated before.
 bool CellEdges::triangulate_cell(uint32_t cell) {
   local_.assign(cell_vertices_.begin() + cell_start_[cell],
                 cell_vertices_.begin() + cell_start_[cell + 1]);
@@ -224,21 +272,32 @@ bool CellEdges::triangulate_cell(uint32_t cell) {
     xyz_[3 * i] = p.x, xyz_[3 * i + 1] = p.y, xyz_[3 * i + 2] = p.z;
   }
   cell_order_[cell].clear();
-  // The result is the same in any insertion order; a cell has a few points,
-  // too few for the spatial sort to pay.
-  // The vertices of a cell lie on its sphere (class comment), exactly.
-  if (!scratch_.build(xyz_.data(), k, /*cospherical=*/true).ok()) return false;
-  const TetMesh& m = scratch_.mesh();
+  const bool keyed = shape_key(k);
+  auto known = keyed ? by_shape_.find(shape_) : by_shape_.end();
+  if (known == by_shape_.end()) {
+    // The result is the same in any insertion order; a cell has a few
+    // points, too few for the spatial sort to pay. The vertices of a cell
+    // lie on its sphere (class comment), exactly.
+    if (!scratch_.build(xyz_.data(), k, /*cospherical=*/true).ok()) return false;
+    const TetMesh& m = scratch_.mesh();
+    local_edges_.clear();
+    for (TetId t = 0; t < m.num_tet_slots(); ++t) {
+      if (m.is_dead(t) || m.is_ghost(t)) continue;
+      const VertexId* w = m.tet_vertices(t);
+      for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j)
+          local_edges_.emplace_back(std::min(w[i], w[j]), std::max(w[i], w[j]));
+    }
+    std::sort(local_edges_.begin(), local_edges_.end());
+    local_edges_.erase(std::unique(local_edges_.begin(), local_edges_.end()), local_edges_.end());
+    if (keyed) known = by_shape_.emplace(shape_, local_edges_).first;
+  }
+  const std::vector<std::pair<uint32_t, uint32_t>>& pairs =
+      known != by_shape_.end() ? known->second : local_edges_;
   std::vector<uint64_t>& edges = cell_edges_[cell];
   edges.clear();
-  for (TetId t = 0; t < m.num_tet_slots(); ++t) {
-    if (m.is_dead(t) || m.is_ghost(t)) continue;
-    const VertexId* w = m.tet_vertices(t);
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) edges.push_back(pair_key(local_[w[i]], local_[w[j]]));
-  }
+  for (const auto& [i, j] : pairs) edges.push_back(pair_key(local_[i], local_[j]));
   std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   cell_order_[cell] = local_;
   return true;
 }
