@@ -211,7 +211,8 @@ void add_reversed(std::vector<std::vector<double>>& sets) {
 
 }  // namespace
 
-TEST_CASE("SmallDelaunay's co-spherical mode gives the same tetrahedralization", "[delaunay][sos]") {
+TEST_CASE("SmallDelaunay's co-spherical mode gives the same tetrahedralization",
+          "[delaunay][sos]") {
   // Exactly co-spherical sets (a cube's corners, integer points on spheres,
   // in two orders each): skipping the exact insphere zero must not change
   // what the perturbation decides.

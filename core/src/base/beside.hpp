@@ -2,8 +2,8 @@
 // the platform has threads (native builds, and the WebAssembly module the
 // npm package loads under Node, built with Emscripten's pthreads; the
 // browser module is single-threaded) and the build has exceptions (to carry
-// an allocation failure across). The pipeline's other work on the second core (the
-// self-intersection test beside step 1) is done by then.
+// an allocation failure across). The pipeline's other work on the second
+// core (the self-intersection test beside step 1) is done by then.
 #pragma once
 
 #include <exception>
