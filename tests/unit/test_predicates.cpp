@@ -1148,3 +1148,61 @@ TEST_CASE("decimal CAD coordinates: exact zeros in every integer tier and beyond
   CHECK(classes[1] > 3000);
   CHECK(classes[2] > 3000);
 }
+
+TEST_CASE("small-integer predicates match the oracle within their spread", "[predicates]") {
+  // The promise of small_integer_points: integers spread over at most 2^9 per
+  // axis. Co-spherical lattice points (exact zeros and their neighbours) and
+  // random points filling the whole allowed spread, far from the origin too.
+  Rng r(91);
+  const auto& sphere = lattice_sphere();
+  int zeros = 0;
+  for (int it = 0; it < 20000; ++it) {
+    std::array<P3, 5> p;
+    const double base = it % 3 == 0 ? 0 : double(r.range(-1000000, 1000000));
+    for (P3& q : p) {
+      if (it % 2 == 0) {
+        const P3& s = sphere[r.next() % sphere.size()];
+        q = {s[0] + 21 + base, s[1] + 21 + base, s[2] + 21 + base};
+      } else {
+        for (double& x : q) x = base + r.range(0, 512);
+        if (r.range(0, 3) == 0) q[r.range(0, 2)] = base + 512 * r.range(0, 1);
+      }
+    }
+    std::vector<double> flat;
+    for (const P3& q : p) flat.insert(flat.end(), q.begin(), q.end());
+    REQUIRE(pred::small_integer_points(flat.data(), 5));
+    const int s = pred::insphere_small_integers(p[0].data(), p[1].data(), p[2].data(), p[3].data(),
+                                                p[4].data());
+    REQUIRE(s == insphere_q(p[0], p[1], p[2], p[3], p[4]));
+    REQUIRE(pred::orient3d_small_integers(p[0].data(), p[1].data(), p[2].data(), p[3].data()) ==
+            orient3d_q(p[0], p[1], p[2], p[3]));
+    if (s == 0) {
+      ++zeros;
+      // The perturbation decides alike on either evaluation.
+      const uint32_t ids[5] = {uint32_t(r.range(0, 9)), 10, 11, 12, 13};
+      REQUIRE(pred::insphere_tie(p[0].data(), p[1].data(), p[2].data(), p[3].data(),
+                                 p[4].data(), ids[0], ids[1], ids[2], ids[3], ids[4], true) ==
+              pred::insphere_tie(p[0].data(), p[1].data(), p[2].data(), p[3].data(),
+                                 p[4].data(), ids[0], ids[1], ids[2], ids[3], ids[4], false));
+    }
+  }
+  CHECK(zeros > 1000);
+}
+
+TEST_CASE("small_integer_points rejects fractions, wide spreads and huge integers",
+          "[predicates]") {
+  std::vector<double> pts = {0, 0, 0, 512, 512, 512, 3, -0.0, 7};
+  CHECK(pred::small_integer_points(pts.data(), 3));
+  pts[4] = 512.5;
+  CHECK_FALSE(pred::small_integer_points(pts.data(), 3));
+  pts[4] = 513;
+  CHECK_FALSE(pred::small_integer_points(pts.data(), 3));
+  pts[4] = 512, pts[7] = -1;
+  CHECK_FALSE(pred::small_integer_points(pts.data(), 3));  // spread 513 on y
+  pts = {0x1p+52, 0x1p+52, 0x1p+52, 0x1p+52 + 2, 0x1p+52, 0x1p+52};
+  CHECK_FALSE(pred::small_integer_points(pts.data(), 2));
+  const double nan = std::nan("");
+  pts = {0, 0, nan};
+  CHECK_FALSE(pred::small_integer_points(pts.data(), 1));
+  CHECK_FALSE(pred::small_integer_points(pts.data(), 0));
+}

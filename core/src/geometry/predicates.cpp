@@ -947,6 +947,20 @@ int incircle(const double* a, const double* b, const double* c, const double* d)
   return incircle_exact(a, b, c, d);
 }
 
+bool small_integer_points(const double* coords, size_t n) {
+  if (n == 0) return false;
+  for (int k = 0; k < 3; ++k) {
+    double lo = coords[k], hi = coords[k];
+    for (size_t i = 0; i < n; ++i) {
+      const double x = coords[3 * i + k];
+      if (!detail::small_integer(x)) return false;
+      lo = std::min(lo, x), hi = std::max(hi, x);
+    }
+    if (hi - lo > kSmallIntegerSpread) return false;
+  }
+  return true;
+}
+
 int orient2d_projected(const double* a, const double* b, const double* c, int drop) {
   const int i = drop == 0 ? 1 : drop == 1 ? 2 : 0;
   const int j = drop == 0 ? 2 : drop == 1 ? 0 : 1;

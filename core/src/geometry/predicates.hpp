@@ -72,6 +72,22 @@ int orient2d_projected(const double* a, const double* b, const double* c, int dr
 inline int insphere(const double* a, const double* b, const double* c, const double* d,
                     const double* e);
 
+/// Points whose coordinates are all integers of magnitude below 2^52 and
+/// spread over at most this much on each axis: on them orient3d and
+/// insphere evaluated in doubles are exact (every coordinate difference is
+/// then an integer M <= 2^9, the bound of the proof at kInsphereSmallInteger
+/// below, and of kOrient3dSmallInteger = 2^16).
+inline constexpr double kSmallIntegerSpread = 0x1p+9;
+/// Whether the n points (3 coordinates each) are such points.
+bool small_integer_points(const double* coords, size_t n);
+/// orient3d and insphere for such points (small_integer_points): the double
+/// evaluation is the exact determinant, so no filter and no exact stage.
+/// Wrong answers for other points.
+inline int orient3d_small_integers(const double* a, const double* b, const double* c,
+                                   const double* d);
+inline int insphere_small_integers(const double* a, const double* b, const double* c,
+                                   const double* d, const double* e);
+
 /// 2D incircle: > 0 when d inside the circle through a, b, c with
 /// orient2d(a,b,c) > 0. Exact.
 int incircle(const double* a, const double* b, const double* c, const double* d);
@@ -122,9 +138,12 @@ int insphere_sos(const double* a, const double* b, const double* c, const double
 /// insphere_sos for a caller that already has insphere(a, b, c, d, e) == 0:
 /// the perturbation alone, without evaluating the exact zero a second time
 /// (on co-spherical CAD points that second evaluation was a fifth of the
-/// Delaunay step).
+/// Delaunay step). With `small_integers` the points must pass
+/// small_integer_points, and its orientations are evaluated in doubles
+/// (orient3d_small_integers).
 int insphere_tie(const double* a, const double* b, const double* c, const double* d,
-                 const double* e, uint32_t ia, uint32_t ib, uint32_t ic, uint32_t id, uint32_t ie);
+                 const double* e, uint32_t ia, uint32_t ib, uint32_t ic, uint32_t id, uint32_t ie,
+                 bool small_integers = false);
 
 /// Perturbed "in circle of a hull face" test used for ghost tets: for e coplanar
 /// with a, b, c (orient3d == 0), decides whether e is in conflict with the
@@ -386,6 +405,18 @@ inline int insphere(const double* a, const double* b, const double* c, const dou
   const detail::InsphereTerms t = detail::insphere_terms(a, b, c, d, e);
   if (detail::insphere_decided(t)) return detail::sign_of(t.det);
   return detail::insphere_undecided(a, b, c, d, e);
+}
+
+inline int orient3d_small_integers(const double* a, const double* b, const double* c,
+                                   const double* d) {
+  detail::count_call(detail::g_counters.orient3d_calls);
+  return detail::sign_of(detail::orient3d_terms(a, b, c, d).det);
+}
+
+inline int insphere_small_integers(const double* a, const double* b, const double* c,
+                                   const double* d, const double* e) {
+  detail::count_call(detail::g_counters.insphere_calls);
+  return detail::sign_of(detail::insphere_terms(a, b, c, d, e).det);
 }
 
 inline int detail::orient2d_xy(double ax, double ay, double bx, double by, double cx, double cy) {

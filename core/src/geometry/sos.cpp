@@ -36,7 +36,8 @@ int insphere_sos(const double* a, const double* b, const double* c, const double
 }
 
 int insphere_tie(const double* a, const double* b, const double* c, const double* d,
-                 const double* e, uint32_t ia, uint32_t ib, uint32_t ic, uint32_t id, uint32_t ie) {
+                 const double* e, uint32_t ia, uint32_t ib, uint32_t ic, uint32_t id, uint32_t ie,
+                 bool small_integers) {
   ++detail::g_counters.sos_ties;
   const double* p[5] = {a, b, c, d, e};
   const uint32_t ids[5] = {ia, ib, ic, id, ie};
@@ -52,7 +53,8 @@ int insphere_tie(const double* a, const double* b, const double* c, const double
     const double* q[4];
     for (int j = 0, k = 0; j < 5; ++j)
       if (j != i) q[k++] = p[j];
-    const int o = orient3d(q[0], q[1], q[2], q[3]);
+    const int o = small_integers ? orient3d_small_integers(q[0], q[1], q[2], q[3])
+                                 : orient3d(q[0], q[1], q[2], q[3]);
     if (o != 0) return i % 2 == 0 ? -o : o;
   }
   return 0;  // all five points coplanar

@@ -86,12 +86,15 @@ PointInserter::in_conflict(TetId t, const double* p, VertexId v) const {
   const double* c = mesh_.point(w[2]);
   if (w[3] != kInfinite) {
     const double* d = mesh_.point(w[3]);
-    const int s = cospherical_ ? 0 : pred::insphere(a, b, c, d, p);
+    const int s = cospherical_      ? 0
+                  : small_integers_ ? pred::insphere_small_integers(a, b, c, d, p)
+                                    : pred::insphere(a, b, c, d, p);
     if (s != 0) return s > 0;
-    return pred::insphere_tie(a, b, c, d, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(w[3]), sos(v)) >
-           0;
+    return pred::insphere_tie(a, b, c, d, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(w[3]), sos(v),
+                              small_integers_) > 0;
   }
-  const int o = pred::orient3d(a, b, c, p);
+  const int o =
+      small_integers_ ? pred::orient3d_small_integers(a, b, c, p) : pred::orient3d(a, b, c, p);
   if (o != 0) return o > 0;
   return pred::incircle_coplanar_sos_on_plane(a, b, c, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(v)) >
          0;
@@ -631,6 +634,7 @@ Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<Vert
 
   PointInserter ins(w, options.seed);
   ins.set_sos_ids(order.data());
+  ins.set_small_integers(pred::small_integer_points(w.coords.data(), n));
   TetId hint = w.vtet[first[0]];
   std::vector<std::pair<VertexId, VertexId>> dups;  // (vertex, merged into), caller ids
   for (VertexId k = 0; k < n; ++k) {
@@ -687,6 +691,7 @@ SmallDelaunay::SmallDelaunay() : inserter_(mesh_) {}
 
 Status SmallDelaunay::build(const double* coords, size_t n, bool cospherical) {
   inserter_.set_cospherical(cospherical);
+  inserter_.set_small_integers(pred::small_integer_points(coords, n));
   mesh_.clear();
   mesh_.coords.assign(coords, coords + 3 * n);
   mesh_.vkind.assign(n, kVertexNotInserted);

@@ -174,6 +174,14 @@ class PointInserter {
   /// evaluating an exact zero first. Wrong answers if the promise is false.
   void set_cospherical(bool on) { cospherical_ = on; }
 
+  /// Promise that every point of the mesh, inserted or to be inserted, passes
+  /// pred::small_integer_points (a grid model's vertices, say): the conflict
+  /// tests then evaluate their determinants in doubles, exactly, with no
+  /// filter and no exact stage (co-spherical grid points made a third of
+  /// their Delaunay tetrahedralization's instructions undecided filter
+  /// calls). Wrong answers if the promise is false.
+  void set_small_integers(bool on) { small_integers_ = on; }
+
   uint64_t walk_steps = 0;   ///< statistics, cumulative
   uint64_t cavity_tets = 0;  ///< statistics, cumulative
 
@@ -207,6 +215,7 @@ class PointInserter {
   const VertexId* sos_id_ = nullptr;
   bool reject_flat_ = false;
   bool cospherical_ = false;
+  bool small_integers_ = false;
   Rng rng_;
   TetId last_tet_ = kNone;
   std::vector<TetId> cavity_;
