@@ -2,7 +2,7 @@
 //
 // Node always has shared memory and worker_threads, so by default it gets
 // the two-thread module (dist/node/, built with Emscripten's pthreads): the
-// pipeline's work beside step 1 runs on a second core, as in the native CLI.
+// pipeline's work beside steps 1-2 runs on a second core, as in the native CLI.
 // That module is CommonJS, because Emscripten 3.1.6's ES module output breaks
 // under Node (on __dirname). The single-threaded ES module (dist/cdt3d.js,
 // built for web and worker) is the fallback: with `threads: false`, with a

@@ -38,7 +38,7 @@ void print_usage(std::FILE* out) {
 // page faults took 10-15% of a CLI run in the profiles (more under a
 // hypervisor). Keeping freed memory in the process avoids that; the peak
 // (what the process touches at once) does not grow. One arena for the two
-// threads of a run (the self-intersection test runs beside step 1): a second
+// threads of a run (the self-intersection test runs beside steps 1-2): a second
 // arena's pages are fresh, and what the test frees there would never serve
 // the later phases (armadillo: 19.1k page faults with two arenas, 15.3k with
 // one, as on one thread; the test makes few allocations, so the shared lock

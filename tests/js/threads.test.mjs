@@ -43,6 +43,21 @@ describe('which module Node gets', () => {
   });
 });
 
+// The input fails with the same self-intersection error on one thread and on two.
+async function assertSameSelfIntersection(input) {
+  const errors = [];
+  for (const threads of [false, true]) {
+    const cdt = await pkg.createCdt3d({ threads });
+    assert.throws(() => cdt.tetrahedralize(input), (e) => {
+      assert.ok(e instanceof pkg.Cdt3dError);
+      errors.push(e.toJSON());
+      return true;
+    });
+  }
+  assert.equal(errors[0].code, 'self-intersection');
+  assert.deepEqual(errors[1], errors[0]);
+}
+
 describe('the same results on two threads', () => {
   // Above the pipeline's thresholds for the work beside step 1: 1,000 facets
   // (self-intersection test), 2,000 facets (facet triangulation) and 20,000
@@ -75,18 +90,58 @@ describe('the same results on two threads', () => {
     const renumber = (l) =>
       'f ' + l.slice(2).trim().split(/\s+/).map((c) => String(Number(c.split('/')[0]) + n)).join(' ');
     const obj = [...vertices, ...shifted, ...faces, ...faces.map(renumber)].join('\n');
-    const input = { bytes: new TextEncoder().encode(obj), fileName: 'two_elephants.obj' };
-    const errors = [];
-    for (const threads of [false, true]) {
-      const cdt = await pkg.createCdt3d({ threads });
-      assert.throws(() => cdt.tetrahedralize(input), (e) => {
-        assert.ok(e instanceof pkg.Cdt3dError);
-        errors.push(e.toJSON());
-        return true;
-      });
+    await assertSameSelfIntersection({ bytes: new TextEncoder().encode(obj), fileName: 'two_elephants.obj' });
+  });
+
+  // A box whose top is a k x k grid at pseudo-random heights, its sides
+  // polygons through the grid's border: over 20,000 points, so step 1
+  // inserts its later rounds on two threads and the self-intersection test
+  // runs after it, beside step 2. With `cut`, a triangle through the box.
+  function bumpyBoxOff(k, cut) {
+    const v = [];
+    const f = [];
+    for (let i = 0; i < k; i++)
+      for (let j = 0; j < k; j++) {
+        const s = Math.sin(i * 12.9898 + j * 78.233) * 43758.5453;
+        v.push(`${i} ${j} ${10 + 0.5 * (s - Math.floor(s))}`);
+      }
+    const g = (i, j) => i * k + j;
+    const m = k - 1;
+    const b = [k * k, k * k + 1, k * k + 2, k * k + 3];
+    v.push(`0 0 0`, `${m} 0 0`, `${m} ${m} 0`, `0 ${m} 0`);
+    f.push(`4 ${b[0]} ${b[3]} ${b[2]} ${b[1]}`);
+    for (let i = 0; i < m; i++)
+      for (let j = 0; j < m; j++) {
+        f.push(`3 ${g(i, j)} ${g(i + 1, j)} ${g(i + 1, j + 1)}`);
+        f.push(`3 ${g(i, j)} ${g(i + 1, j + 1)} ${g(i, j + 1)}`);
+      }
+    const border = [
+      (t) => g(t, 0),
+      (t) => g(m, t),
+      (t) => g(m - t, m),
+      (t) => g(0, m - t),
+    ];
+    for (let side = 0; side < 4; side++) {
+      const loop = [b[side], b[(side + 1) % 4]];
+      for (let t = m; t >= 0; t--) loop.push(border[side](t));
+      f.push(`${loop.length} ${loop.join(' ')}`);
     }
-    assert.equal(errors[0].code, 'self-intersection');
-    assert.deepEqual(errors[1], errors[0]);
+    if (cut) {
+      v.push('-50 -50 5', '300 -50 5', '72 300 5');
+      f.push(`3 ${v.length - 3} ${v.length - 2} ${v.length - 1}`);
+    }
+    return new TextEncoder().encode(`OFF\n${v.length} ${f.length} 0\n${v.join('\n')}\n${f.join('\n')}\n`);
+  }
+
+  test('20,000 points and more: step 1 on two threads, the same mesh and the same error', async () => {
+    const one = await pkg.createCdt3d({ threads: false });
+    const two = await pkg.createCdt3d();
+    const input = { bytes: bumpyBoxOff(145, false), fileName: 'bumpy_box.off' };
+    const a = one.tetrahedralize(input, { validate: true });
+    const b = two.tetrahedralize(input, { validate: true });
+    assert.ok(b.stats.inputPoints >= 20000);
+    assert.deepEqual(withoutClocks(b), withoutClocks(a));
+    await assertSameSelfIntersection({ bytes: bumpyBoxOff(145, true), fileName: 'bumpy_box_cut.off' });
   });
 });
 

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "delaunay.hpp"
@@ -557,4 +558,47 @@ TEST_CASE("Delaunay of the vertices of every model in tests/data", "[delaunay]")
     check_hull_bounds_points(m);
   }
   WARN("Delaunay ran on " << meshed << " models from " << dir.string());
+}
+
+TEST_CASE("the two-thread build gives the one-thread tetrahedralization, slot for slot",
+          "[delaunay]") {
+  // From kMinTwoThreadDelaunayPoints on, the later BRIO rounds go to two
+  // threads that lock the tets they touch, and the tets are then numbered
+  // canonically: the mesh must equal the one-thread build's exactly, on
+  // random points, on a co-spherical grid whose duplicates (two copies of
+  // the grid, interleaved) make the two-thread build start over on one
+  // thread, and on points of a sphere (every point on the hull).
+  const size_t n = kMinTwoThreadDelaunayPoints + 5000;
+  std::vector<double> sphere;
+  Rng rng(17);
+  while (sphere.size() < 3 * n) {
+    double p[3], r2 = 0;
+    for (double& x : p) x = 2 * (double(rng.next() >> 11) * 0x1p-53) - 1, r2 += x * x;
+    if (r2 < 1e-3 || r2 > 1) continue;
+    for (double x : p) sphere.push_back(x / std::sqrt(r2));
+  }
+  std::vector<double> twice = grid(24, 24, 24);
+  const std::vector<double> copy = twice;
+  twice.insert(twice.end(), copy.begin(), copy.end());
+  const std::vector<double> sets[3] = {random_cube(n, 5), twice, sphere};
+  for (int k = 0; k < 3; ++k) {
+    const std::vector<double>& pts = sets[k];
+    TetMesh one, two;
+    DelaunayStats s1, s2;
+    DelaunayOptions o1, o2;
+    o2.threads = true;
+    REQUIRE(delaunay_tetrahedralize(one, pts.data(), pts.size() / 3, nullptr, &s1, o1).ok());
+    REQUIRE(delaunay_tetrahedralize(two, pts.data(), pts.size() / 3, nullptr, &s2, o2).ok());
+    INFO("set " << k);
+    REQUIRE(check_mesh(two).ok());
+    CHECK(two.tv == one.tv);
+    CHECK(two.tadj == one.tadj);
+    CHECK(two.vtet == one.vtet);
+    CHECK(two.vkind == one.vkind);
+    CHECK(s2.tets == s1.tets);
+    CHECK(s2.duplicates == s1.duplicates);
+    CHECK(s1.points_beside == 0);
+    if (k == 0 && std::thread::hardware_concurrency() > 1) CHECK(s2.points_beside > n / 4);
+    if (k == 1) CHECK(s1.duplicates == copy.size() / 3);
+  }
 }

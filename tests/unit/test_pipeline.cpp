@@ -13,6 +13,8 @@
 #include <thread>
 #include <vector>
 
+#include "delaunay.hpp"
+
 using namespace cdt3d;
 
 namespace {
@@ -204,6 +206,72 @@ TEST_CASE("the work on a second thread changes nothing", "[pipeline]") {
   CHECK(x.status.error.code == ErrorCode::SelfIntersection);
   CHECK(x.status.error.message == y.status.error.message);
   CHECK(x.intersecting_facets == y.intersecting_facets);
+  CHECK(x.mesh.tets.empty());
+}
+
+namespace {
+// A box [0, k-1]^2 x [0, ~10] whose top is a grid of k x k points at
+// pseudo-random heights (two triangles per cell) and whose sides are
+// polygons through the grid's border.
+Plc bumpy_box(int k) {
+  Plc plc;
+  auto height = [](int i, int j) {
+    const double s = std::sin(i * 12.9898 + j * 78.233) * 43758.5453;
+    return 10 + 0.5 * (s - std::floor(s));
+  };
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j < k; ++j) add(plc, i, j, height(i, j));
+  auto g = [k](int i, int j) { return VertexId(i * k + j); };
+  const double m = k - 1;
+  const VertexId b00 = add(plc, 0, 0, 0), b10 = add(plc, m, 0, 0), b11 = add(plc, m, m, 0),
+                 b01 = add(plc, 0, m, 0);
+  quad(plc, b00, b01, b11, b10);
+  for (int i = 0; i + 1 < k; ++i)
+    for (int j = 0; j + 1 < k; ++j) {
+      plc.facets.push_back(Facet{{{g(i, j), g(i + 1, j), g(i + 1, j + 1)}}, {}, 0, -1, -1});
+      plc.facets.push_back(Facet{{{g(i, j), g(i + 1, j + 1), g(i, j + 1)}}, {}, 0, -1, -1});
+    }
+  // The four sides: a bottom edge, then the grid's border back along the top.
+  const VertexId corners[4][2] = {{b00, b10}, {b10, b11}, {b11, b01}, {b01, b00}};
+  for (int side = 0; side < 4; ++side) {
+    std::vector<VertexId> loop = {corners[side][0], corners[side][1]};
+    for (int t = k - 1; t >= 0; --t) {
+      const int i = side == 0 ? t : side == 1 ? k - 1 : side == 2 ? k - 1 - t : 0;
+      const int j = side == 0 ? 0 : side == 1 ? t : side == 2 ? k - 1 : k - 1 - t;
+      loop.push_back(g(i, j));
+    }
+    Facet f;
+    f.loops.push_back(loop);
+    plc.facets.push_back(f);
+  }
+  return plc;
+}
+}  // namespace
+
+TEST_CASE("large PLCs: step 1 on two threads, the self-intersection test after it",
+          "[pipeline]") {
+  // From kMinTwoThreadDelaunayPoints points on, step 1 takes both cores and
+  // the self-intersection test runs beside step 2, which it stops when it
+  // finds a pair; either way the result is the one-thread result.
+  const Plc plc = bumpy_box(145);
+  REQUIRE(plc.points.size() >= kMinTwoThreadDelaunayPoints);
+  Options one;
+  one.threads = false;
+  const Result a = run(plc), b = run(plc, one);
+  CHECK(a.mesh.points == b.mesh.points);
+  CHECK(a.mesh.tets == b.mesh.tets);
+  CHECK(a.mesh.faces == b.mesh.faces);
+  CHECK(a.stats.steiner_segment == b.stats.steiner_segment);
+
+  // Cut by a triangle through the middle of the box.
+  Plc bad = plc;
+  const VertexId p = add(bad, -50, -50, 5), q = add(bad, 300, -50, 5), r = add(bad, 72, 300, 5);
+  bad.facets.push_back(Facet{{{p, q, r}}, {}, 0, -1, -1});
+  const Result x = tetrahedralize(bad), y = tetrahedralize(bad, one);
+  CHECK(x.status.error.code == ErrorCode::SelfIntersection);
+  CHECK(x.status.error.message == y.status.error.message);
+  CHECK(x.intersecting_facets == y.intersecting_facets);
+  CHECK(!x.intersecting_facets.empty());
   CHECK(x.mesh.tets.empty());
 }
 

@@ -18,6 +18,16 @@
 
 namespace cdt3d {
 
+/// Whether run_beside can run its halves on two threads here (it may still
+/// find no thread to start).
+inline bool threads_available() {
+#ifdef CDT3D_HAS_THREADS
+  return std::thread::hardware_concurrency() > 1;
+#else
+  return false;
+#endif
+}
+
 /// Runs first() here and second() beside it when `beside` (and threads
 /// exist, and one can be started), else both here, first() first. Returns
 /// after both; an exception of second() is rethrown here. The two must not

@@ -112,10 +112,14 @@ void hilbert_sort(const double* coords, VertexId* first, VertexId* last) {
 }
 
 void brio_order(const double* coords, const std::vector<VertexId>& vertices, uint64_t seed,
-                std::vector<VertexId>& order) {
+                std::vector<VertexId>& order, std::vector<size_t>* round_start) {
   const size_t n = vertices.size();
   order.clear();
-  if (n == 0) return;
+  if (round_start) round_start->assign(1, 0);
+  if (n == 0) {
+    if (round_start) round_start->push_back(0);
+    return;
+  }
   Quantizer qz;
   qz.fit(coords, vertices.data(), vertices.data() + n, kBrioHilbertBits);
 
@@ -140,6 +144,11 @@ void brio_order(const double* coords, const std::vector<VertexId>& vertices, uin
   radix_sort(rec, 32, 32 + hbits + 4);
   order.resize(n);
   for (size_t i = 0; i < n; ++i) order[i] = vertices[uint32_t(rec[i])];
+  if (round_start) {
+    for (size_t i = 1; i < n; ++i)
+      if ((rec[i] >> (32 + hbits)) != (rec[i - 1] >> (32 + hbits))) round_start->push_back(i);
+    round_start->push_back(n);
+  }
 }
 
 }  // namespace cdt3d

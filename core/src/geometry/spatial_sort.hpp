@@ -40,7 +40,9 @@ void hilbert_sort(const double* coords, VertexId* first, VertexId* last);
 /// the next, the first about 1000 (Amenta, Choi, Rote 2003); inside a round
 /// the vertices follow one Hilbert curve over the bounding cube of all of
 /// them. Stable radix sort: equal keys keep the order of `vertices`.
+/// `round_start`, when given, gets the position in `order` where each round
+/// starts, plus n at the end.
 void brio_order(const double* coords, const std::vector<VertexId>& vertices, uint64_t seed,
-                std::vector<VertexId>& order);
+                std::vector<VertexId>& order, std::vector<size_t>* round_start = nullptr);
 
 }  // namespace cdt3d

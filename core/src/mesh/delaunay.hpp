@@ -22,9 +22,21 @@ namespace cdt3d {
 
 inline constexpr uint64_t kDefaultDelaunaySeed = 0x6364743364656c61ull;
 
+/// From this many points the bulk build inserts its later rounds on two
+/// threads (DelaunayOptions::threads) and numbers its tets canonically, on
+/// one thread too. Below it a second thread saved nothing on a 2-core
+/// machine where two threads of insertions run at ~1.5x one thread's
+/// throughput (the self-intersection test is better company for step 1
+/// there).
+inline constexpr size_t kMinTwoThreadDelaunayPoints = 20000;
+
 struct DelaunayOptions {
   uint64_t seed = kDefaultDelaunaySeed;  ///< BRIO shuffle and walk tie-breaking
   bool spatial_sort = true;              ///< false: insert in the given order (for tests)
+  /// Insert the later BRIO rounds on two threads where there are threads
+  /// (beside.hpp). The result is the same either way: the perturbed
+  /// tetrahedralization is unique and the build numbers its tets canonically.
+  bool threads = false;
 };
 
 struct DelaunayStats {
@@ -37,6 +49,7 @@ struct DelaunayStats {
   double ms_insert = 0;      ///< initial tet + insertions
   uint64_t walk_steps = 0;   ///< tets visited by point location
   uint64_t cavity_tets = 0;  ///< tets deleted by insertions
+  size_t points_beside = 0;  ///< points inserted on the second thread (DelaunayOptions::threads)
 };
 
 /// Delaunay tetrahedralization of points coords[3i..3i+2], i < n. Resets
@@ -185,6 +198,16 @@ class PointInserter {
   uint64_t walk_steps = 0;   ///< statistics, cumulative
   uint64_t cavity_tets = 0;  ///< statistics, cumulative
 
+  // The two-thread bulk build (delaunay.cpp) only. With a Shared part set,
+  // the inserter takes new tet slots from that part and locks every tet it
+  // reads or writes; a point that meets a tet the other thread holds (or
+  // anything else unexpected) is left for the single-threaded pass.
+  struct Shared;
+  enum class Attempt { Inserted, Deferred, Duplicate, Failed };
+  void share(Shared* part) { shared_ = part; }
+  void set_hint(TetId t) { last_tet_ = t; }
+  Attempt insert_vertex_shared(VertexId v);
+
  private:
   struct BoundaryFace {
     VertexId a, b, c;     ///< counterclockwise seen from outside the cavity
@@ -205,7 +228,18 @@ class PointInserter {
   void abandon_cavity();
   // The steps of insert_vertex: Bowyer-Watson's cavity of p from t0, the
   // cone of its boundary to v, then vtet of the cavity's vertices.
-  void grow_cavity(TetId t0, const double* p, VertexId v);
+  void grow_cavity(TetId t0, const double* p, VertexId v) { grow_cavity_impl<false>(t0, p, v); }
+  // kShared: locks each tet before reading it; false when one is held by
+  // the other thread (the cavity is then abandoned, not filled).
+  template <bool kShared>
+  bool grow_cavity_impl(TetId t0, const double* p, VertexId v);
+  TetId alloc_slot();
+  void free_slot(TetId t);
+  bool lock(TetId t);
+  void unlock(TetId t);
+  void unlock_all();
+  bool start_tet_shared(TetId& t);
+  bool locate_shared(const double* p, TetId& t, LocateKind& kind, VertexId& on);
   Status fill_cavity(VertexId v);
   void point_vertices_to_new_tets();
   uint32_t local_id(VertexId x);
@@ -213,6 +247,9 @@ class PointInserter {
 
   TetMesh& mesh_;
   const VertexId* sos_id_ = nullptr;
+  Shared* shared_ = nullptr;
+  std::vector<TetId> held_;  // tets locked by this inserter (shared mode)
+  VertexId last_vertex_ = kNone;
   bool reject_flat_ = false;
   bool cospherical_ = false;
   bool small_integers_ = false;

@@ -95,11 +95,13 @@ constexpr size_t kMaxSosOrderPoints = 200000;
 constexpr size_t kMinFacetsBeside = 1000;
 
 // The exact self-intersection test, on a second thread where there is one.
-// It only reads the PLC, like step 1 (and the search for the perturbation
-// order before it), so the two run side by side; the pipeline waits for the
-// verdict before step 2, whose work on an intersecting PLC would be wasted or
-// fail far from the cause. The thread's own clock gives ms(), the time the
-// test took (msRead counts it, so the phases may add up to more than msTotal).
+// It only reads the PLC, so it runs beside the pipeline: from the end of
+// step 1 (which has both cores to itself, DelaunayOptions::threads) through
+// step 2, which it stops when it finds a pair; the pipeline waits for the
+// verdict before step 4, whose work on an intersecting PLC would be wasted
+// or fail far from the cause, and lets an intersection override any error
+// of the steps before. The thread's own clock gives ms(), the time the test
+// took (msRead counts it, so the phases may add up to more than msTotal).
 class IntersectionTest {
  public:
   IntersectionTest() = default;
@@ -108,8 +110,10 @@ class IntersectionTest {
   ~IntersectionTest() { join(); }
 
   // Runs the test, on a thread if `beside` and threads exist (and one can be
-  // started), else right here.
-  void start(const Plc& plc, bool beside) {
+  // started), else right here. *found_any (if given) becomes true when the
+  // test ends with a pair found.
+  void start(const Plc& plc, bool beside, volatile bool* found_any = nullptr) {
+    found_any_ = found_any;
 #ifdef CDT3D_HAS_THREADS
     if (beside && std::thread::hardware_concurrency() > 1) {
       try {
@@ -153,6 +157,7 @@ class IntersectionTest {
     find_self_intersections(plc, found_);
 #endif
     ms_ = ms_since(t0);
+    if (found_any_ && (!found_.empty() || failure_)) *found_any_ = true;
   }
   void join() {
 #ifdef CDT3D_HAS_THREADS
@@ -162,6 +167,7 @@ class IntersectionTest {
 
   std::vector<Intersection> found_;
   std::exception_ptr failure_;
+  volatile bool* found_any_ = nullptr;
   double ms_ = 0;
 #ifdef CDT3D_HAS_THREADS
   std::thread thread_;
@@ -218,6 +224,7 @@ class Pipeline {
   void add_facet_split(const FacetRecoveryStats& fst);
   Status insert_facet_splits();
   Status intersection_verdict(IntersectionTest& test, bool beside);
+  bool await_intersections();
 
   struct FacetSplit {
     uint32_t facet;
@@ -250,6 +257,10 @@ class Pipeline {
   // plc_segments(*plc_) from the perturbation-order search, for step 2 (empty
   // when not computed or used up).
   std::vector<std::array<VertexId, 2>> input_segments_;
+  // The self-intersection test while it runs beside steps 1-2, and the flag
+  // it raises for step 2 when it found a pair.
+  IntersectionTest* pending_test_ = nullptr;
+  volatile bool intersecting_ = false;
 };
 
 bool Pipeline::begin(Phase phase) {
@@ -418,7 +429,10 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
     mesh_ = std::move(d0_);  // computed while choosing the order
     d0_ = TetMesh();
   } else {
-    st = delaunay_tetrahedralize(mesh_, &plc_->points[0].x, plc_->points.size(), nullptr, &dstats);
+    DelaunayOptions dopt;
+    dopt.threads = opt_.threads;
+    st = delaunay_tetrahedralize(mesh_, &plc_->points[0].x, plc_->points.size(), nullptr, &dstats,
+                                 dopt);
   }
   if (!input_segments_.empty()) {
     init_segments(*plc_, segs_, std::move(input_segments_));
@@ -439,7 +453,7 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
     SegmentRecoveryStats sst;
     const SplitMode mode =
         opt_.degeneracy == DegeneracyMode::Paper ? SplitMode::Rules : SplitMode::Projection;
-    st = recover_segments(mesh_, segs_, &sst, opt_.cancel, mode);
+    st = recover_segments(mesh_, segs_, &sst, opt_.cancel, mode, &intersecting_);
     s.missing_segments = sst.missing_initially;
     s.rule1 = sst.rule1, s.rule2 = sst.rule2, s.rule3 = sst.rule3, s.acute_both = sst.acute_both;
     s.split_projection = sst.projection, s.split_shell = sst.shell, s.split_removed = sst.removed;
@@ -463,8 +477,9 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
     s.ms_degeneracy += ms;
   }
 
-  // Step 4.
+  // Step 4, on a PLC that passed the self-intersection test.
   if (opt_.stop_after >= Phase::Facets) {
+    if (!await_intersections()) return false;
     if (!begin(Phase::Facets)) return false;
     st = triangulate_facets(*plc_, segs_, mesh_, facet_interior_, subfaces_, nothing_embedded_,
                             opt_.threads);
@@ -503,12 +518,23 @@ Status Pipeline::insert_facet_splits() {
 }
 
 // The self-intersection test's pairs into the Result, and its error. Beside
-// step 1, its time joins msRead (the Read phase had ended without it).
+// the steps, its time joins msRead (the Read phase had ended without it).
 Status Pipeline::intersection_verdict(IntersectionTest& test, bool beside) {
   const std::vector<Intersection>& found = test.found();
   if (beside) out_.stats.ms_read += test.ms();
   for (const Intersection& x : found) out_.intersecting_facets.push_back({x.a, x.b});
   return self_intersection_error(*plc_, found);
+}
+
+// Waits for the test running beside the steps, if one is; false (with its
+// error as the run's, replacing any error of the steps, which an
+// intersection explains) when it found a pair.
+bool Pipeline::await_intersections() {
+  if (!pending_test_) return true;
+  IntersectionTest& test = *pending_test_;
+  pending_test_ = nullptr;
+  const Status st = intersection_verdict(test, true);
+  return st.ok() || fail(st);
 }
 
 void Pipeline::run() {
@@ -523,12 +549,20 @@ void Pipeline::run() {
   if (!begin(Phase::Read)) return;
   Status st = check_plc(*plc_);
   if (st.ok() && opt_.quality.enabled) st = check_quality_options(opt_.quality);
-  // Merging facets needs the verdict first; step 1 does not.
+  // Merging facets needs the verdict first; steps 1 and 2 do not.
   IntersectionTest intersections;
-  if (st.ok() && opt_.check_intersections) {
-    intersections.start(*plc_, opt_.threads && !opt_.merge_coplanar_facets &&
-                                   plc_->facets.size() >= kMinFacetsBeside);
-    if (!intersections.on_thread()) st = intersection_verdict(intersections, false);
+  const bool test_beside = opt_.threads && !opt_.merge_coplanar_facets &&
+                           plc_->facets.size() >= kMinFacetsBeside;
+  if (st.ok() && opt_.check_intersections && !test_beside) {
+    intersections.start(*plc_, false);
+    st = intersection_verdict(intersections, false);
+  }
+  // Beside step 1 when step 1 takes one core (small PLCs), after it when it
+  // takes both (DelaunayOptions::threads).
+  const bool test_after_d0 = plc_->points.size() >= kMinTwoThreadDelaunayPoints;
+  if (st.ok() && opt_.check_intersections && test_beside && !test_after_d0) {
+    intersections.start(*plc_, true, &intersecting_);
+    pending_test_ = &intersections;
   }
   if (st.ok() && opt_.merge_coplanar_facets) {
     std::vector<uint32_t> into;
@@ -550,7 +584,8 @@ void Pipeline::run() {
   if (plc_->points.size() <= kMaxSosOrderPoints && !opt_.merge_coplanar_facets) {
     const auto t0 = Clock::now();
     SosOrderStats os;
-    order_ = segment_friendly_order(*plc_, kSosOrderRounds, d0_, &os, &input_segments_);
+    order_ = segment_friendly_order(*plc_, kSosOrderRounds, d0_, &os, &input_segments_,
+                                    opt_.threads);
     if (!order_.empty()) {
       input_segments_.clear();  // numbered for the points before the order
       permute_plc(*plc_, order_, permuted_);
@@ -559,17 +594,21 @@ void Pipeline::run() {
     ms_d0_ = d0_.live_tets > 0 ? os.ms_d0 : 0;
     ms_order_ = ms_since(t0) - ms_d0_;
   }
-  if (intersections.on_thread()) {
-    // Step 1 beside the test too when the search above did not build it.
+  if (st.ok() && opt_.check_intersections && test_beside) {
+    // Step 1 here when the search above did not build it (beside the test,
+    // or before it on both cores); then the test beside the rest.
     const auto t0 = Clock::now();
+    DelaunayOptions two;
+    two.threads = true;
     if (d0_.live_tets == 0 &&
-        !delaunay_tetrahedralize(d0_, &plc_->points[0].x, plc_->points.size()).ok())
+        !delaunay_tetrahedralize(d0_, &plc_->points[0].x, plc_->points.size(), nullptr, nullptr,
+                                 two)
+             .ok())
       d0_ = TetMesh();  // step 1 runs again below and reports why
     ms_d0_ += ms_since(t0);
-    st = intersection_verdict(intersections, true);
-    if (!st.ok()) {
-      fail(st);
-      return;
+    if (test_after_d0) {
+      intersections.start(*plc_, true, &intersecting_);
+      pending_test_ = &intersections;
     }
   }
 
@@ -582,6 +621,7 @@ void Pipeline::run() {
   for (;;) {
     FacetRecoveryStats fst;
     if (mesh_steps(fst)) break;
+    if (!await_intersections()) return;
     const Error& e = out_.status.error;
     const bool retry = (e.code == ErrorCode::Internal || e.code == ErrorCode::LimitReached) &&
                        fst.unrecovered_facet != kNone && facet_splits_.size() < kMaxFacetSplits;
@@ -589,6 +629,7 @@ void Pipeline::run() {
     add_facet_split(fst);
     out_.status = Status();
   }
+  if (!await_intersections()) return;  // a run stopped before step 4
   s.facet_splits = facet_splits_.size();
 
   // Carving, or the intermediate mesh of a stopped run (all real tets).

@@ -111,10 +111,13 @@ void init_segments(const Plc& plc, SegmentSet& segs, std::vector<std::array<Vert
 /// vertices get kind kVertexSteiner and a SegmentVertex record.
 /// Errors: InvalidPlc when a vertex lies on a segment (the split point would
 /// coincide with it), LimitReached when one segment needs too many splits,
-/// Cancelled when *cancel becomes true. Errors name the segment.
+/// Cancelled when *cancel or *stop becomes true (the caller's flag and the
+/// pipeline's own: the self-intersection test beside it found a pair).
+/// Errors name the segment.
 Status recover_segments(TetMesh& mesh, SegmentSet& segs, SegmentRecoveryStats* stats = nullptr,
                         const volatile bool* cancel = nullptr,
-                        SplitMode mode = SplitMode::Projection);
+                        SplitMode mode = SplitMode::Projection,
+                        const volatile bool* stop = nullptr);
 
 /// Subsegments of `segs` that are not edges of `mesh` (a, b, input segment).
 /// With `only_at`, only subsegments with both ends v where (*only_at)[v] is

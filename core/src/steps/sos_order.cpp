@@ -39,13 +39,16 @@ void points_in_order(const Plc& plc, const std::vector<VertexId>& order, std::ve
 // decided anything.
 size_t missing_segments(const Plc& plc, const std::vector<std::array<VertexId, 2>>& segs,
                         const std::vector<VertexId>& order, std::vector<VertexId>& ends,
-                        bool* ties, TetMesh& mesh, double* ms = nullptr) {
+                        bool* ties, TetMesh& mesh, double* ms, bool threads) {
   std::vector<double> xyz;
   std::vector<VertexId> id_of;
   points_in_order(plc, order, xyz, id_of);
   const uint64_t ties_before = pred::counters().sos_ties;
   DelaunayStats ds;
-  const bool ok = delaunay_tetrahedralize(mesh, xyz.data(), plc.points.size(), nullptr, &ds).ok();
+  DelaunayOptions opt;
+  opt.threads = threads;
+  const bool ok =
+      delaunay_tetrahedralize(mesh, xyz.data(), plc.points.size(), nullptr, &ds, opt).ok();
   if (ms) *ms = ds.ms_sort + ds.ms_insert;
   if (!ok) return SIZE_MAX;
   if (ties) {
@@ -365,7 +368,8 @@ size_t recoverable_segments(TetMesh& d, const std::vector<VertexId>& ends) {
 
 std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
                                              TetMesh& d0, SosOrderStats* stats,
-                                             std::vector<std::array<VertexId, 2>>* segments) {
+                                             std::vector<std::array<VertexId, 2>>* segments,
+                                             bool threads) {
   SosOrderStats local;
   SosOrderStats& st = stats ? *stats : local;
   st = SosOrderStats();
@@ -377,7 +381,7 @@ std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
   TetMesh trial;  // a whole tetrahedralization, only if a cell's fails
   for (size_t k = 0; k < n; ++k) order[k] = static_cast<VertexId>(k);
   bool ties = false;
-  size_t fewest = missing_segments(plc, segs, order, ends, &ties, d0, &st.ms_d0);
+  size_t fewest = missing_segments(plc, segs, order, ends, &ties, d0, &st.ms_d0, threads);
   st.rounds = 1;
   st.missing_before = st.missing_after = fewest;
   if (fewest == SIZE_MAX) {
@@ -427,7 +431,7 @@ std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
     order.swap(next);
     size_t missing = 0;
     if (!cells.missing(order, ends, missing))
-      missing = missing_segments(plc, segs, order, ends, nullptr, trial);
+      missing = missing_segments(plc, segs, order, ends, nullptr, trial, nullptr, threads);
     ++st.rounds;
     if (missing < fewest) fewest = missing, best = order, best_ends = ends, best_round = round;
     if (missing == 0) break;
@@ -441,7 +445,9 @@ std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
   std::vector<VertexId> id_of;
   points_in_order(plc, best, xyz, id_of);
   DelaunayStats ds;
-  if (!delaunay_tetrahedralize(d0, xyz.data(), n, nullptr, &ds).ok()) d0 = TetMesh();
+  DelaunayOptions opt;
+  opt.threads = threads;
+  if (!delaunay_tetrahedralize(d0, xyz.data(), n, nullptr, &ds, opt).ok()) d0 = TetMesh();
   st.ms_d0 = ds.ms_sort + ds.ms_insert;
   return best;
 }

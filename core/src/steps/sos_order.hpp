@@ -40,9 +40,11 @@ struct SosOrderStats {
 /// points in the returned order (or input order), step 1's result, or an
 /// empty mesh when step 1 would fail (step 1 then reports why). `segments`,
 /// when given, gets plc_segments(plc), which the search computes anyway.
+/// `threads`: the whole tetrahedralizations may use a second thread
+/// (DelaunayOptions::threads; the same result either way).
 std::vector<VertexId> segment_friendly_order(
     const Plc& plc, size_t max_rounds, TetMesh& d0, SosOrderStats* stats = nullptr,
-    std::vector<std::array<VertexId, 2>>* segments = nullptr);
+    std::vector<std::array<VertexId, 2>>* segments = nullptr, bool threads = false);
 
 /// `plc` with its points renumbered: point k of `out` is point order[k] of
 /// `plc`; facets, segments, holes and regions follow.
