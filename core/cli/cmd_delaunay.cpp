@@ -1,4 +1,4 @@
-// `cdt3d delaunay POINTS [-o PREFIX] [--json]`: Delaunay tetrahedralization
+// `cdt3d delaunay POINTS [-o PREFIX] [--json] [--one-thread]`: Delaunay tetrahedralization
 // of a point set (step 1 alone), for testing and benchmarking.
 //
 // POINTS is a TetGen .node file (read by the TetGen reader's node-section functions, which keeps
@@ -25,11 +25,15 @@ namespace {
 
 void usage(std::FILE* out) {
   std::fprintf(out,
-               "usage: cdt3d delaunay POINTS [-o PREFIX] [--json]\n"
+               "usage: cdt3d delaunay POINTS [-o PREFIX] [--json] [--one-thread]\n"
                "  POINTS     .node point file, or a model (.off .stl .obj .ply .poly .smesh)\n"
                "  -o PREFIX  write PREFIX.node and PREFIX.ele (TetGen format, numbered from 1)\n"
                "  --json     print "
-               "{\"points\",\"duplicates\",\"vertices\",\"tets\",\"hullFaces\",\"ms\"}\n");
+               "{\"points\",\"duplicates\",\"vertices\",\"tets\",\"hullFaces\",\"ms\"}\n"
+               "  --one-thread  insert every point on this thread and list the tets as they\n"
+               "             were made (by default the later rounds of 20,000 points or more go\n"
+               "             to two threads and the tets come in a canonical order; the same\n"
+               "             tetrahedralization either way)\n");
 }
 
 bool ends_with_nocase(const std::string& s, const char* suffix) {
@@ -64,6 +68,8 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 int run_delaunay(int argc, char** argv) {
   std::string input, prefix;
   bool json = false;
+  DelaunayOptions options;
+  options.threads = true;
   for (int i = 0; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "-h" || a == "--help") {
@@ -71,6 +77,9 @@ int run_delaunay(int argc, char** argv) {
       return kExitOk;
     } else if (a == "--json") {
       json = true;
+    } else if (a == "--one-thread") {
+      options.threads = false;
+      options.canonical = false;
     } else if (a == "-o") {
       if (i + 1 >= argc) {
         std::fprintf(stderr, "cdt3d delaunay: -o needs a PREFIX\n");
@@ -118,7 +127,7 @@ int run_delaunay(int argc, char** argv) {
   std::vector<VertexId> all(mesh.num_vertices());
   std::iota(all.begin(), all.end(), VertexId(0));
   DelaunayStats st;
-  s = delaunay_tetrahedralize_vertices(mesh, all, nullptr, &st);
+  s = delaunay_tetrahedralize_vertices(mesh, all, nullptr, &st, options);
   std::vector<VertexId>().swap(all);
   if (!s.ok()) {
     if (s.error.file.empty()) s.error.file = input;

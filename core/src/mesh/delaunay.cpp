@@ -780,54 +780,62 @@ inline uint8_t canonical_rotation(const VertexId* w) {
   return static_cast<uint8_t>(best);
 }
 
+// The largest real vertex id of tet w.
+inline VertexId newest_vertex(const VertexId* w) {
+  const VertexId a = std::max(w[0], w[1]), b = w[3] == kInfinite ? w[2] : std::max(w[2], w[3]);
+  return std::max(a, b);
+}
+
 // Renumbers the live tets of `w` canonically: each listed from its smallest
-// vertex (canonical_rotation), all sorted by their vertex lists; no dead
-// slots remain, vtet names the last real tet of each vertex in the new
-// order. The perturbed Delaunay tetrahedralization is unique, so the mesh
+// vertex (canonical_rotation), all sorted by their newest vertex (the
+// largest real id: the insertion that made the tet, so the order stays
+// close to the order of creation, and in the Hilbert order of the last
+// rounds, which keeps neighbours near in memory), then by their vertex
+// lists; no dead slots remain, vtet names the last real tet of each vertex
+// in the new order. The perturbed Delaunay tetrahedralization is unique, so the mesh
 // is then the same whatever order its points went in, on one thread or two
 // (the later steps' results depend on tet numbers: walks start at vtet, ties
 // of equal candidates go to the first tet).
 void canonicalize(TetMesh& w) {
   const size_t slots = w.num_tet_slots(), nv = w.num_vertices();
-  std::vector<uint8_t> rot(slots, 0);
+  // Records of the rotated vertex lists, written in bucket order and
+  // sorted in place: the sort reads contiguous memory, not the slots.
+  struct Rec {
+    VertexId v[4];
+    TetId slot;
+  };
   std::vector<uint32_t> start(nv + 1, 0);
+  std::vector<uint8_t> rot(slots, 0);
   size_t live = 0;
   for (size_t t = 0; t < slots; ++t) {
     if (w.tflag[t] & kTetDead) continue;
     const VertexId* x = &w.tv[4 * t];
     rot[t] = canonical_rotation(x);
-    ++start[x[kEven[rot[t]][0]] + 1];
+    ++start[newest_vertex(x) + 1];
     ++live;
   }
   for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  std::vector<TetId> sorted(live);
+  std::vector<Rec> rec(live);
   {
     std::vector<uint32_t> fill(start.begin(), start.end() - 1);
-    for (size_t t = 0; t < slots; ++t)
-      if (!(w.tflag[t] & kTetDead)) sorted[fill[w.tv[4 * t + kEven[rot[t]][0]]]++] = TetId(t);
-  }
-  // Each bucket (one first vertex, ~7 tets) by its remaining three vertices.
-  auto less = [&](TetId a, TetId b) {
-    const uint8_t* pa = kEven[rot[a]];
-    const uint8_t* pb = kEven[rot[b]];
-    for (int j = 1; j < 4; ++j) {
-      const VertexId x = w.tv[4 * size_t(a) + pa[j]], y = w.tv[4 * size_t(b) + pb[j]];
-      if (x != y) return x < y;
+    for (size_t t = 0; t < slots; ++t) {
+      if (w.tflag[t] & kTetDead) continue;
+      const VertexId* x = &w.tv[4 * t];
+      const uint8_t* p = kEven[rot[t]];
+      rec[fill[newest_vertex(x)]++] = Rec{{x[p[0]], x[p[1]], x[p[2]], x[p[3]]}, TetId(t)};
     }
+  }
+  auto less = [](const Rec& a, const Rec& b) {
+    for (int j = 0; j < 4; ++j)
+      if (a.v[j] != b.v[j]) return a.v[j] < b.v[j];
     return false;
   };
-  for (size_t v = 0; v < nv; ++v) {
-    TetId* lo = sorted.data() + start[v];
-    TetId* hi = sorted.data() + start[v + 1];
-    if (hi - lo < 24) {
-      for (TetId* i = lo + 1; i < hi; ++i)
-        for (TetId* j = i; j > lo && less(*j, *(j - 1)); --j) std::swap(*j, *(j - 1));
-    } else {
-      std::sort(lo, hi, less);
-    }
-  }
-  std::vector<TetId> new_id(slots, kNone);
-  for (size_t i = 0; i < live; ++i) new_id[sorted[i]] = TetId(i);
+  for (size_t v = 0; v < nv; ++v) std::sort(rec.begin() + start[v], rec.begin() + start[v + 1], less);
+  // Per old slot: its new id and its rotation, in one word (one read per
+  // neighbour below).
+  std::vector<uint32_t> moved(slots, 0);
+  for (size_t i = 0; i < live; ++i) moved[rec[i].slot] = uint32_t(i) << 4 | rot[rec[i].slot];
+  std::vector<uint8_t>().swap(rot);
   std::vector<VertexId> tv;
   std::vector<HalfFace> tadj;
   tv.reserve(std::max(w.tv.capacity(), 4 * live));
@@ -835,13 +843,13 @@ void canonicalize(TetMesh& w) {
   tv.resize(4 * live);
   tadj.resize(4 * live);
   for (size_t i = 0; i < live; ++i) {
-    const size_t t = sorted[i];
-    const uint8_t* p = kEven[rot[t]];
+    const size_t t = rec[i].slot;
+    const uint8_t* p = kEven[moved[t] & 15u];
     for (int j = 0; j < 4; ++j) {
-      tv[4 * i + j] = w.tv[4 * t + p[j]];
+      tv[4 * i + j] = rec[i].v[j];
       const HalfFace hf = w.tadj[4 * t + p[j]];
-      const TetId u = hf_tet(hf);
-      tadj[4 * i + j] = make_hf(new_id[u], kEvenInverse.at[rot[u]][hf_face(hf)]);
+      const uint32_t u = moved[hf_tet(hf)];
+      tadj[4 * i + j] = make_hf(u >> 4, kEvenInverse.at[u & 15u][hf_face(hf)]);
     }
   }
   w.tv.swap(tv);
@@ -1116,7 +1124,7 @@ Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<Vert
   }
   // Large sets are numbered canonically whether or not a second thread
   // helped, so that the result never depends on the threads.
-  if (n >= kMinTwoThreadDelaunayPoints) canonicalize(w);
+  if (n >= kMinTwoThreadDelaunayPoints && (options.canonical || options.threads)) canonicalize(w);
 
   const size_t ghosts = adopt_work_mesh(m, w, order);
   if (to_vertex && !dups.empty()) {
