@@ -786,24 +786,54 @@ inline VertexId newest_vertex(const VertexId* w) {
   return std::max(a, b);
 }
 
+// The tets of `w` in the order of `rec` (old slot, rotated vertex list),
+// their adjacency translated through `moved` (per old slot: new id << 4 |
+// rotation; Word is wide enough for the new ids).
+struct CanonicalRecord {
+  VertexId v[4];
+  TetId slot;
+};
+template <typename Word>
+void move_tets(TetMesh& w, const std::vector<CanonicalRecord>& rec,
+               const std::vector<uint8_t>& rot) {
+  const size_t live = rec.size();
+  std::vector<Word> moved(w.num_tet_slots(), 0);
+  for (size_t i = 0; i < live; ++i) moved[rec[i].slot] = Word(i) << 4 | rot[rec[i].slot];
+  std::vector<VertexId> tv;
+  std::vector<HalfFace> tadj;
+  tv.reserve(std::max(w.tv.capacity(), 4 * live));
+  tadj.reserve(std::max(w.tadj.capacity(), 4 * live));
+  tv.resize(4 * live);
+  tadj.resize(4 * live);
+  for (size_t i = 0; i < live; ++i) {
+    const size_t t = rec[i].slot;
+    const uint8_t* p = kEven[moved[t] & 15u];
+    for (int j = 0; j < 4; ++j) {
+      tv[4 * i + j] = rec[i].v[j];
+      const HalfFace hf = w.tadj[4 * t + p[j]];
+      const Word u = moved[hf_tet(hf)];
+      tadj[4 * i + j] = make_hf(TetId(u >> 4), kEvenInverse.at[u & 15u][hf_face(hf)]);
+    }
+  }
+  w.tv.swap(tv);
+  w.tadj.swap(tadj);
+}
+
 // Renumbers the live tets of `w` canonically: each listed from its smallest
 // vertex (canonical_rotation), all sorted by their newest vertex (the
 // largest real id: the insertion that made the tet, so the order stays
 // close to the order of creation, and in the Hilbert order of the last
 // rounds, which keeps neighbours near in memory), then by their vertex
 // lists; no dead slots remain, vtet names the last real tet of each vertex
-// in the new order. The perturbed Delaunay tetrahedralization is unique, so the mesh
-// is then the same whatever order its points went in, on one thread or two
-// (the later steps' results depend on tet numbers: walks start at vtet, ties
-// of equal candidates go to the first tet).
+// in the new order. The perturbed Delaunay tetrahedralization is unique,
+// so the mesh is then the same whatever order its points went in, on one
+// thread or two (the later steps' results depend on tet numbers: walks
+// start at vtet, ties of equal candidates go to the first tet).
 void canonicalize(TetMesh& w) {
   const size_t slots = w.num_tet_slots(), nv = w.num_vertices();
   // Records of the rotated vertex lists, written in bucket order and
   // sorted in place: the sort reads contiguous memory, not the slots.
-  struct Rec {
-    VertexId v[4];
-    TetId slot;
-  };
+  using Rec = CanonicalRecord;
   std::vector<uint32_t> start(nv + 1, 0);
   std::vector<uint8_t> rot(slots, 0);
   size_t live = 0;
@@ -832,28 +862,11 @@ void canonicalize(TetMesh& w) {
   };
   for (size_t v = 0; v < nv; ++v) std::sort(rec.begin() + start[v], rec.begin() + start[v + 1], less);
   // Per old slot: its new id and its rotation, in one word (one read per
-  // neighbour below).
-  std::vector<uint32_t> moved(slots, 0);
-  for (size_t i = 0; i < live; ++i) moved[rec[i].slot] = uint32_t(i) << 4 | rot[rec[i].slot];
-  std::vector<uint8_t>().swap(rot);
-  std::vector<VertexId> tv;
-  std::vector<HalfFace> tadj;
-  tv.reserve(std::max(w.tv.capacity(), 4 * live));
-  tadj.reserve(std::max(w.tadj.capacity(), 4 * live));
-  tv.resize(4 * live);
-  tadj.resize(4 * live);
-  for (size_t i = 0; i < live; ++i) {
-    const size_t t = rec[i].slot;
-    const uint8_t* p = kEven[moved[t] & 15u];
-    for (int j = 0; j < 4; ++j) {
-      tv[4 * i + j] = rec[i].v[j];
-      const HalfFace hf = w.tadj[4 * t + p[j]];
-      const uint32_t u = moved[hf_tet(hf)];
-      tadj[4 * i + j] = make_hf(u >> 4, kEvenInverse.at[u & 15u][hf_face(hf)]);
-    }
-  }
-  w.tv.swap(tv);
-  w.tadj.swap(tadj);
+  // neighbour).
+  if (live < (size_t(1) << 28))
+    move_tets<uint32_t>(w, rec, rot);
+  else
+    move_tets<uint64_t>(w, rec, rot);
   w.tflag.assign(live, 0);
   w.tstamp.assign(live, 0);
   w.free_tets.clear();
