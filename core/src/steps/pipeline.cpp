@@ -696,7 +696,10 @@ Status delaunay_tetrahedralization(const std::vector<double>& xyz, std::vector<u
   if (xyz.size() % 3 != 0)
     return make_error(ErrorCode::InvalidArgument, "Points need 3 coordinates each.");
   TetMesh mesh;
-  Status st = delaunay_tetrahedralize(mesh, xyz.data(), xyz.size() / 3);
+  // One thread, the tets as made (their order does not matter here).
+  DelaunayOptions options;
+  options.canonical = false;
+  Status st = delaunay_tetrahedralize(mesh, xyz.data(), xyz.size() / 3, nullptr, nullptr, options);
   if (!st.ok()) return st;
   tets.reserve(4 * mesh.num_real_tets());
   for (TetId t = 0; t < mesh.num_tet_slots(); ++t)
