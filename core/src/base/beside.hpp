@@ -3,7 +3,7 @@
 // npm package loads under Node, built with Emscripten's pthreads; the
 // browser module is single-threaded) and the build has exceptions (to carry
 // an allocation failure across). The pipeline's other work on the second
-// core (the self-intersection test beside step 1) is done by then.
+// core (the self-intersection test beside steps 1-2) is done by then.
 #pragma once
 
 #include <exception>

@@ -554,7 +554,7 @@ struct Memo {
   bool used;
 };
 // One table per thread (tetrahedralize() may run on several threads at once,
-// and runs its self-intersection test beside step 1), allocated by the
+// and runs its self-intersection test beside steps 1-2), allocated by the
 // thread's first memoized call: calloc leaves the pages no slot touches
 // unmapped, like the zero-initialized static arrays this replaces. Without
 // memory the call is computed without the memo.

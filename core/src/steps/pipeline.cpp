@@ -128,13 +128,6 @@ class IntersectionTest {
 #endif
     run(plc);
   }
-  bool on_thread() const {
-#ifdef CDT3D_HAS_THREADS
-    return thread_.joinable();
-#else
-    return false;
-#endif
-  }
   // The pairs found (after the thread finished); an allocation failure on
   // the thread is rethrown here, for tetrahedralize()'s handler.
   const std::vector<Intersection>& found() {
