@@ -36,7 +36,7 @@ inline bool threads_available() {
 template <class First, class Second>
 void run_beside(bool beside, First&& first, Second&& second) {
 #ifdef CDT3D_HAS_THREADS
-  if (beside && std::thread::hardware_concurrency() > 1) {
+  if (beside && threads_available()) {
     std::exception_ptr failure;
     std::thread worker;
     try {

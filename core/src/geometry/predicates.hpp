@@ -180,6 +180,16 @@ struct Counters {
   uint64_t incircle_calls = 0, incircle_exact = 0;
   uint64_t sos_ties = 0;      ///< insphere_sos / incircle_coplanar_sos decided by SoS
   uint64_t out_of_range = 0;  ///< exact evaluations outside the supported range
+
+  /// Adds another thread's counts.
+  Counters& operator+=(const Counters& o) {
+    orient3d_calls += o.orient3d_calls, orient3d_exact += o.orient3d_exact;
+    insphere_calls += o.insphere_calls, insphere_exact += o.insphere_exact;
+    orient2d_calls += o.orient2d_calls, orient2d_exact += o.orient2d_exact;
+    incircle_calls += o.incircle_calls, incircle_exact += o.incircle_exact;
+    sos_ties += o.sos_ties, out_of_range += o.out_of_range;
+    return *this;
+  }
 };
 
 namespace detail {

@@ -429,42 +429,17 @@ bool PointInserter::start_tet_shared(TetId& t) {
 // locate_point's visibility walk, holding one tet at a time (the next is
 // locked before the current is let go, so the step across their shared face
 // stays valid). False when a tet on the way is held by the other thread.
-bool PointInserter::locate_shared(const double* p, TetId& t, LocateKind& kind, VertexId& on) {
-  TetMesh& m = mesh_;
-  if (!start_tet_shared(t)) return false;
-  TetId came_from = kNone;
-  const uint64_t cap = 64 + 4 * static_cast<uint64_t>(m.num_tet_slots());
-  for (uint64_t step = 0; step < cap; ++step) {
-    ++walk_steps;
-    const VertexId* w = &m.tv[4 * static_cast<size_t>(t)];
-    const uint32_t start = static_cast<uint32_t>(rng_.next() >> 62);
-    TetId next = kNone;
-    for (uint32_t k = 0; k < 4; ++k) {
-      const int i = static_cast<int>((start + k) & 3u);
-      const TetId n = m.neighbor(t, i);
-      if (n == came_from) continue;
-      if (pred::orient3d(m.point(w[kFaceVertex[i][0]]), m.point(w[kFaceVertex[i][1]]),
-                         m.point(w[kFaceVertex[i][2]]), p) < 0) {
-        next = n;
-        break;
-      }
-    }
-    if (next == kNone) {
-      kind = LocateKind::InTet;
-      for (int i = 0; i < 4; ++i)
-        if (same_point(m.point(w[i]), p)) kind = LocateKind::OnVertex, on = w[i];
-      return true;
-    }
-    if (!lock(next)) return false;
-    unlock(t);
-    came_from = t;
-    t = next;
-    if (m.is_ghost(t)) {
-      kind = LocateKind::OutsideHull;
-      return true;
-    }
-  }
-  return false;
+bool PointInserter::locate_shared(const double* p, TetId& t, LocateKind& kind) {
+  TetId start;
+  if (!start_tet_shared(start)) return false;
+  const Location loc = walk_to_point(mesh_, p, start, rng_, [this](TetId from, TetId to) {
+    if (!lock(to)) return false;
+    unlock(from);
+    return true;
+  });
+  walk_steps += loc.steps;
+  t = loc.tet, kind = loc.kind;
+  return kind != LocateKind::Failed;
 }
 
 PointInserter::Attempt PointInserter::insert_vertex_shared(VertexId v) {
@@ -475,13 +450,10 @@ PointInserter::Attempt PointInserter::insert_vertex_shared(VertexId v) {
   const double* p = m.point(v);
   TetId t0 = kNone;
   LocateKind kind = LocateKind::Failed;
-  VertexId on = kNone;
   Attempt result = Attempt::Deferred;
-  if (!locate_shared(p, t0, kind, on)) {
-    // held by the other thread: later
-  } else if (kind == LocateKind::OnVertex) {
-    // Left to the single-threaded pass, which keeps the earlier point.
-    (void)on;
+  if (!locate_shared(p, t0, kind) || kind == LocateKind::OnVertex) {
+    // Held by the other thread, or a duplicate, which the single-threaded
+    // pass decides (it keeps the earlier point): later.
   } else if (!grow_cavity_impl<true>(t0, p, v)) {
     abandon_cavity();
   } else if (boundary_.size() > cavity_.size() &&
@@ -889,29 +861,6 @@ constexpr size_t kMinTwoThreadRound = 2000;
 
 enum class RoundResult { Done, Failed };
 
-pred::Counters counter_difference(const pred::Counters& a, const pred::Counters& b) {
-  pred::Counters d;
-  d.orient3d_calls = a.orient3d_calls - b.orient3d_calls;
-  d.orient3d_exact = a.orient3d_exact - b.orient3d_exact;
-  d.insphere_calls = a.insphere_calls - b.insphere_calls;
-  d.insphere_exact = a.insphere_exact - b.insphere_exact;
-  d.orient2d_calls = a.orient2d_calls - b.orient2d_calls;
-  d.orient2d_exact = a.orient2d_exact - b.orient2d_exact;
-  d.incircle_calls = a.incircle_calls - b.incircle_calls;
-  d.incircle_exact = a.incircle_exact - b.incircle_exact;
-  d.sos_ties = a.sos_ties - b.sos_ties;
-  d.out_of_range = a.out_of_range - b.out_of_range;
-  return d;
-}
-
-void add_counters(pred::Counters& into, const pred::Counters& d) {
-  into.orient3d_calls += d.orient3d_calls, into.orient3d_exact += d.orient3d_exact;
-  into.insphere_calls += d.insphere_calls, into.insphere_exact += d.insphere_exact;
-  into.orient2d_calls += d.orient2d_calls, into.orient2d_exact += d.orient2d_exact;
-  into.incircle_calls += d.incircle_calls, into.incircle_exact += d.incircle_exact;
-  into.sos_ties += d.sos_ties, into.out_of_range += d.out_of_range;
-}
-
 // A real tet near point p to start a walk from (a ghost is swapped for the
 // real tet across its hull face).
 TetId start_near(TetMesh& w, const double* p, TetId hint, Rng& rng) {
@@ -980,16 +929,16 @@ RoundResult insert_round_two_threads(TetMesh& w, PointInserter& ins, const Verte
   run_beside(
       true, [&] { work(ins, b, mid, later_a, ra); },
       [&] {
-        // The predicate counters are per thread; the other thread's join
-        // this one's (the perturbation-order search reads sos_ties).
-        const pred::Counters before = pred::counters();
+        // The predicate counters are per thread (a fresh thread's start at
+        // 0); the other thread's join this one's (the perturbation-order
+        // search reads sos_ties).
         work(other, mid, e, later_b, rb);
         on_other_thread = &pred::counters() != here;
-        beside_counts = counter_difference(pred::counters(), before);
+        beside_counts = pred::counters();
       });
   ins.share(nullptr);
   if (on_other_thread) {
-    add_counters(pred::counters(), beside_counts);
+    pred::counters() += beside_counts;
     beside += pb.inserted;
   }
   ins.walk_steps += other.walk_steps;
@@ -1110,20 +1059,22 @@ Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<Vert
   std::vector<VertexId> later;
   for (size_t r = 0; r + 1 < rounds.size(); ++r) {
     const VertexId b = VertexId(rounds[r]), e = VertexId(rounds[r + 1]);
-    later.clear();
-    if (two && r > 0 && e - b >= kMinTwoThreadRound) {
-      ins.set_hint(hint);
-      const RoundResult rr = insert_round_two_threads(w, ins, order.data(), small_integers,
-                                                      options.seed, b, e, first, later,
-                                                      st.points_beside);
-      if (rr == RoundResult::Failed)
-        return finish(
-            make_error(ErrorCode::Internal, "delaunay: a two-thread insertion failed."));
-      hint = ins.last_tet();
-    } else {
-      for (VertexId k = b; k < e; ++k)
-        if (!is_first(k)) later.push_back(k);
+    if (!two || r == 0 || e - b < kMinTwoThreadRound) {
+      for (VertexId k = b; k < e; ++k) {
+        if (is_first(k)) continue;
+        s = insert_one(k);
+        if (!s.ok()) return finish(s);
+      }
+      continue;
     }
+    ins.set_hint(hint);
+    later.clear();
+    const RoundResult rr = insert_round_two_threads(w, ins, order.data(), small_integers,
+                                                    options.seed, b, e, first, later,
+                                                    st.points_beside);
+    if (rr == RoundResult::Failed)
+      return finish(make_error(ErrorCode::Internal, "delaunay: a two-thread insertion failed."));
+    hint = ins.last_tet();
     for (VertexId k : later) {
       s = insert_one(k);
       if (!s.ok()) return finish(s);
@@ -1132,6 +1083,7 @@ Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<Vert
       finish(Status::success());
       DelaunayOptions one = options;
       one.threads = false;
+      one.canonical = true;  // as the two-thread build would have numbered it
       return build(m, vertices, to_vertex, stats, one);
     }
   }

@@ -108,6 +108,58 @@ struct Location {
 /// the hull, Delaunay or not.
 Location locate_point(const TetMesh& mesh, const double* p, TetId hint, Rng& rng);
 
+/// locate_point's walk from the real tet `t`, asking enter(from, to) before
+/// each step (false: the walk stops, kind Failed). The two-thread build
+/// locks each tet there before it reads it.
+template <class Enter>
+Location walk_to_point(const TetMesh& mesh, const double* p, TetId t, Rng& rng, Enter&& enter) {
+  Location loc;
+  TetId came_from = kNone;
+  // A walk in a triangulation visits each tet at most once with probability
+  // 1 for a stochastic face order; the cap only guards against broken meshes.
+  const uint64_t cap = 64 + 4 * static_cast<uint64_t>(mesh.num_tet_slots());
+  const VertexId* tv = mesh.tv.data();
+  for (uint64_t step = 0; step < cap; ++step) {
+    ++loc.steps;
+    const VertexId* w = tv + 4 * static_cast<size_t>(t);
+    const uint32_t start = static_cast<uint32_t>(rng.next() >> 62);
+    TetId next = kNone;
+    for (uint32_t k = 0; k < 4; ++k) {
+      const int i = static_cast<int>((start + k) & 3u);
+      const TetId n = mesh.neighbor(t, i);
+      if (n == came_from) continue;  // p is strictly on our side of that face
+      const double* a = mesh.point(w[kFaceVertex[i][0]]);
+      const double* b = mesh.point(w[kFaceVertex[i][1]]);
+      const double* c = mesh.point(w[kFaceVertex[i][2]]);
+      if (pred::orient3d(a, b, c, p) < 0) {  // p strictly beyond face i
+        next = n;
+        break;
+      }
+    }
+    if (next == kNone) {  // p in the closed tet t
+      loc.tet = t;
+      loc.kind = LocateKind::InTet;
+      for (int i = 0; i < 4; ++i) {
+        const double* q = mesh.point(w[i]);
+        if (q[0] == p[0] && q[1] == p[1] && q[2] == p[2]) {
+          loc.kind = LocateKind::OnVertex;
+          loc.vertex = w[i];
+        }
+      }
+      return loc;
+    }
+    if (!enter(t, next)) return loc;  // Failed
+    if (mesh.is_ghost(next)) {  // left the hull through its face 3
+      loc.tet = next;
+      loc.kind = LocateKind::OutsideHull;
+      return loc;
+    }
+    came_from = t;
+    t = next;
+  }
+  return loc;  // Failed
+}
+
 // ---------------------------------------------------------------------------
 // Insertion of one point (Bowyer–Watson), for step 1 and later steps
 // ---------------------------------------------------------------------------
@@ -211,7 +263,7 @@ class PointInserter {
   // reads or writes; a point that meets a tet the other thread holds (or
   // anything else unexpected) is left for the single-threaded pass.
   struct Shared;
-  enum class Attempt { Inserted, Deferred, Duplicate, Failed };
+  enum class Attempt { Inserted, Deferred, Failed };
   void share(Shared* part) { shared_ = part; }
   void set_hint(TetId t) { last_tet_ = t; }
   Attempt insert_vertex_shared(VertexId v);
@@ -247,7 +299,7 @@ class PointInserter {
   void unlock(TetId t);
   void unlock_all();
   bool start_tet_shared(TetId& t);
-  bool locate_shared(const double* p, TetId& t, LocateKind& kind, VertexId& on);
+  bool locate_shared(const double* p, TetId& t, LocateKind& kind);
   Status fill_cavity(VertexId v);
   void point_vertices_to_new_tets();
   uint32_t local_id(VertexId x);

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <exception>
 #include <new>
@@ -112,10 +113,10 @@ class IntersectionTest {
   // Runs the test, on a thread if `beside` and threads exist (and one can be
   // started), else right here. *found_any (if given) becomes true when the
   // test ends with a pair found.
-  void start(const Plc& plc, bool beside, volatile bool* found_any = nullptr) {
+  void start(const Plc& plc, bool beside, std::atomic<bool>* found_any = nullptr) {
     found_any_ = found_any;
 #ifdef CDT3D_HAS_THREADS
-    if (beside && std::thread::hardware_concurrency() > 1) {
+    if (beside && threads_available()) {
       try {
         thread_ = std::thread([this, &plc] { run(plc); });
         return;
@@ -150,7 +151,7 @@ class IntersectionTest {
     find_self_intersections(plc, found_);
 #endif
     ms_ = ms_since(t0);
-    if (found_any_ && (!found_.empty() || failure_)) *found_any_ = true;
+    if (found_any_ && (!found_.empty() || failure_)) found_any_->store(true);
   }
   void join() {
 #ifdef CDT3D_HAS_THREADS
@@ -160,7 +161,7 @@ class IntersectionTest {
 
   std::vector<Intersection> found_;
   std::exception_ptr failure_;
-  volatile bool* found_any_ = nullptr;
+  std::atomic<bool>* found_any_ = nullptr;
   double ms_ = 0;
 #ifdef CDT3D_HAS_THREADS
   std::thread thread_;
@@ -253,7 +254,7 @@ class Pipeline {
   // The self-intersection test while it runs beside steps 1-2, and the flag
   // it raises for step 2 when it found a pair.
   IntersectionTest* pending_test_ = nullptr;
-  volatile bool intersecting_ = false;
+  std::atomic<bool> intersecting_{false};
 };
 
 bool Pipeline::begin(Phase phase) {
@@ -591,11 +592,11 @@ void Pipeline::run() {
     // Step 1 here when the search above did not build it (beside the test,
     // or before it on both cores); then the test beside the rest.
     const auto t0 = Clock::now();
-    DelaunayOptions two;
-    two.threads = true;
+    DelaunayOptions dopt;
+    dopt.threads = opt_.threads;
     if (d0_.live_tets == 0 &&
         !delaunay_tetrahedralize(d0_, &plc_->points[0].x, plc_->points.size(), nullptr, nullptr,
-                                 two)
+                                 dopt)
              .ok())
       d0_ = TetMesh();  // step 1 runs again below and reports why
     ms_d0_ += ms_since(t0);

@@ -107,7 +107,7 @@ class SegmentRecovery {
         remover_(mesh),
         first_record_(segs.steiner.size()) {}
 
-  Status run(const volatile bool* cancel, const volatile bool* stop);
+  Status run(const volatile bool* cancel, const std::atomic<bool>* stop);
 
  private:
   Status split(uint32_t s, VertexId u, VertexId w);
@@ -780,7 +780,7 @@ void SegmentRecovery::set_chain_neighbour(uint32_t s, VertexId x, bool after, Ve
   (after ? next_ : prev_)[x] = n;
 }
 
-Status SegmentRecovery::run(const volatile bool* cancel, const volatile bool* stop) {
+Status SegmentRecovery::run(const volatile bool* cancel, const std::atomic<bool>* stop) {
   // Segments incident to each input vertex (CSR), for queue_destroyed.
   const size_t nv = segs_.acute.size();
   incident_start_.assign(nv + 1, 0);
@@ -816,7 +816,7 @@ Status SegmentRecovery::run(const volatile bool* cancel, const volatile bool* st
     }
     ++stats_.rounds;
     for (size_t k = 0; k < queue.size(); ++k) {
-      if ((cancel && *cancel) || (stop && *stop)) {
+      if ((cancel && *cancel) || (stop && stop->load(std::memory_order_relaxed))) {
         return make_error(ErrorCode::Cancelled, "segment recovery cancelled");
       }
       const auto [u, w, s] = queue[k];
@@ -928,7 +928,7 @@ void missing_subsegments(TetMesh& mesh, const SegmentSet& segs,
 
 Status recover_segments(TetMesh& mesh, SegmentSet& segs, SegmentRecoveryStats* stats,
                         const volatile bool* cancel, SplitMode mode,
-                        const volatile bool* stop) {
+                        const std::atomic<bool>* stop) {
   SegmentRecoveryStats local;
   SegmentRecoveryStats& st = stats ? *stats : local;
   st = SegmentRecoveryStats();

@@ -11,6 +11,7 @@
 #include <cdt3d/cdt3d.hpp>
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -117,7 +118,7 @@ void init_segments(const Plc& plc, SegmentSet& segs, std::vector<std::array<Vert
 Status recover_segments(TetMesh& mesh, SegmentSet& segs, SegmentRecoveryStats* stats = nullptr,
                         const volatile bool* cancel = nullptr,
                         SplitMode mode = SplitMode::Projection,
-                        const volatile bool* stop = nullptr);
+                        const std::atomic<bool>* stop = nullptr);
 
 /// Subsegments of `segs` that are not edges of `mesh` (a, b, input segment).
 /// With `only_at`, only subsegments with both ends v where (*only_at)[v] is
