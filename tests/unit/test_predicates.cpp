@@ -1189,6 +1189,87 @@ TEST_CASE("small-integer predicates match the oracle within their spread", "[pre
   CHECK(zeros > 1000);
 }
 
+TEST_CASE("orient3d_in_box and insphere_in_box match the oracle for points of their box",
+          "[predicates]") {
+  // The static bounds are tightest when the points span the whole box and
+  // are nearly degenerate: points on the sphere inscribed in the box
+  // (rounded), the fifth moved off it by 2^-30 to 2^-60 of the box, and the
+  // fourth moved off the plane of the first three alike; at scales from 2^-90
+  // to 2^90, far from the origin too; random points as well. Both ways of
+  // deciding occur (the bound decides, or the semi-static stages behind it).
+  Rng r(57);
+  int decided[2][2] = {{0, 0}, {0, 0}};  // [orient3d, insphere][by the bound]
+  for (int it = 0; it < 20000; ++it) {
+    const int e = r.range(-90, 90);
+    const double scale = std::ldexp(1.0, e);
+    const P3 centre = {r.range(0, 2) == 0 ? 0 : r.at_exponent(e + r.range(0, 20)),
+                       r.sym() * scale, r.sym() * scale};
+    std::array<P3, 5> p;
+    for (int i = 0; i < 5; ++i) {
+      if (it % 2 == 0) {
+        // A random direction, on the sphere of radius scale around centre.
+        double d[3] = {r.sym(), r.sym(), r.sym()};
+        double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (!(len > 0.1)) d[0] = 1, d[1] = d[2] = 0, len = 1;
+        const double lift = i == 4 ? 1 + std::ldexp(r.sym(), -r.range(30, 60)) : 1;
+        for (int k = 0; k < 3; ++k) p[i][k] = centre[k] + scale * lift * d[k] / len;
+      } else {
+        for (int k = 0; k < 3; ++k) p[i][k] = centre[k] + scale * r.sym();
+      }
+    }
+    if (it % 4 == 0) {
+      // The fourth point near the plane of the first three.
+      const double s = r.unit(), t = r.unit() * (1 - s);
+      for (int k = 0; k < 3; ++k)
+        p[3][k] = p[0][k] + s * (p[1][k] - p[0][k]) + t * (p[2][k] - p[0][k]) +
+                  std::ldexp(r.sym(), -r.range(30, 60)) * scale;
+    }
+    // The box: the five points and, some of the time, two corners around them.
+    std::vector<double> box;
+    for (const P3& q : p) box.insert(box.end(), q.begin(), q.end());
+    if (it % 3 == 0)
+      for (double sgn : {-1.0, 1.0})
+        for (int k = 0; k < 3; ++k) box.push_back(centre[k] + sgn * 2 * scale);
+    const pred::BoxBounds bounds = pred::box_bounds(box.data(), box.size() / 3);
+    REQUIRE(bounds.orient3d > 0);
+    REQUIRE(bounds.insphere > 0);
+    const int o = pred::orient3d_in_box(p[0].data(), p[1].data(), p[2].data(), p[3].data(), bounds);
+    REQUIRE(o == orient3d_q(p[0], p[1], p[2], p[3]));
+    const int s = pred::insphere_in_box(p[0].data(), p[1].data(), p[2].data(), p[3].data(),
+                                        p[4].data(), bounds);
+    REQUIRE(s == insphere_q(p[0], p[1], p[2], p[3], p[4]));
+    // Which way decided: the same determinants as the predicates' own.
+    const double od =
+        pred::detail::orient3d_terms(p[0].data(), p[1].data(), p[2].data(), p[3].data()).det;
+    const double sd = pred::detail::insphere_terms(p[0].data(), p[1].data(), p[2].data(),
+                                                   p[3].data(), p[4].data()).det;
+    ++decided[0][std::fabs(od) > bounds.orient3d];
+    ++decided[1][std::fabs(sd) > bounds.insphere];
+  }
+  for (auto& d : decided) {
+    CHECK(d[0] > 500);
+    CHECK(d[1] > 1000);
+  }
+}
+
+TEST_CASE("box_bounds are 0 outside their proven range", "[predicates]") {
+  auto zero = [](const pred::BoxBounds& b) { return b.orient3d == 0 && b.insphere == 0; };
+  std::vector<double> pts = {0, 0, 0, 1, 2, 3};
+  CHECK(pred::box_bounds(pts.data(), 2).orient3d > 0);
+  CHECK(pred::box_bounds(pts.data(), 2).insphere > 0);
+  CHECK(zero(pred::box_bounds(pts.data(), 0)));
+  pts[5] = 0;  // a flat box: zero width on z
+  CHECK(zero(pred::box_bounds(pts.data(), 2)));
+  pts = {0, 0, 0, 0x1p+101, 1, 1};  // wider than 2^100
+  CHECK(zero(pred::box_bounds(pts.data(), 2)));
+  pts = {0, 0, 0, 0x1p-101, 1, 1};  // narrower than 2^-100
+  CHECK(zero(pred::box_bounds(pts.data(), 2)));
+  pts = {0, 0, 0, 1, 1, HUGE_VAL};
+  CHECK(zero(pred::box_bounds(pts.data(), 2)));
+  pts = {0, 0, 0, 1, 1, 1, 2, std::nan(""), 2};
+  CHECK(zero(pred::box_bounds(pts.data(), 3)));
+}
+
 TEST_CASE("small_integer_points rejects fractions, wide spreads and huge integers",
           "[predicates]") {
   std::vector<double> pts = {0, 0, 0, 512, 512, 512, 3, -0.0, 7};

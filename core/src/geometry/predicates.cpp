@@ -947,6 +947,36 @@ int incircle(const double* a, const double* b, const double* c, const double* d)
   return incircle_exact(a, b, c, d);
 }
 
+BoxBounds box_bounds(const double* coords, size_t n) {
+  if (n == 0) return {};
+  double w[3];
+  for (int k = 0; k < 3; ++k) {
+    double lo = coords[k], hi = coords[k];
+    for (size_t i = 0; i < n; ++i) {
+      const double x = coords[3 * i + k];
+      if (std::isnan(x)) return {};
+      lo = std::min(lo, x), hi = std::max(hi, x);
+    }
+    w[k] = hi - lo;  // infinities fail the range test below
+    if (!(w[k] >= detail::kBoxWidthLo && w[k] <= detail::kBoxWidthHi)) return {};
+  }
+  BoxBounds b;
+  b.orient3d = detail::kOrient3dBoxEps * (w[0] * w[1] * w[2]);
+  b.insphere = detail::kInsphereBoxEps * (w[0] * w[1] * w[2]) *
+               ((w[0] * w[0] + w[1] * w[1]) + w[2] * w[2]);
+  return b;
+}
+
+int detail::orient3d_out_of_line(const double* a, const double* b, const double* c,
+                                 const double* d) {
+  return orient3d(a, b, c, d);
+}
+
+int detail::insphere_out_of_line(const double* a, const double* b, const double* c,
+                                 const double* d, const double* e) {
+  return insphere(a, b, c, d, e);
+}
+
 bool small_integer_points(const double* coords, size_t n) {
   if (n == 0) return false;
   for (int k = 0; k < 3; ++k) {

@@ -88,6 +88,27 @@ inline int orient3d_small_integers(const double* a, const double* b, const doubl
 inline int insphere_small_integers(const double* a, const double* b, const double* c,
                                    const double* d, const double* e);
 
+/// Static error bounds of orient3d and insphere for points that all lie in
+/// one box (Meyer-Pion's static filters): the box's widths bound every
+/// coordinate difference a call can compute, so one bound, computed once,
+/// serves every call on those points, and a call evaluates its determinant
+/// alone, without the column sums of its semi-static bound (*_in_box below).
+/// A bound is 0 when the box is outside the range where it is proven
+/// (derivations at kOrient3dBoxEps and kInsphereBoxEps); the *_in_box
+/// predicates then never decide by it.
+struct BoxBounds {
+  double orient3d = 0, insphere = 0;
+};
+/// The bounds for the box of the n points in `coords`.
+BoxBounds box_bounds(const double* coords, size_t n);
+/// orient3d and insphere for points inside the box of `bounds`: decided by
+/// the static bound when it can, by orient3d() / insphere() otherwise. Wrong
+/// answers for points outside the box.
+inline int orient3d_in_box(const double* a, const double* b, const double* c, const double* d,
+                           const BoxBounds& bounds);
+inline int insphere_in_box(const double* a, const double* b, const double* c, const double* d,
+                           const double* e, const BoxBounds& bounds);
+
 /// 2D incircle: > 0 when d inside the circle through a, b, c with
 /// orient2d(a,b,c) > 0. Exact.
 int incircle(const double* a, const double* b, const double* c, const double* d);
@@ -285,6 +306,27 @@ inline constexpr double kInsphereLo = 0x1p-187, kInsphereHi = 0x1p+200;
 //   requiring P >= 2^-400 keeps the margin 0.9u P above that.
 inline constexpr double kInspherePermanentEps = 1.9e-15;
 inline constexpr double kInspherePermanentLo = 0x1p-400;
+// Static bounds (box_bounds): for points inside a box of widths W_x, W_y,
+// W_z, every computed difference satisfies |D'_x| <= fl(hi_x - lo_x) = W_x
+// (exact |D_x| <= hi_x - lo_x, and rounding is monotonic), so M_x <= W_x.
+//   orient3d: with the same k = 5, g = 3, S <= 6 Wx Wy Wz and the error is
+//   below 48.0000006u Wx Wy Wz = 5.3290706e-15 (...); the constant 5.34e-15
+//   leaves a margin of 0.2% of the bound for its own evaluation (two
+//   roundings) and for underflow.
+//   insphere: each lift l_i <= W_x^2 + W_y^2 + W_z^2 (the exact lifts of the
+//   D', as in the derivation above), so S <= 6 Wx Wy Wz * 4 (Wx^2 + Wy^2 +
+//   Wz^2); with k = 11, g = 5 the error is below 16.0000001u S =
+//   384.0000024u Wx Wy Wz (Wx^2 + Wy^2 + Wz^2) = 4.2632565e-14 (...); the
+//   constant 4.27e-14 leaves a margin of 0.16% of the bound for its own
+//   evaluation (six roundings) and for underflow.
+//   Underflow: with every width in [2^-100, 2^100] the orient3d bound is >=
+//   2^-348 and the insphere bound >= 2^-545, while the products of the
+//   determinants err by at most 2^-1075 each, amplified by at most 7
+//   (2^100)^3: in all < 2^-766, far below either margin; nothing overflows
+//   (|det| <= 72 W^5 <= 2^507). Outside that range both bounds are 0.
+inline constexpr double kOrient3dBoxEps = 5.34e-15;
+inline constexpr double kInsphereBoxEps = 4.27e-14;
+inline constexpr double kBoxWidthLo = 0x1p-100, kBoxWidthHi = 0x1p+100;
 // orient2d: det = Ax By - Ay Bx: k = 2, g = 2, S <= 2 Mx My;
 //   8u(1 + 1e-6) = 8.8818e-16 < 9e-16 (margin 0.1u); as for orient3d, one
 //   test P = fl(sx sy) >= 2^-900 (the two products err by <= 2^-1074 in all).
@@ -415,6 +457,37 @@ inline int insphere(const double* a, const double* b, const double* c, const dou
   const detail::InsphereTerms t = detail::insphere_terms(a, b, c, d, e);
   if (detail::insphere_decided(t)) return detail::sign_of(t.det);
   return detail::insphere_undecided(a, b, c, d, e);
+}
+
+namespace detail {
+// orient3d() and insphere() out of line, for the rare calls that a box bound
+// leaves open (kept out of the callers' hot loops).
+int orient3d_out_of_line(const double* a, const double* b, const double* c, const double* d);
+int insphere_out_of_line(const double* a, const double* b, const double* c, const double* d,
+                         const double* e);
+}  // namespace detail
+
+// The determinants of orient3d_terms and insphere_terms (the bounds count
+// the roundings of those very expression trees); inlined, the compiler drops
+// the column sums these callers do not read.
+inline int orient3d_in_box(const double* a, const double* b, const double* c, const double* d,
+                           const BoxBounds& bounds) {
+  const double det = detail::orient3d_terms(a, b, c, d).det;
+  if (std::fabs(det) > bounds.orient3d) {
+    detail::count_call(detail::g_counters.orient3d_calls);
+    return detail::sign_of(det);
+  }
+  return detail::orient3d_out_of_line(a, b, c, d);
+}
+
+inline int insphere_in_box(const double* a, const double* b, const double* c, const double* d,
+                           const double* e, const BoxBounds& bounds) {
+  const double det = detail::insphere_terms(a, b, c, d, e).det;
+  if (std::fabs(det) > bounds.insphere) {
+    detail::count_call(detail::g_counters.insphere_calls);
+    return detail::sign_of(det);
+  }
+  return detail::insphere_out_of_line(a, b, c, d, e);
 }
 
 inline int orient3d_small_integers(const double* a, const double* b, const double* c,

@@ -90,13 +90,15 @@ PointInserter::in_conflict(TetId t, const double* p, VertexId v) const {
     const double* d = mesh_.point(w[3]);
     const int s = cospherical_      ? 0
                   : small_integers_ ? pred::insphere_small_integers(a, b, c, d, p)
-                                    : pred::insphere(a, b, c, d, p);
+                  : box_.insphere > 0 ? pred::insphere_in_box(a, b, c, d, p, box_)
+                                      : pred::insphere(a, b, c, d, p);
     if (s != 0) return s > 0;
     return pred::insphere_tie(a, b, c, d, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(w[3]), sos(v),
                               small_integers_) > 0;
   }
-  const int o =
-      small_integers_ ? pred::orient3d_small_integers(a, b, c, p) : pred::orient3d(a, b, c, p);
+  const int o = small_integers_     ? pred::orient3d_small_integers(a, b, c, p)
+                : box_.orient3d > 0 ? pred::orient3d_in_box(a, b, c, p, box_)
+                                    : pred::orient3d(a, b, c, p);
   if (o != 0) return o > 0;
   return pred::incircle_coplanar_sos_on_plane(a, b, c, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(v)) >
          0;
@@ -432,11 +434,14 @@ bool PointInserter::start_tet_shared(TetId& t) {
 bool PointInserter::locate_shared(const double* p, TetId& t, LocateKind& kind) {
   TetId start;
   if (!start_tet_shared(start)) return false;
-  const Location loc = walk_to_point(mesh_, p, start, rng_, [this](TetId from, TetId to) {
-    if (!lock(to)) return false;
-    unlock(from);
-    return true;
-  });
+  const Location loc = walk_to_point(
+      mesh_, p, start, rng_,
+      [this](TetId from, TetId to) {
+        if (!lock(to)) return false;
+        unlock(from);
+        return true;
+      },
+      box_.orient3d > 0 ? &box_ : nullptr);
   walk_steps += loc.steps;
   t = loc.tet, kind = loc.kind;
   return kind != LocateKind::Failed;
@@ -490,7 +495,7 @@ Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result
 
   if (vlocal_.size() < m.num_vertices()) vlocal_.resize(m.num_vertices() + m.num_vertices() / 4, 0);
   const double* p = m.point(v);
-  const Location loc = locate_point(m, p, hint, rng_);
+  const Location loc = locate_point(m, p, hint, rng_, box_.orient3d > 0 ? &box_ : nullptr);
   walk_steps += loc.steps;
   if (result) *result = InsertResult{v, false, loc.tet};
   if (loc.kind == LocateKind::Failed)
@@ -876,7 +881,8 @@ TetId start_near(TetMesh& w, const double* p, TetId hint, Rng& rng) {
 // border, so few points meet a tet of the other thread; those go to
 // `later`, in order, for the single-threaded pass (so do duplicates).
 RoundResult insert_round_two_threads(TetMesh& w, PointInserter& ins, const VertexId* sos_ids,
-                                     bool small_integers, uint64_t seed, VertexId b, VertexId e,
+                                     bool small_integers, const pred::BoxBounds& box, uint64_t seed,
+                                     VertexId b, VertexId e,
                                      const VertexId first[4], std::vector<VertexId>& later,
                                      size_t& beside) {
   const VertexId mid = b + (e - b) / 2;
@@ -899,6 +905,7 @@ RoundResult insert_round_two_threads(TetMesh& w, PointInserter& ins, const Verte
   PointInserter other(w, seed ^ 0x6f74686572ull);
   other.set_sos_ids(sos_ids);
   other.set_small_integers(small_integers);
+  other.set_box_bounds(box);
   Rng rng(seed);
   ins.set_hint(start_near(w, w.point(b), ins.last_tet(), rng));
   other.set_hint(start_near(w, w.point(mid), ins.last_tet(), rng));
@@ -1031,6 +1038,10 @@ Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<Vert
   ins.set_sos_ids(order.data());
   const bool small_integers = pred::small_integer_points(w.coords.data(), n);
   ins.set_small_integers(small_integers);
+  // Every point of this build is known: one static bound for all its
+  // conflict tests.
+  const pred::BoxBounds box = pred::box_bounds(w.coords.data(), n);
+  ins.set_box_bounds(box);
   TetId hint = w.vtet[first[0]];
   std::vector<std::pair<VertexId, VertexId>> dups;  // (vertex, merged into), caller ids
   auto is_first = [&first](VertexId k) {
@@ -1069,7 +1080,7 @@ Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<Vert
     }
     ins.set_hint(hint);
     later.clear();
-    const RoundResult rr = insert_round_two_threads(w, ins, order.data(), small_integers,
+    const RoundResult rr = insert_round_two_threads(w, ins, order.data(), small_integers, box,
                                                     options.seed, b, e, first, later,
                                                     st.points_beside);
     if (rr == RoundResult::Failed)
@@ -1132,6 +1143,7 @@ SmallDelaunay::SmallDelaunay() : inserter_(mesh_) {}
 Status SmallDelaunay::build(const double* coords, size_t n, bool cospherical) {
   inserter_.set_cospherical(cospherical);
   inserter_.set_small_integers(pred::small_integer_points(coords, n));
+  inserter_.set_box_bounds(pred::box_bounds(coords, n));
   mesh_.clear();
   mesh_.coords.assign(coords, coords + 3 * n);
   mesh_.vkind.assign(n, kVertexNotInserted);

@@ -105,14 +105,17 @@ struct Location {
 /// face whenever p is strictly beyond it, testing the faces in an order
 /// rotated by `rng` (deterministic), never going back through the face it
 /// entered by. Exact orientation tests. Works on any tetrahedralization of
-/// the hull, Delaunay or not.
-Location locate_point(const TetMesh& mesh, const double* p, TetId hint, Rng& rng);
+/// the hull, Delaunay or not. `box`, when given, holds pred::box_bounds of a
+/// box around p and every vertex of the mesh (orient3d_in_box).
+Location locate_point(const TetMesh& mesh, const double* p, TetId hint, Rng& rng,
+                      const pred::BoxBounds* box = nullptr);
 
 /// locate_point's walk from the real tet `t`, asking enter(from, to) before
 /// each step (false: the walk stops, kind Failed). The two-thread build
 /// locks each tet there before it reads it.
 template <class Enter>
-Location walk_to_point(const TetMesh& mesh, const double* p, TetId t, Rng& rng, Enter&& enter) {
+Location walk_to_point(const TetMesh& mesh, const double* p, TetId t, Rng& rng, Enter&& enter,
+                       const pred::BoxBounds* box = nullptr) {
   Location loc;
   TetId came_from = kNone;
   // A walk in a triangulation visits each tet at most once with probability
@@ -131,7 +134,8 @@ Location walk_to_point(const TetMesh& mesh, const double* p, TetId t, Rng& rng, 
       const double* a = mesh.point(w[kFaceVertex[i][0]]);
       const double* b = mesh.point(w[kFaceVertex[i][1]]);
       const double* c = mesh.point(w[kFaceVertex[i][2]]);
-      if (pred::orient3d(a, b, c, p) < 0) {  // p strictly beyond face i
+      const int o = box ? pred::orient3d_in_box(a, b, c, p, *box) : pred::orient3d(a, b, c, p);
+      if (o < 0) {  // p strictly beyond face i
         next = n;
         break;
       }
@@ -254,6 +258,10 @@ class PointInserter {
   /// their Delaunay tetrahedralization's instructions undecided filter
   /// calls). Wrong answers if the promise is false.
   void set_small_integers(bool on) { small_integers_ = on; }
+  /// pred::box_bounds of every point this inserter will see (the points of
+  /// one Delaunay tetrahedralization; zero bounds for none): its walks and
+  /// conflict tests then try those static bounds first (pred::*_in_box).
+  void set_box_bounds(const pred::BoxBounds& bounds) { box_ = bounds; }
 
   uint64_t walk_steps = 0;   ///< statistics, cumulative
   uint64_t cavity_tets = 0;  ///< statistics, cumulative
@@ -313,6 +321,7 @@ class PointInserter {
   bool reject_flat_ = false;
   bool cospherical_ = false;
   bool small_integers_ = false;
+  pred::BoxBounds box_;  ///< zero bounds: no box
   Rng rng_;
   TetId last_tet_ = kNone;
   std::vector<TetId> cavity_;

@@ -16,12 +16,13 @@ TetId any_live_tet(const TetMesh& mesh) {
 
 }  // namespace
 
-Location locate_point(const TetMesh& mesh, const double* p, TetId hint, Rng& rng) {
+Location locate_point(const TetMesh& mesh, const double* p, TetId hint, Rng& rng,
+                      const pred::BoxBounds* box) {
   if (hint == kNone || hint >= mesh.num_tet_slots() || mesh.is_dead(hint))
     hint = any_live_tet(mesh);
   if (hint == kNone) return Location();
   const TetId t = mesh.is_ghost(hint) ? mesh.neighbor(hint, 3) : hint;
-  return walk_to_point(mesh, p, t, rng, [](TetId, TetId) { return true; });
+  return walk_to_point(mesh, p, t, rng, [](TetId, TetId) { return true; }, box);
 }
 
 }  // namespace cdt3d
