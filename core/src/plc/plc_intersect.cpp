@@ -44,11 +44,19 @@ class Points {
       xyz_[3 * i + 1] = plc.points[i].y;
       xyz_[3 * i + 2] = plc.points[i].z;
     }
+    box_ = pred::box_bounds(xyz_.data(), plc.points.size());
   }
   const double* operator[](uint32_t v) const { return &xyz_[3 * static_cast<size_t>(v)]; }
+  /// pred::orient3d of four of these points: the test takes no other point,
+  /// so the static bound of their box decides first (pred::orient3d_in_box).
+  int orient3d(const double* a, const double* b, const double* c, const double* d) const {
+    return box_.orient3d > 0 ? pred::orient3d_in_box(a, b, c, d, box_)
+                             : pred::orient3d(a, b, c, d);
+  }
 
  private:
   std::vector<double> xyz_;
+  pred::BoxBounds box_;
 };
 
 inline int o2(const double* a, const double* b, const double* c, int drop) {
@@ -612,7 +620,7 @@ void Checker::find_embedded_segments() {
       if (!in_box) continue;
       const TriPts q = pts(t);
       if (vertex_of(t, v) ||
-          (pred::orient3d(q[0], q[1], q[2], p) == 0 && in_tri(q[0], q[1], q[2], p, t.drop)))
+          (P_.orient3d(q[0], q[1], q[2], p) == 0 && in_tri(q[0], q[1], q[2], p, t.drop)))
         facets.push_back(t.facet);
     }
     std::sort(facets.begin(), facets.end());
@@ -646,8 +654,8 @@ void Checker::find_embedded_segments() {
 bool Checker::seg_tri_beyond(uint32_t ia, uint32_t ib, const Tri& t, uint32_t v) const {
   const TriPts q = pts(t);
   const double *a = P_[ia], *b = P_[ib];
-  const int sa = vertex_of(t, ia) ? 0 : pred::orient3d(q[0], q[1], q[2], a);
-  const int sb = vertex_of(t, ib) ? 0 : pred::orient3d(q[0], q[1], q[2], b);
+  const int sa = vertex_of(t, ia) ? 0 : P_.orient3d(q[0], q[1], q[2], a);
+  const int sb = vertex_of(t, ib) ? 0 : P_.orient3d(q[0], q[1], q[2], b);
   if (sa * sb > 0) return false;
   if (sa == 0 && sb == 0) {
     if (v == kNone) return seg_tri_closed_2d(a, b, q, t.drop);
@@ -660,15 +668,15 @@ bool Checker::seg_tri_beyond(uint32_t ia, uint32_t ib, const Tri& t, uint32_t v)
   }
   if (sa == 0) return ia != v && in_tri(q[0], q[1], q[2], a, t.drop);
   if (sb == 0) return ib != v && in_tri(q[0], q[1], q[2], b, t.drop);
-  const int o0 = pred::orient3d(a, b, q[0], q[1]);
-  const int o1 = pred::orient3d(a, b, q[1], q[2]);
-  const int o2v = pred::orient3d(a, b, q[2], q[0]);
+  const int o0 = P_.orient3d(a, b, q[0], q[1]);
+  const int o1 = P_.orient3d(a, b, q[1], q[2]);
+  const int o2v = P_.orient3d(a, b, q[2], q[0]);
   if (mixed_signs(o0, o1, o2v)) return false;
   if (v != kNone) {
     // The single crossing point is v exactly when v is on the open segment
     // and on the plane of t.
     const double* pv = P_[v];
-    if ((vertex_of(t, v) || pred::orient3d(q[0], q[1], q[2], pv) == 0) &&
+    if ((vertex_of(t, v) || P_.orient3d(q[0], q[1], q[2], pv) == 0) &&
         pred::collinear3d(a, b, pv) && between_open(a, b, pv))
       return false;
   }
@@ -784,9 +792,9 @@ int Checker::test_tri_tri(const Tri& t1, const Tri& t2) const {
     return in_e(F, k) && in_e(G, k) ? 0 : static_cast<int>(IntersectionKind::VertexInFacet);
   };
   int s2[3], s1[3];
-  for (int i = 0; i < 3; ++i) s2[i] = sh2[i] ? 0 : pred::orient3d(q1[0], q1[1], q1[2], q2[i]);
+  for (int i = 0; i < 3; ++i) s2[i] = sh2[i] ? 0 : P_.orient3d(q1[0], q1[1], q1[2], q2[i]);
   if (one_side(s2, sh2)) return shared_verdict();
-  for (int i = 0; i < 3; ++i) s1[i] = sh1[i] ? 0 : pred::orient3d(q2[0], q2[1], q2[2], q1[i]);
+  for (int i = 0; i < 3; ++i) s1[i] = sh1[i] ? 0 : P_.orient3d(q2[0], q2[1], q2[2], q1[i]);
   if (one_side(s1, sh1)) return shared_verdict();
 
   const bool coplanar = s2[0] == 0 && s2[1] == 0 && s2[2] == 0;
@@ -846,7 +854,7 @@ int Checker::test_tri_tri(const Tri& t1, const Tri& t2) const {
 int Checker::test_seg_seg(uint32_t a, uint32_t b, uint32_t c, uint32_t d) const {
   if (edge_key(a, b) == edge_key(c, d)) return 0;
   const double *pa = P_[a], *pb = P_[b], *pc = P_[c], *pd = P_[d];
-  if (pred::orient3d(pa, pb, pc, pd) != 0) return 0;
+  if (P_.orient3d(pa, pb, pc, pd) != 0) return 0;
   const uint32_t shared = (a == c || a == d) ? a : ((b == c || b == d) ? b : kNone);
   const auto touch = static_cast<int>(IntersectionKind::VertexOnSegment);
   if (pred::collinear3d(pa, pb, pc) && pred::collinear3d(pa, pb, pd)) {
@@ -886,7 +894,7 @@ int Checker::test_seg_tri(uint32_t s, const Tri& t) const {
   const TriPts q = pts(t);
   for (uint32_t e : {a, b}) {
     if (e == v) continue;
-    if (pred::orient3d(q[0], q[1], q[2], P_[e]) == 0 && in_tri(q[0], q[1], q[2], P_[e], t.drop))
+    if (P_.orient3d(q[0], q[1], q[2], P_[e]) == 0 && in_tri(q[0], q[1], q[2], P_[e], t.drop))
       return static_cast<int>(IntersectionKind::VertexInFacet);
   }
   for (uint32_t x : t.v) {
