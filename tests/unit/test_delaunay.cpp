@@ -382,6 +382,32 @@ TEST_CASE("insert_point one by one after a build", "[delaunay]") {
   validate(m);
 }
 
+TEST_CASE("insert_point with static bounds drops them at the first point outside their box",
+          "[delaunay]") {
+  std::vector<double> all = random_cube(1000, 12);
+  for (size_t i = 3 * 500; i < 3 * 900; ++i) all[i] = 0.25 + all[i] / 2;  // well inside
+  all[3 * 950] = 1.25;  // outside
+  TetMesh m;
+  REQUIRE(delaunay_tetrahedralize(m, all.data(), 500).ok());
+  PointInserter ins(m);
+  ins.set_box_bounds(pred::box_bounds(m.coords.data(), m.num_vertices(), 0x1p-20));
+  REQUIRE(ins.box_bounds().insphere > 0);
+  for (size_t i = 500; i < 1000; ++i) {
+    InsertResult r;
+    REQUIRE(ins.insert_point(&all[3 * i], ins.last_tet(), kVertexSteiner, &r).ok());
+    // Point 950 lies outside the box of the first 500.
+    CHECK((ins.box_bounds().insphere > 0) == (i < 950));
+  }
+  CHECK(ins.box_bounds().insphere == 0);
+  const double far[3] = {10, -3, 0.5};
+  REQUIRE(ins.insert_point(far, kNone).ok());
+  validate(m);
+  TetMesh whole;
+  all.insert(all.end(), far, far + 3);
+  REQUIRE(delaunay_tetrahedralize(whole, all.data(), 1001).ok());
+  CHECK(whole.num_real_tets() == m.num_real_tets());
+}
+
 TEST_CASE("insert_point into a degenerate grid", "[delaunay]") {
   const std::vector<double> pts = grid(5, 5, 5);
   TetMesh m;

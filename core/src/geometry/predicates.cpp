@@ -947,8 +947,9 @@ int incircle(const double* a, const double* b, const double* c, const double* d)
   return incircle_exact(a, b, c, d);
 }
 
-BoxBounds box_bounds(const double* coords, size_t n) {
+BoxBounds box_bounds(const double* coords, size_t n, double widen) {
   if (n == 0) return {};
+  BoxBounds b;
   double w[3];
   for (int k = 0; k < 3; ++k) {
     double lo = coords[k], hi = coords[k];
@@ -957,10 +958,13 @@ BoxBounds box_bounds(const double* coords, size_t n) {
       if (std::isnan(x)) return {};
       lo = std::min(lo, x), hi = std::max(hi, x);
     }
-    w[k] = hi - lo;  // infinities fail the range test below
+    const double margin = widen * (hi - lo);
+    b.lo[k] = lo - margin, b.hi[k] = hi + margin;
+    // The width of the box as stored: what contains() tests is what the
+    // bounds cover (infinities fail the range test below).
+    w[k] = b.hi[k] - b.lo[k];
     if (!(w[k] >= detail::kBoxWidthLo && w[k] <= detail::kBoxWidthHi)) return {};
   }
-  BoxBounds b;
   b.orient3d = detail::kOrient3dBoxEps * (w[0] * w[1] * w[2]);
   b.insphere = detail::kInsphereBoxEps * (w[0] * w[1] * w[2]) *
                ((w[0] * w[0] + w[1] * w[1]) + w[2] * w[2]);

@@ -98,9 +98,18 @@ inline int insphere_small_integers(const double* a, const double* b, const doubl
 /// predicates then never decide by it.
 struct BoxBounds {
   double orient3d = 0, insphere = 0;
+  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};  ///< the box
+  /// Whether p lies in the closed box.
+  bool contains(const double* p) const {
+    return (lo[0] <= p[0]) & (p[0] <= hi[0]) & (lo[1] <= p[1]) & (p[1] <= hi[1]) &
+           (lo[2] <= p[2]) & (p[2] <= hi[2]);
+  }
 };
-/// The bounds for the box of the n points in `coords`.
-BoxBounds box_bounds(const double* coords, size_t n);
+/// The bounds for the box of the n points in `coords`, widened on each side
+/// by `widen` times its width (room for points constructed later near the
+/// hull of these, on segments between them, say; a caller checks each such
+/// point with contains()).
+BoxBounds box_bounds(const double* coords, size_t n, double widen = 0);
 /// orient3d and insphere for points inside the box of `bounds`: decided by
 /// the static bound when it can, by orient3d() / insphere() otherwise. Wrong
 /// answers for points outside the box.

@@ -495,6 +495,7 @@ Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result
 
   if (vlocal_.size() < m.num_vertices()) vlocal_.resize(m.num_vertices() + m.num_vertices() / 4, 0);
   const double* p = m.point(v);
+  if (box_.orient3d > 0 && !box_.contains(p)) box_ = pred::BoxBounds();  // as in insert_point
   const Location loc = locate_point(m, p, hint, rng_, box_.orient3d > 0 ? &box_ : nullptr);
   walk_steps += loc.steps;
   if (result) *result = InsertResult{v, false, loc.tet};
@@ -528,8 +529,11 @@ Status PointInserter::insert_point(const double* xyz, TetId hint, uint8_t kind,
     if (std::fabs(xyz[k]) > kMaxCoordinate)
       return make_error(ErrorCode::CoordinateRange, "Point coordinate exceeds kMaxCoordinate.");
   }
+  // A point outside the box of the static bounds ends their use here: they
+  // hold only for points inside it.
+  if (box_.orient3d > 0 && !box_.contains(xyz)) box_ = pred::BoxBounds();
   // Locate first so that a duplicate adds no vertex.
-  const Location loc = locate_point(mesh_, xyz, hint, rng_);
+  const Location loc = locate_point(mesh_, xyz, hint, rng_, box_.orient3d > 0 ? &box_ : nullptr);
   if (loc.kind == LocateKind::Failed)
     return make_error(ErrorCode::Internal, "delaunay: point location made no progress.");
   if (loc.kind == LocateKind::OnVertex) {

@@ -258,10 +258,14 @@ class PointInserter {
   /// their Delaunay tetrahedralization's instructions undecided filter
   /// calls). Wrong answers if the promise is false.
   void set_small_integers(bool on) { small_integers_ = on; }
-  /// pred::box_bounds of every point this inserter will see (the points of
-  /// one Delaunay tetrahedralization; zero bounds for none): its walks and
-  /// conflict tests then try those static bounds first (pred::*_in_box).
+  /// pred::box_bounds of a box around every vertex of the mesh (the points
+  /// of one Delaunay tetrahedralization, say; zero bounds for none): its
+  /// walks and conflict tests then try those static bounds first
+  /// (pred::*_in_box). insert_point and insert_vertex drop them at the
+  /// first point outside the box; a vertex that enters the mesh by any
+  /// other way must lie inside.
   void set_box_bounds(const pred::BoxBounds& bounds) { box_ = bounds; }
+  const pred::BoxBounds& box_bounds() const { return box_; }
 
   uint64_t walk_steps = 0;   ///< statistics, cumulative
   uint64_t cavity_tets = 0;  ///< statistics, cumulative

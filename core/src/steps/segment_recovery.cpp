@@ -105,7 +105,12 @@ class SegmentRecovery {
         mode_(mode),
         inserter_(mesh),
         remover_(mesh),
-        first_record_(segs.steiner.size()) {}
+        first_record_(segs.steiner.size()) {
+    // The split points lie on segments between vertices, so within their
+    // box but for rounding; the margin of 2^-20 of its widths takes that
+    // (the inserter stops using the box at a point outside it).
+    inserter_.set_box_bounds(pred::box_bounds(mesh.coords.data(), mesh.num_vertices(), 0x1p-20));
+  }
 
   Status run(const volatile bool* cancel, const std::atomic<bool>* stop);
 
