@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "delaunay.hpp"
+#include "radix_sort.hpp"
 #include "spatial_sort.hpp"
 #include "tet_mesh.hpp"
 
@@ -175,6 +176,33 @@ TEST_CASE("brio_order is a deterministic permutation", "[tet_mesh][spatial_sort]
   std::vector<VertexId> sorted = a;
   std::sort(sorted.begin(), sorted.end());
   CHECK(sorted == ids);
+}
+
+TEST_CASE("radix_sort_by: the pass and the comparison paths sort alike", "[tet_mesh][spatial_sort]") {
+  // Both must give the stable order by the bits of whole 11-bit passes from
+  // lo ([lo, lo + 11k) covering [lo, hi)): small arrays take comparisons,
+  // larger ones the passes. Keys with bits outside [lo, hi) and many equal
+  // keys (their payloads must keep their order).
+  Rng rng(5);
+  for (size_t n : {size_t(0), size_t(1), size_t(2), size_t(7), size_t(100), kSmallSort - 1,
+                   kSmallSort, size_t(3000)}) {
+    for (const auto& [lo, hi] : {std::pair{0, 20}, {32, 55}, {3, 64}, {40, 64}}) {
+      std::vector<std::pair<uint64_t, uint32_t>> a(n);
+      for (size_t i = 0; i < n; ++i) {
+        uint64_t k = rng.next();
+        if (i % 3) k &= ~(uint64_t(0xfff) << lo);  // frequent equal digits
+        a[i] = {k, uint32_t(i)};
+      }
+      const int top = lo + 11 * ((hi - lo + 10) / 11);
+      const uint64_t mask = top - lo >= 64 ? ~uint64_t(0) : (uint64_t(1) << (top - lo)) - 1;
+      auto want = a;
+      std::stable_sort(want.begin(), want.end(), [&](const auto& x, const auto& y) {
+        return ((x.first >> lo) & mask) < ((y.first >> lo) & mask);
+      });
+      radix_sort_by(a, [](const std::pair<uint64_t, uint32_t>& x) { return x.first; }, lo, hi);
+      CHECK(a == want);
+    }
+  }
 }
 
 TEST_CASE("Rng is splitmix64", "[tet_mesh][spatial_sort]") {
