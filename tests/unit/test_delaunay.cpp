@@ -406,6 +406,19 @@ TEST_CASE("insert_point with static bounds drops them at the first point outside
   all.insert(all.end(), far, far + 3);
   REQUIRE(delaunay_tetrahedralize(whole, all.data(), 1001).ok());
   CHECK(whole.num_real_tets() == m.num_real_tets());
+  // probe drops them too, and answers as without them.
+  PointInserter with(m), without(m);
+  with.set_box_bounds(pred::box_bounds(all.data(), 1000));
+  const double out[3] = {-5, 0.5, 0.5}, in[3] = {0.5, 0.5, 0.5};
+  std::vector<std::array<VertexId, 4>> fa, fb;
+  REQUIRE(with.probe(in, kNone, fa));
+  REQUIRE(without.probe(in, kNone, fb));
+  CHECK(fa == fb);
+  CHECK(with.box_bounds().insphere > 0);
+  REQUIRE(with.probe(out, kNone, fa));
+  REQUIRE(without.probe(out, kNone, fb));
+  CHECK(fa == fb);
+  CHECK(with.box_bounds().insphere == 0);
 }
 
 TEST_CASE("insert_point into a degenerate grid", "[delaunay]") {

@@ -122,6 +122,7 @@ bool PointInserter::probe(const double* xyz, TetId hint,
                           const ProbeOptions& options) {
   faces.clear();
   TetMesh& m = mesh_;
+  if (box_.orient3d > 0 && !box_.contains(xyz)) box_ = pred::BoxBounds();  // as in insert_point
   const Location loc = locate_point(m, xyz, hint, options.walk ? *options.walk : rng_);
   if (loc.kind != LocateKind::InTet && loc.kind != LocateKind::OutsideHull) return false;
   const VertexId v = static_cast<VertexId>(m.num_vertices());  // the id it would get

@@ -261,8 +261,8 @@ class PointInserter {
   /// pred::box_bounds of a box around every vertex of the mesh (the points
   /// of one Delaunay tetrahedralization, say; zero bounds for none): its
   /// walks and conflict tests then try those static bounds first
-  /// (pred::*_in_box). insert_point and insert_vertex drop them at the
-  /// first point outside the box; a vertex that enters the mesh by any
+  /// (pred::*_in_box). insert_point, insert_vertex and probe drop them at
+  /// the first point outside the box; a vertex that enters the mesh by any
   /// other way must lie inside.
   void set_box_bounds(const pred::BoxBounds& bounds) { box_ = bounds; }
   const pred::BoxBounds& box_bounds() const { return box_; }
