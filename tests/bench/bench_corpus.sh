@@ -181,8 +181,15 @@ run_once() {
   R_ERR=$(tail -c 600 "$out.err")
   rm -f "$out" "$out.err" "$log"
 }
+smaller() {  # smaller A B: the smaller number, "-" standing for none
+  if [ "$2" = - ] || { [ "$1" != - ] && awk -v a="$1" -v b="$2" 'BEGIN{exit !(a < b)}'; }; then
+    echo "$1"
+  else
+    echo "$2"
+  fi
+}
 run_best() {  # run_best DIR CMD... -> B_* of the fastest successful run (or the failure)
-  local i d spent=0
+  local i spent=0
   B_DEL=-  # the smallest msDelaunay of the runs (the Delaunay phase's own fastest)
   B_TOT=-  # the smallest msTotal of the runs (the mesher's own fastest, start-up apart)
   B_RUNS=0
@@ -198,14 +205,8 @@ run_best() {  # run_best DIR CMD... -> B_* of the fastest successful run (or the
     if [ "$i" = 1 ] || awk -v a="$R_WALL" -v b="$B_WALL" 'BEGIN{exit !(a < b)}'; then
       B_RC=0 B_WALL=$R_WALL B_USER=$R_USER B_RSS=$R_RSS B_OUT=$R_OUT B_ERR=$R_ERR
     fi
-    d=$(jnum msDelaunay "$R_OUT")
-    if [ "$d" != - ] && { [ "$B_DEL" = - ] || awk -v a="$d" -v b="$B_DEL" 'BEGIN{exit !(a < b)}'; }; then
-      B_DEL=$d
-    fi
-    d=$(jnum msTotal "$R_OUT")
-    if [ "$d" != - ] && { [ "$B_TOT" = - ] || awk -v a="$d" -v b="$B_TOT" 'BEGIN{exit !(a < b)}'; }; then
-      B_TOT=$d
-    fi
+    B_DEL=$(smaller "$(jnum msDelaunay "$R_OUT")" "$B_DEL")
+    B_TOT=$(smaller "$(jnum msTotal "$R_OUT")" "$B_TOT")
   done
 }
 tg_steiner() {  # tg_steiner KIND TEXT: sum of "Steiner points <on|in|inside> ...KIND...: N" lines

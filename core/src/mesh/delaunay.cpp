@@ -104,6 +104,16 @@ PointInserter::in_conflict(TetId t, const double* p, VertexId v) const {
          0;
 }
 
+// The static bounds for tests with point p (a point about to be located or
+// inserted), or null. A point outside their box ends their use for good:
+// they hold only for points inside it, and p may become a vertex.
+const pred::BoxBounds* PointInserter::box_at(const double* p) {
+  if (!(box_.orient3d > 0)) return nullptr;
+  if (box_.contains(p)) return &box_;
+  box_ = pred::BoxBounds();
+  return nullptr;
+}
+
 int conflict_sign(const TetMesh& mesh, TetId t, const double* p) {
   const VertexId* w = mesh.tet_vertices(t);
   const double *a = mesh.point(w[0]), *b = mesh.point(w[1]), *c = mesh.point(w[2]);
@@ -122,8 +132,7 @@ bool PointInserter::probe(const double* xyz, TetId hint,
                           const ProbeOptions& options) {
   faces.clear();
   TetMesh& m = mesh_;
-  if (box_.orient3d > 0 && !box_.contains(xyz)) box_ = pred::BoxBounds();  // as in insert_point
-  const Location loc = locate_point(m, xyz, hint, options.walk ? *options.walk : rng_);
+  const Location loc = locate_point(m, xyz, hint, options.walk ? *options.walk : rng_, box_at(xyz));
   if (loc.kind != LocateKind::InTet && loc.kind != LocateKind::OutsideHull) return false;
   const VertexId v = static_cast<VertexId>(m.num_vertices());  // the id it would get
   uint8_t* flag = m.tflag.data();
@@ -442,7 +451,7 @@ bool PointInserter::locate_shared(const double* p, TetId& t, LocateKind& kind) {
         unlock(from);
         return true;
       },
-      box_.orient3d > 0 ? &box_ : nullptr);
+      box_at(p));
   walk_steps += loc.steps;
   t = loc.tet, kind = loc.kind;
   return kind != LocateKind::Failed;
@@ -496,8 +505,7 @@ Status PointInserter::insert_vertex(VertexId v, TetId hint, InsertResult* result
 
   if (vlocal_.size() < m.num_vertices()) vlocal_.resize(m.num_vertices() + m.num_vertices() / 4, 0);
   const double* p = m.point(v);
-  if (box_.orient3d > 0 && !box_.contains(p)) box_ = pred::BoxBounds();  // as in insert_point
-  const Location loc = locate_point(m, p, hint, rng_, box_.orient3d > 0 ? &box_ : nullptr);
+  const Location loc = locate_point(m, p, hint, rng_, box_at(p));
   walk_steps += loc.steps;
   if (result) *result = InsertResult{v, false, loc.tet};
   if (loc.kind == LocateKind::Failed)
@@ -530,11 +538,8 @@ Status PointInserter::insert_point(const double* xyz, TetId hint, uint8_t kind,
     if (std::fabs(xyz[k]) > kMaxCoordinate)
       return make_error(ErrorCode::CoordinateRange, "Point coordinate exceeds kMaxCoordinate.");
   }
-  // A point outside the box of the static bounds ends their use here: they
-  // hold only for points inside it.
-  if (box_.orient3d > 0 && !box_.contains(xyz)) box_ = pred::BoxBounds();
   // Locate first so that a duplicate adds no vertex.
-  const Location loc = locate_point(mesh_, xyz, hint, rng_, box_.orient3d > 0 ? &box_ : nullptr);
+  const Location loc = locate_point(mesh_, xyz, hint, rng_, box_at(xyz));
   if (loc.kind == LocateKind::Failed)
     return make_error(ErrorCode::Internal, "delaunay: point location made no progress.");
   if (loc.kind == LocateKind::OnVertex) {
@@ -885,11 +890,9 @@ TetId start_near(TetMesh& w, const double* p, TetId hint, Rng& rng) {
 // (PointInserter::Shared). The halves are far apart except along their
 // border, so few points meet a tet of the other thread; those go to
 // `later`, in order, for the single-threaded pass (so do duplicates).
-RoundResult insert_round_two_threads(TetMesh& w, PointInserter& ins, const VertexId* sos_ids,
-                                     bool small_integers, const pred::BoxBounds& box, uint64_t seed,
-                                     VertexId b, VertexId e,
-                                     const VertexId first[4], std::vector<VertexId>& later,
-                                     size_t& beside) {
+RoundResult insert_round_two_threads(TetMesh& w, PointInserter& ins, uint64_t seed, VertexId b,
+                                     VertexId e, const VertexId first[4],
+                                     std::vector<VertexId>& later, size_t& beside) {
   const VertexId mid = b + (e - b) / 2;
   // Fresh slots: ~6.6 more tets per point; a part that runs out leaves its
   // remaining points to the single-threaded pass.
@@ -908,9 +911,7 @@ RoundResult insert_round_two_threads(TetMesh& w, PointInserter& ins, const Verte
   pb.next = TetId(base + per), pb.end = TetId(slots);
 
   PointInserter other(w, seed ^ 0x6f74686572ull);
-  other.set_sos_ids(sos_ids);
-  other.set_small_integers(small_integers);
-  other.set_box_bounds(box);
+  other.take_settings(ins);
   Rng rng(seed);
   ins.set_hint(start_near(w, w.point(b), ins.last_tet(), rng));
   other.set_hint(start_near(w, w.point(mid), ins.last_tet(), rng));
@@ -1041,12 +1042,10 @@ Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<Vert
 
   PointInserter ins(w, options.seed);
   ins.set_sos_ids(order.data());
-  const bool small_integers = pred::small_integer_points(w.coords.data(), n);
-  ins.set_small_integers(small_integers);
+  ins.set_small_integers(pred::small_integer_points(w.coords.data(), n));
   // Every point of this build is known: one static bound for all its
   // conflict tests.
-  const pred::BoxBounds box = pred::box_bounds(w.coords.data(), n);
-  ins.set_box_bounds(box);
+  ins.set_box_bounds(pred::box_bounds(w.coords.data(), n));
   TetId hint = w.vtet[first[0]];
   std::vector<std::pair<VertexId, VertexId>> dups;  // (vertex, merged into), caller ids
   auto is_first = [&first](VertexId k) {
@@ -1085,9 +1084,8 @@ Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<Vert
     }
     ins.set_hint(hint);
     later.clear();
-    const RoundResult rr = insert_round_two_threads(w, ins, order.data(), small_integers, box,
-                                                    options.seed, b, e, first, later,
-                                                    st.points_beside);
+    const RoundResult rr =
+        insert_round_two_threads(w, ins, options.seed, b, e, first, later, st.points_beside);
     if (rr == RoundResult::Failed)
       return finish(make_error(ErrorCode::Internal, "delaunay: a two-thread insertion failed."));
     hint = ins.last_tet();

@@ -266,6 +266,12 @@ class PointInserter {
   /// other way must lie inside.
   void set_box_bounds(const pred::BoxBounds& bounds) { box_ = bounds; }
   const pred::BoxBounds& box_bounds() const { return box_; }
+  /// The perturbation ids, co-spherical mode, small-integer promise and
+  /// static bounds of `other`, for a second inserter on the same points.
+  void take_settings(const PointInserter& other) {
+    sos_id_ = other.sos_id_, cospherical_ = other.cospherical_;
+    small_integers_ = other.small_integers_, box_ = other.box_;
+  }
 
   uint64_t walk_steps = 0;   ///< statistics, cumulative
   uint64_t cavity_tets = 0;  ///< statistics, cumulative
@@ -311,6 +317,7 @@ class PointInserter {
   void unlock(TetId t);
   void unlock_all();
   bool start_tet_shared(TetId& t);
+  const pred::BoxBounds* box_at(const double* p);
   bool locate_shared(const double* p, TetId& t, LocateKind& kind);
   Status fill_cavity(VertexId v);
   void point_vertices_to_new_tets();

@@ -219,6 +219,12 @@ class Pipeline {
   Status insert_facet_splits();
   Status intersection_verdict(IntersectionTest& test, bool beside);
   bool await_intersections();
+  // Step 1's options: two threads where the run may use them.
+  DelaunayOptions delaunay_options() const {
+    DelaunayOptions o;
+    o.threads = opt_.threads;
+    return o;
+  }
 
   struct FacetSplit {
     uint32_t facet;
@@ -423,10 +429,8 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
     mesh_ = std::move(d0_);  // computed while choosing the order
     d0_ = TetMesh();
   } else {
-    DelaunayOptions dopt;
-    dopt.threads = opt_.threads;
     st = delaunay_tetrahedralize(mesh_, &plc_->points[0].x, plc_->points.size(), nullptr, &dstats,
-                                 dopt);
+                                 delaunay_options());
   }
   if (!input_segments_.empty()) {
     init_segments(*plc_, segs_, std::move(input_segments_));
@@ -592,11 +596,9 @@ void Pipeline::run() {
     // Step 1 here when the search above did not build it (beside the test,
     // or before it on both cores); then the test beside the rest.
     const auto t0 = Clock::now();
-    DelaunayOptions dopt;
-    dopt.threads = opt_.threads;
     if (d0_.live_tets == 0 &&
         !delaunay_tetrahedralize(d0_, &plc_->points[0].x, plc_->points.size(), nullptr, nullptr,
-                                 dopt)
+                                 delaunay_options())
              .ok())
       d0_ = TetMesh();  // step 1 runs again below and reports why
     ms_d0_ += ms_since(t0);
