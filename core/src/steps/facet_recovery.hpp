@@ -72,8 +72,10 @@ size_t flip_subfaces_toward_mesh(TetMesh& mesh, Subfaces& subfaces);
 /// On success `half_faces` (optional) gets subface_half_faces of the mesh
 /// before recovery (right for the subfaces that were present then and whose
 /// tets no cavity took): input for refresh_subface_half_faces.
+/// `beside`: the first pass may use a second thread (beside.hpp); the
+/// result is the same either way.
 Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* stats = nullptr,
                       const volatile bool* cancel = nullptr, bool force_failure = false,
-                      std::vector<HalfFace>* half_faces = nullptr);
+                      std::vector<HalfFace>* half_faces = nullptr, bool beside = false);
 
 }  // namespace cdt3d

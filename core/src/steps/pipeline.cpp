@@ -482,7 +482,8 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
     st = triangulate_facets(*plc_, segs_, mesh_, facet_interior_, subfaces_, nothing_embedded_,
                             opt_.threads);
     const bool force = facet_splits_.size() < opt_.debug_forced_facet_splits;
-    if (st.ok()) st = recover_facets(mesh_, subfaces_, &fst, opt_.cancel, force, &subface_hf_);
+    if (st.ok()) st = recover_facets(mesh_, subfaces_, &fst, opt_.cancel, force, &subface_hf_,
+                                      opt_.threads);
     s.missing_subfaces = fst.missing_initially, s.regions = fst.regions;
     s.cavities = fst.cavities, s.largest_cavity = fst.largest_cavity, s.fallbacks = fst.fallbacks;
     if (!end(Phase::Facets, st, &s.ms_facets)) return false;
