@@ -209,6 +209,37 @@ TEST_CASE("the work on a second thread changes nothing", "[pipeline]") {
   CHECK(x.mesh.tets.empty());
 }
 
+TEST_CASE("check_plc's errors come out the same with its checks beside step 1", "[pipeline]") {
+  // A PLC of fewer than kMinTwoThreadDelaunayPoints points and enough facets
+  // has check_plc and the segments' list made on the second thread while
+  // step 1 runs on the points: every check_plc error must still be the
+  // run's error, as on one thread, and a bad point stops the run before.
+  Plc plc;
+  REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) + "/elephant.obj", plc).ok());
+  REQUIRE(plc.points.size() < kMinTwoThreadDelaunayPoints);
+  REQUIRE(plc.facets.size() >= 5000);
+  Options one;
+  one.threads = false;
+  std::vector<Plc> bad(5, plc);
+  bad[0].facets[4000].loops[0][1] = bad[0].facets[4000].loops[0][0];  // repeated vertex
+  bad[1].facets[4100].loops[0][2] = static_cast<VertexId>(plc.points.size() + 7);  // beyond
+  bad[2].facets.push_back(plc.facets[4200]);                                        // twice
+  bad[3].points[3000].y = std::nan("");                                             // a point
+  bad[4].points[3001] = bad[4].points[3002];                                        // the same
+  for (size_t i = 0; i < bad.size(); ++i) {
+    INFO("case " << i);
+    const Status expected = check_plc(bad[i]);
+    REQUIRE(!expected.ok());
+    const Result x = tetrahedralize(bad[i]), y = tetrahedralize(bad[i], one);
+    CHECK(x.status.error.code == expected.error.code);
+    CHECK(x.status.error.message == expected.error.message);
+    CHECK(x.status.error.facet == expected.error.facet);
+    CHECK(x.status.error.vertex == expected.error.vertex);
+    CHECK(y.status.error.message == expected.error.message);
+    CHECK(x.mesh.tets.empty());
+  }
+}
+
 namespace {
 // A box [0, k-1]^2 x [0, ~10] whose top is a grid of k x k points at
 // pseudo-random heights (two triangles per cell) and whose sides are

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "hash.hpp"
+#include "plc_check.hpp"
 #include "predicates.hpp"
 #include "status.hpp"
 
@@ -404,7 +405,7 @@ Status check_duplicates(const Plc& plc) {
 
 }  // namespace
 
-Status check_plc(const Plc& plc) {
+Status check_plc_points(const Plc& plc) {
   for (size_t i = 0; i < plc.points.size(); ++i) {
     Status s = check_point(plc, plc.points[i], "Point", i, static_cast<int64_t>(i));
     if (!s.ok()) return s;
@@ -412,7 +413,13 @@ Status check_plc(const Plc& plc) {
   if (plc.points.size() > 0xfffffffeull) {
     return make_error(ErrorCode::TooLarge, "More points than 32-bit ids allow.").file(plc.file);
   }
-  Status s = check_distinct_points(plc);
+  return Status::success();
+}
+
+Status check_plc(const Plc& plc) {
+  Status s = check_plc_points(plc);
+  if (!s.ok()) return s;
+  s = check_distinct_points(plc);
   if (!s.ok()) return s;
   std::vector<VertexId> scratch;
   for (size_t fi = 0; fi < plc.facets.size(); ++fi) {

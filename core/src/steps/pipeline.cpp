@@ -16,7 +16,10 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <exception>
+#include <functional>
+#include <mutex>
 #include <new>
 #include <string>
 #include <vector>
@@ -28,6 +31,7 @@
 #include "facet_recovery.hpp"
 #include "flat_flips.hpp"
 #include "geometry.hpp"
+#include "plc_check.hpp"
 #include "plc_intersect.hpp"
 #include "refine.hpp"
 #include "segment_recovery.hpp"
@@ -103,6 +107,9 @@ constexpr size_t kMinFacetsBeside = 1000;
 // or fail far from the cause, and lets an intersection override any error
 // of the steps before. The thread's own clock gives ms(), the time the test
 // took (msRead counts it, so the phases may add up to more than msTotal).
+// With `checks` the thread first runs check_plc and lists plc_segments,
+// beside step 1 on the points (which passed check_plc_points): checked()
+// waits for that, and the test follows only when the checks passed.
 class IntersectionTest {
  public:
   IntersectionTest() = default;
@@ -113,8 +120,10 @@ class IntersectionTest {
   // Runs the test, on a thread if `beside` and threads exist (and one can be
   // started), else right here. *found_any (if given) becomes true when the
   // test ends with a pair found.
-  void start(const Plc& plc, bool beside, std::atomic<bool>* found_any = nullptr) {
+  void start(const Plc& plc, bool beside, std::atomic<bool>* found_any = nullptr,
+             bool checks = false) {
     found_any_ = found_any;
+    checks_ = checks;
 #ifdef CDT3D_HAS_THREADS
     if (beside && threads_available()) {
       try {
@@ -129,6 +138,22 @@ class IntersectionTest {
 #endif
     run(plc);
   }
+  // With `checks`: waits for them and returns check_plc's status; the first
+  // call on success moves plc_segments into *segments (if given). An
+  // allocation failure on the thread is rethrown here.
+  Status checked(std::vector<std::array<VertexId, 2>>* segments = nullptr) {
+#ifdef CDT3D_HAS_THREADS
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      published_cv_.wait(lock, [this] { return published_; });
+    }
+#endif
+    if (checks_threw_) found();  // joins and rethrows
+    if (segments && checks_status_.ok()) *segments = std::move(segments_);
+    return checks_status_;
+  }
+  // After checked() passed: init_segments of the PLC, made beside step 1.
+  SegmentSet take_segment_set() { return std::move(segment_set_); }
   // The pairs found (after the thread finished); an allocation failure on
   // the thread is rethrown here, for tetrahedralize()'s handler.
   const std::vector<Intersection>& found() {
@@ -143,15 +168,36 @@ class IntersectionTest {
     const auto t0 = Clock::now();
 #ifdef CDT3D_HAS_THREADS
     try {
-      find_self_intersections(plc, found_);
+      if (run_checks(plc)) find_self_intersections(plc, found_);
     } catch (...) {
       failure_ = std::current_exception();
+      checks_threw_ = !checks_done_;
     }
+    publish();  // also after a failure: checked() must not wait forever
 #else
-    find_self_intersections(plc, found_);
+    if (run_checks(plc)) find_self_intersections(plc, found_);
 #endif
     ms_ = ms_since(t0);
     if (found_any_ && (!found_.empty() || failure_)) found_any_->store(true);
+  }
+  // check_plc and plc_segments when asked for; false when the checks failed.
+  bool run_checks(const Plc& plc) {
+    if (!checks_) return true;
+    checks_status_ = check_plc(plc);
+    if (checks_status_.ok()) {
+      segments_ = plc_segments(plc);
+      init_segments(plc, segment_set_, std::vector<std::array<VertexId, 2>>(segments_));
+    }
+    checks_done_ = true;
+    publish();
+    return checks_status_.ok();
+  }
+  void publish() {
+#ifdef CDT3D_HAS_THREADS
+    std::lock_guard<std::mutex> lock(mutex_);
+    published_ = true;
+    published_cv_.notify_all();
+#endif
   }
   void join() {
 #ifdef CDT3D_HAS_THREADS
@@ -163,8 +209,17 @@ class IntersectionTest {
   std::exception_ptr failure_;
   std::atomic<bool>* found_any_ = nullptr;
   double ms_ = 0;
+  bool checks_ = false;
+  // Written before the checks are published, read by checked() after.
+  bool checks_done_ = false, checks_threw_ = false;
+  Status checks_status_;
+  std::vector<std::array<VertexId, 2>> segments_;
+  SegmentSet segment_set_;
 #ifdef CDT3D_HAS_THREADS
   std::thread thread_;
+  std::mutex mutex_;
+  std::condition_variable published_cv_;
+  bool published_ = false;
 #endif
 };
 
@@ -257,6 +312,8 @@ class Pipeline {
   // plc_segments(*plc_) from the perturbation-order search, for step 2 (empty
   // when not computed or used up).
   std::vector<std::array<VertexId, 2>> input_segments_;
+  // init_segments of *plc_ made beside step 1 (empty when not made or used).
+  SegmentSet initial_segments_;
   // The self-intersection test while it runs beside steps 1-2, and the flag
   // it raises for step 2 when it found a pair.
   IntersectionTest* pending_test_ = nullptr;
@@ -432,7 +489,11 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
     st = delaunay_tetrahedralize(mesh_, &plc_->points[0].x, plc_->points.size(), nullptr, &dstats,
                                  delaunay_options());
   }
-  if (!input_segments_.empty()) {
+  if (!initial_segments_.input.empty()) {
+    segs_ = std::move(initial_segments_);  // made beside step 1
+    initial_segments_ = SegmentSet();
+    input_segments_.clear();
+  } else if (!input_segments_.empty()) {
     init_segments(*plc_, segs_, std::move(input_segments_));
     input_segments_.clear();
   } else {
@@ -546,21 +607,29 @@ void Pipeline::run() {
   // exact self-intersection test (a CDT of an intersecting PLC does not
   // exist, and the later steps would fail far from the cause).
   if (!begin(Phase::Read)) return;
-  Status st = check_plc(*plc_);
-  if (st.ok() && opt_.quality.enabled) st = check_quality_options(opt_.quality);
   // Merging facets needs the verdict first; steps 1 and 2 do not.
   IntersectionTest intersections;
   const bool test_beside = opt_.threads && !opt_.merge_coplanar_facets &&
                            plc_->facets.size() >= kMinFacetsBeside;
+  // Beside step 1 when step 1 takes one core (small PLCs), after it when it
+  // takes both (DelaunayOptions::threads).
+  const bool test_after_d0 = plc_->points.size() >= kMinTwoThreadDelaunayPoints;
+  // Beside step 1 on one core, the rest of check_plc and the list of
+  // segments go to the second thread too, ahead of the test: step 1 needs
+  // the points alone (bunny: ~6% of the run off the main thread). The
+  // search for the perturbation order waits for them after D0, and a
+  // failed check is the run's error as before (with quality options, whose
+  // error comes after check_plc's, all checks stay here).
+  const bool checks_beside = opt_.check_intersections && test_beside && !test_after_d0 &&
+                             !opt_.quality.enabled;
+  Status st = checks_beside ? check_plc_points(*plc_) : check_plc(*plc_);
+  if (st.ok() && opt_.quality.enabled) st = check_quality_options(opt_.quality);
   if (st.ok() && opt_.check_intersections && !test_beside) {
     intersections.start(*plc_, false);
     st = intersection_verdict(intersections, false);
   }
-  // Beside step 1 when step 1 takes one core (small PLCs), after it when it
-  // takes both (DelaunayOptions::threads).
-  const bool test_after_d0 = plc_->points.size() >= kMinTwoThreadDelaunayPoints;
   if (st.ok() && opt_.check_intersections && test_beside && !test_after_d0) {
-    intersections.start(*plc_, true, &intersecting_);
+    intersections.start(*plc_, true, &intersecting_, checks_beside);
     pending_test_ = &intersections;
   }
   if (st.ok() && opt_.merge_coplanar_facets) {
@@ -572,8 +641,6 @@ void Pipeline::run() {
     plc_ = &merged_;
   }
   if (!end(Phase::Read, st, &s.ms_read)) return;
-  nothing_embedded_ = opt_.check_intersections && !opt_.merge_coplanar_facets &&
-                      plc_->segments.empty() && all_points_on_loops(*plc_);
 
   // The perturbation order that keeps the most segments in D0 (sos_order.hpp).
   // Choosing the symbolic perturbation is step 3's work in this design, so
@@ -583,8 +650,11 @@ void Pipeline::run() {
   if (plc_->points.size() <= kMaxSosOrderPoints && !opt_.merge_coplanar_facets) {
     const auto t0 = Clock::now();
     SosOrderStats os;
+    const SegmentsWhenReady ready = [&intersections](std::vector<std::array<VertexId, 2>>& segs) {
+      return intersections.checked(&segs).ok();
+    };
     order_ = segment_friendly_order(*plc_, kSosOrderRounds, d0_, &os, &input_segments_,
-                                    opt_.threads);
+                                    opt_.threads, checks_beside ? &ready : nullptr);
     if (!order_.empty()) {
       input_segments_.clear();  // numbered for the points before the order
       permute_plc(*plc_, order_, permuted_);
@@ -593,6 +663,18 @@ void Pipeline::run() {
     ms_d0_ = d0_.live_tets > 0 ? os.ms_d0 : 0;
     ms_order_ = ms_since(t0) - ms_d0_;
   }
+  if (checks_beside) {
+    const Status checked = intersections.checked();
+    if (!checked.ok()) {
+      pending_test_ = nullptr;  // no test follows failed checks
+      fail(checked);
+      return;
+    }
+    // The segments of the input order, for step 2's first attempt.
+    if (order_.empty()) initial_segments_ = intersections.take_segment_set();
+  }
+  nothing_embedded_ = opt_.check_intersections && !opt_.merge_coplanar_facets &&
+                      plc_->segments.empty() && all_points_on_loops(*plc_);
   if (st.ok() && opt_.check_intersections && test_beside) {
     // Step 1 here when the search above did not build it (beside the test,
     // or before it on both cores); then the test beside the rest.

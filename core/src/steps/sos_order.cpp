@@ -33,15 +33,13 @@ void points_in_order(const Plc& plc, const std::vector<VertexId>& order, std::ve
   }
 }
 
-// Segments of `plc` (input ids) missing from the Delaunay tetrahedralization
-// of its points renumbered by `order`; their ends go to `ends` (two per
-// missing segment, in segment order). Sets *ties when the perturbation
-// decided anything.
-size_t missing_segments(const Plc& plc, const std::vector<std::array<VertexId, 2>>& segs,
-                        const std::vector<VertexId>& order, std::vector<VertexId>& ends,
-                        bool* ties, TetMesh& mesh, double* ms, bool threads) {
+// The Delaunay tetrahedralization of the points of `plc` renumbered by
+// `order` into `mesh` (id_of[p]: point p's vertex); false when it fails.
+// Sets *ties when the perturbation decided anything, *ms to its time.
+bool build_in_order(const Plc& plc, const std::vector<VertexId>& order,
+                    std::vector<VertexId>& id_of, bool* ties, TetMesh& mesh, double* ms,
+                    bool threads) {
   std::vector<double> xyz;
-  std::vector<VertexId> id_of;
   points_in_order(plc, order, xyz, id_of);
   const uint64_t ties_before = pred::counters().sos_ties;
   DelaunayStats ds;
@@ -50,11 +48,16 @@ size_t missing_segments(const Plc& plc, const std::vector<std::array<VertexId, 2
   const bool ok =
       delaunay_tetrahedralize(mesh, xyz.data(), plc.points.size(), nullptr, &ds, opt).ok();
   if (ms) *ms = ds.ms_sort + ds.ms_insert;
-  if (!ok) return SIZE_MAX;
-  if (ties) {
-    *ties = pred::counters().sos_ties != ties_before;
-    if (!*ties) return 0;  // no order does better: skip the count
-  }
+  if (ties) *ties = pred::counters().sos_ties != ties_before;
+  return ok;
+}
+
+// Segments (input ids) that are no edge of `mesh`, whose vertices are the
+// input points renumbered by id_of; their ends go to `ends` (two per
+// missing segment, in segment order).
+size_t count_missing(const std::vector<std::array<VertexId, 2>>& segs,
+                     const std::vector<VertexId>& id_of, TetMesh& mesh,
+                     std::vector<VertexId>& ends) {
   ends.clear();
   size_t missing = 0;
   for (const auto& e : segs) {
@@ -63,6 +66,17 @@ size_t missing_segments(const Plc& plc, const std::vector<std::array<VertexId, 2
     ends.push_back(e[0]), ends.push_back(e[1]);
   }
   return missing;
+}
+
+// Segments of `plc` (input ids) missing from the Delaunay tetrahedralization
+// of its points renumbered by `order`; their ends go to `ends` (two per
+// missing segment, in segment order).
+size_t missing_segments(const Plc& plc, const std::vector<std::array<VertexId, 2>>& segs,
+                        const std::vector<VertexId>& order, std::vector<VertexId>& ends,
+                        TetMesh& mesh, bool threads) {
+  std::vector<VertexId> id_of;
+  if (!build_in_order(plc, order, id_of, nullptr, mesh, nullptr, threads)) return SIZE_MAX;
+  return count_missing(segs, id_of, mesh, ends);
 }
 
 uint64_t pair_key(VertexId a, VertexId b) {
@@ -369,26 +383,35 @@ size_t recoverable_segments(TetMesh& d, const std::vector<VertexId>& ends) {
 std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
                                              TetMesh& d0, SosOrderStats* stats,
                                              std::vector<std::array<VertexId, 2>>* segments,
-                                             bool threads) {
+                                             bool threads, const SegmentsWhenReady* ready) {
   SosOrderStats local;
   SosOrderStats& st = stats ? *stats : local;
   st = SosOrderStats();
   const size_t n = plc.points.size();
   std::vector<std::array<VertexId, 2>> own;
   std::vector<std::array<VertexId, 2>>& segs = segments ? *segments : own;
-  segs = plc_segments(plc);
-  std::vector<VertexId> order(n), best, ends, best_ends;
+  if (!ready) segs = plc_segments(plc);
+  std::vector<VertexId> order(n), best, ends, best_ends, id_of;
   TetMesh trial;  // a whole tetrahedralization, only if a cell's fails
   for (size_t k = 0; k < n; ++k) order[k] = static_cast<VertexId>(k);
+  // D0 in input order needs the points alone: with `ready` it is built
+  // before the segments arrive.
   bool ties = false;
-  size_t fewest = missing_segments(plc, segs, order, ends, &ties, d0, &st.ms_d0, threads);
-  st.rounds = 1;
-  st.missing_before = st.missing_after = fewest;
-  if (fewest == SIZE_MAX) {
+  const bool built = build_in_order(plc, order, id_of, &ties, d0, &st.ms_d0, threads);
+  if (ready && !(*ready)(segs)) {
     d0 = TetMesh();
     return {};
   }
-  if (!ties || fewest == 0) return {};
+  st.rounds = 1;
+  if (!built) {
+    st.missing_before = st.missing_after = SIZE_MAX;
+    d0 = TetMesh();
+    return {};
+  }
+  if (!ties) return {};  // no order does better: skip the count
+  size_t fewest = count_missing(segs, id_of, d0, ends);
+  st.missing_before = st.missing_after = fewest;
+  if (fewest == 0) return {};
   // The search keeps an order only if it saves a tenth of the missing
   // segments (below); when fewer than that can come back at all, it is not
   // worth the cells.
@@ -431,7 +454,7 @@ std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
     order.swap(next);
     size_t missing = 0;
     if (!cells.missing(order, ends, missing))
-      missing = missing_segments(plc, segs, order, ends, nullptr, trial, nullptr, threads);
+      missing = missing_segments(plc, segs, order, ends, trial, threads);
     ++st.rounds;
     if (missing < fewest) fewest = missing, best = order, best_ends = ends, best_round = round;
     if (missing == 0) break;
@@ -441,14 +464,7 @@ std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
   if (10 * fewest > 9 * st.missing_before) return {};
   st.missing_after = fewest;
   // D0 in the chosen order: the search counted on the cells alone.
-  std::vector<double> xyz;
-  std::vector<VertexId> id_of;
-  points_in_order(plc, best, xyz, id_of);
-  DelaunayStats ds;
-  DelaunayOptions opt;
-  opt.threads = threads;
-  if (!delaunay_tetrahedralize(d0, xyz.data(), n, nullptr, &ds, opt).ok()) d0 = TetMesh();
-  st.ms_d0 = ds.ms_sort + ds.ms_insert;
+  if (!build_in_order(plc, best, id_of, nullptr, d0, &st.ms_d0, threads)) d0 = TetMesh();
   return best;
 }
 

@@ -16,7 +16,9 @@
 
 #include <cdt3d/cdt3d.hpp>
 
+#include <array>
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "tet_mesh.hpp"
@@ -42,9 +44,17 @@ struct SosOrderStats {
 /// when given, gets plc_segments(plc), which the search computes anyway.
 /// `threads`: the whole tetrahedralizations may use a second thread
 /// (DelaunayOptions::threads; the same result either way).
+/// `ready` (optional): the segments come from elsewhere (the pipeline checks
+/// the facets and lists the segments on its second thread meanwhile). The
+/// search then builds D0 in input order first, which needs the points alone
+/// (they passed check_plc_points), and calls (*ready)(segments) for
+/// plc_segments(plc); false from it (the PLC failed its checks) ends the
+/// search with an empty order and an empty d0.
+using SegmentsWhenReady = std::function<bool(std::vector<std::array<VertexId, 2>>&)>;
 std::vector<VertexId> segment_friendly_order(
     const Plc& plc, size_t max_rounds, TetMesh& d0, SosOrderStats* stats = nullptr,
-    std::vector<std::array<VertexId, 2>>* segments = nullptr, bool threads = false);
+    std::vector<std::array<VertexId, 2>>* segments = nullptr, bool threads = false,
+    const SegmentsWhenReady* ready = nullptr);
 
 /// `plc` with its points renumbered: point k of `out` is point order[k] of
 /// `plc`; facets, segments, holes and regions follow.
