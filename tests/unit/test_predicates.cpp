@@ -1189,6 +1189,64 @@ TEST_CASE("small-integer predicates match the oracle within their spread", "[pre
   CHECK(zeros > 1000);
 }
 
+TEST_CASE("incircle_coplanar_small_integers matches the oracle within the spread", "[predicates]") {
+  // Four small-integer points in an axis-parallel plane (decided in doubles)
+  // or in the plane x + y = const (passed on to incircle_coplanar): lattice
+  // points of one circle (exact zeros) and random ones over the whole spread
+  // of small_integer_points, far from the origin too.
+  Rng r(77);
+  std::vector<std::array<int, 2>> circle;  // x^2 + y^2 = 5525: 48 lattice points
+  for (int x = -75; x <= 75; ++x)
+    for (int y = -75; y <= 75; ++y)
+      if (x * x + y * y == 5525) circle.push_back({x, y});
+  REQUIRE(circle.size() >= 24);
+  int zeros = 0, axis = 0, slanted = 0;
+  for (int it = 0; it < 40000; ++it) {
+    const double base = it % 3 == 0 ? 0 : double(r.range(-1000000, 1000000));
+    const int k = r.range(0, 3);  // 3: the plane x + y = const
+    const double level = base + r.range(0, 512);
+    std::array<P3, 4> p;
+    for (P3& q : p) {
+      int u, v;
+      if (it % 2 == 0) {
+        const auto& c = circle[r.next() % circle.size()];
+        u = c[0] + 200, v = c[1] + 200;
+      } else {
+        u = r.range(0, 512), v = r.range(0, 512);
+      }
+      if (k < 3) {
+        q[k] = level;
+        q[(k + 1) % 3] = base + u;
+        q[(k + 2) % 3] = base + v;
+      } else {
+        q = {base + u, level - u, base + v};
+      }
+    }
+    std::vector<double> flat;
+    for (const P3& q : p) flat.insert(flat.end(), q.begin(), q.end());
+    if (!pred::small_integer_points(flat.data(), 4)) continue;
+    if (pred::collinear3d(p[0].data(), p[1].data(), p[2].data())) continue;
+    const int s = pred::incircle_coplanar_small_integers(p[0].data(), p[1].data(), p[2].data(),
+                                                         p[3].data());
+    REQUIRE(s == incircle_coplanar_q(p[0], p[1], p[2], p[3]));
+    (k < 3 ? axis : slanted) += 1;
+    if (s == 0) {
+      ++zeros;
+      // The perturbation decides alike on either evaluation.
+      const uint32_t ids[4] = {uint32_t(r.range(0, 9)), 10, 11, uint32_t(r.range(0, 12))};
+      if (ids[3] == ids[0] || ids[3] == 10 || ids[3] == 11) continue;
+      REQUIRE(pred::incircle_coplanar_sos_on_plane(p[0].data(), p[1].data(), p[2].data(),
+                                                   p[3].data(), ids[0], ids[1], ids[2], ids[3],
+                                                   true) ==
+              pred::incircle_coplanar_sos_on_plane(p[0].data(), p[1].data(), p[2].data(),
+                                                   p[3].data(), ids[0], ids[1], ids[2], ids[3]));
+    }
+  }
+  CHECK(zeros > 2000);
+  CHECK(axis > 20000);
+  CHECK(slanted > 5000);
+}
+
 TEST_CASE("orient3d_in_box and insphere_in_box match the oracle for points of their box",
           "[predicates]") {
   // The static bounds are tightest when the points span the whole box and

@@ -1043,6 +1043,26 @@ int dot_sign(const double* a, const double* v, const double* b) {
 }
 
 
+int incircle_coplanar_small_integers(const double* a, const double* b, const double* c,
+                                     const double* d) {
+  for (int k = 0; k < 3; ++k) {
+    if (a[k] != b[k] || a[k] != c[k] || a[k] != d[k]) continue;
+    const int x = k == 0 ? 1 : 0, y = k == 2 ? 1 : 2;  // the other two axes
+    const double acx = a[x] - c[x], acy = a[y] - c[y], bcx = b[x] - c[x], bcy = b[y] - c[y];
+    const int o = detail::sign_of(acx * bcy - acy * bcx);
+    if (o == 0) return 0;
+    detail::count_call(g_counters.incircle_calls);
+    const double adx = a[x] - d[x], ady = a[y] - d[y];
+    const double bdx = b[x] - d[x], bdy = b[y] - d[y];
+    const double cdx = c[x] - d[x], cdy = c[y] - d[y];
+    const double det = (adx * adx + ady * ady) * (bdx * cdy - bdy * cdx) +
+                       (bdx * bdx + bdy * bdy) * (cdx * ady - cdy * adx) +
+                       (cdx * cdx + cdy * cdy) * (adx * bdy - ady * bdx);
+    return o * detail::sign_of(det);
+  }
+  return incircle_coplanar(a, b, c, d);
+}
+
 int incircle_coplanar(const double* a, const double* b, const double* c, const double* d) {
   // Four points in one axis-parallel plane (the hull faces of CAD models,
   // tested by every ghost tet in conflict search): dropping that coordinate

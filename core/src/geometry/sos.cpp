@@ -84,8 +84,9 @@ int incircle_coplanar_sos(const double* a, const double* b, const double* c, con
 
 int incircle_coplanar_sos_on_plane(const double* a, const double* b, const double* c,
                                    const double* e, uint32_t ia, uint32_t ib, uint32_t ic,
-                                   uint32_t ie) {
-  const int s = incircle_coplanar(a, b, c, e);
+                                   uint32_t ie, bool small_integers) {
+  const int s = small_integers ? incircle_coplanar_small_integers(a, b, c, e)
+                               : incircle_coplanar(a, b, c, e);
   if (s != 0) return s;
   ++detail::g_counters.sos_ties;
   int drop = 0, face = 0;

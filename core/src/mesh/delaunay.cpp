@@ -100,8 +100,8 @@ PointInserter::in_conflict(TetId t, const double* p, VertexId v) const {
                 : box_.orient3d > 0 ? pred::orient3d_in_box(a, b, c, p, box_)
                                     : pred::orient3d(a, b, c, p);
   if (o != 0) return o > 0;
-  return pred::incircle_coplanar_sos_on_plane(a, b, c, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(v)) >
-         0;
+  return pred::incircle_coplanar_sos_on_plane(a, b, c, p, sos(w[0]), sos(w[1]), sos(w[2]), sos(v),
+                                              small_integers_) > 0;
 }
 
 // The static bounds for tests with point p (a point about to be located or
