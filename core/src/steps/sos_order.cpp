@@ -273,6 +273,37 @@ bool CellEdges::shape_key(size_t k) {
   return true;
 }
 
+// The edges of the real tets of `m` (vertices 0..k-1) as ascending pairs,
+// in ascending order. Each edge lies in several tets: up to kDenseCell
+// vertices a k x k table of marks lists them without sorting the
+// duplicates (sorting them was a fifth of the search on co-spherical
+// models).
+void cell_edges_of(const TetMesh& m, size_t k, std::vector<std::pair<uint32_t, uint32_t>>& out) {
+  constexpr size_t kDenseCell = 256;
+  out.clear();
+  if (k <= kDenseCell) {
+    std::vector<uint8_t> mark(k * k, 0);
+    for (TetId t = 0; t < m.num_tet_slots(); ++t) {
+      if (m.is_dead(t) || m.is_ghost(t)) continue;
+      const VertexId* w = m.tet_vertices(t);
+      for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j) mark[std::min(w[i], w[j]) * k + std::max(w[i], w[j])] = 1;
+    }
+    for (uint32_t i = 0; i < k; ++i)
+      for (uint32_t j = i + 1; j < k; ++j)
+        if (mark[i * k + j]) out.emplace_back(i, j);
+    return;
+  }
+  for (TetId t = 0; t < m.num_tet_slots(); ++t) {
+    if (m.is_dead(t) || m.is_ghost(t)) continue;
+    const VertexId* w = m.tet_vertices(t);
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) out.emplace_back(std::min(w[i], w[j]), std::max(w[i], w[j]));
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
 // Tetrahedralizes the cell's vertices in the current order (their relative
 // order is all the perturbation looks at), unless that order is the one
 // last triangulated or a cell of the same shape was triangulated before.
@@ -296,17 +327,7 @@ bool CellEdges::triangulate_cell(uint32_t cell) {
     // points, too few for the spatial sort to pay. The vertices of a cell
     // lie on its sphere (class comment), exactly.
     if (!scratch_.build(xyz_.data(), k, /*cospherical=*/true).ok()) return false;
-    const TetMesh& m = scratch_.mesh();
-    local_edges_.clear();
-    for (TetId t = 0; t < m.num_tet_slots(); ++t) {
-      if (m.is_dead(t) || m.is_ghost(t)) continue;
-      const VertexId* w = m.tet_vertices(t);
-      for (int i = 0; i < 4; ++i)
-        for (int j = i + 1; j < 4; ++j)
-          local_edges_.emplace_back(std::min(w[i], w[j]), std::max(w[i], w[j]));
-    }
-    std::sort(local_edges_.begin(), local_edges_.end());
-    local_edges_.erase(std::unique(local_edges_.begin(), local_edges_.end()), local_edges_.end());
+    cell_edges_of(scratch_.mesh(), k, local_edges_);
     if (keyed) known = by_shape_.emplace(shape_, local_edges_).first;
   }
   const std::vector<std::pair<uint32_t, uint32_t>>& pairs =
