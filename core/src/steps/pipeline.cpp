@@ -107,9 +107,10 @@ constexpr size_t kMinFacetsBeside = 1000;
 // or fail far from the cause, and lets an intersection override any error
 // of the steps before. The thread's own clock gives ms(), the time the test
 // took (msRead counts it, so the phases may add up to more than msTotal).
-// With `checks` the thread first runs check_plc and lists plc_segments,
-// beside step 1 on the points (which passed check_plc_points): checked()
-// waits for that, and the test follows only when the checks passed.
+// With `checks` the thread first runs check_plc, lists plc_segments and
+// makes their init_segments, beside step 1 on the points (which passed
+// check_plc_points): checked() waits for that, and the test follows only
+// when the checks passed.
 class IntersectionTest {
  public:
   IntersectionTest() = default;
@@ -180,7 +181,8 @@ class IntersectionTest {
     ms_ = ms_since(t0);
     if (found_any_ && (!found_.empty() || failure_)) found_any_->store(true);
   }
-  // check_plc and plc_segments when asked for; false when the checks failed.
+  // check_plc, plc_segments and init_segments when asked for; false when
+  // the checks failed.
   bool run_checks(const Plc& plc) {
     if (!checks_) return true;
     checks_status_ = check_plc(plc);
