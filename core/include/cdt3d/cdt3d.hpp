@@ -261,13 +261,14 @@ struct Options {
   bool check_intersections = true;
   /// Builds with threads (native, and the npm package's WebAssembly module
   /// for Node): run the self-intersection test on a second thread beside
-  /// steps 1-2, which read the same PLC (from 20,000 points step 1 first
+  /// steps 1-2, which read the same PLC (below 20,000 points the input
+  /// checks run there first, beside step 1; from 20,000 points step 1 first
   /// inserts its later rounds on two threads, and the test then starts
-  /// after it), and half of the facet triangulations (large PLCs) and of
-  /// the quality statistics (large meshes) beside the other half (the
-  /// result is the same either way; the browser module always uses one
-  /// thread). tetrahedralize() may also be called from several threads at
-  /// once.
+  /// after it), and half of the facet triangulations (large PLCs), of
+  /// facet recovery's first pass and of the quality statistics (larger
+  /// meshes) beside the other half (the result is the same either way; the
+  /// browser module always uses one thread). tetrahedralize() may also be
+  /// called from several threads at once.
   bool threads = true;
   /// Join facets that share an edge and lie in one plane into one polygon
   /// facet (TetGen's default; off here, like tetgen -M): their common edges
