@@ -582,7 +582,6 @@ class FacetTriangulator {
   Status collect_loops(size_t f);
   Status choose_projection(size_t f, int& drop);
   bool plain_triangle(size_t f, const std::vector<VertexId>* interior, Subfaces& out) const;
-  bool unsplit_triangle(size_t f, const std::vector<VertexId>* interior, Subfaces& out) const;
   Status collect_vertices(size_t f, const std::vector<VertexId>* interior, int drop);
   Status outer_loop_orientation(size_t f, int& sign) const;
   Status insert_constraints(size_t f, Cdt2& cdt);
@@ -762,31 +761,15 @@ Status FacetTriangulator::choose_projection(size_t f, int& drop) {
 }
 
 // Fast path: a triangle whose edges are unsplit and nothing inside is its
-// own triangulation.
+// own triangulation. Its three edges are looked up directly, so a PLC with
+// nothing embedded in its facets takes it before collect_loops and its
+// sorts (half of the facet triangulation's work on a triangle mesh). False
+// sends the facet down the general path, which also reports bad loops.
 bool FacetTriangulator::plain_triangle(size_t f, const std::vector<VertexId>* interior,
                                        Subfaces& out) const {
   const Facet& facet = plc_.facets[f];
   if (facet.loops.size() != 1 || facet.loops[0].size() != 3 ||
       (interior != nullptr && !interior->empty()) || !extra_points_.empty() || !extra_segs_.empty())
-    return false;
-  for (uint32_t s : loop_segs_)
-    if (segs_.chain[s].size() != 2) return false;
-  const auto& L = facet.loops[0];
-  out.tri.push_back({L[0], L[1], L[2]});
-  out.facet.push_back(static_cast<uint32_t>(f));
-  return true;
-}
-
-// plain_triangle before collect_loops, for a PLC with nothing embedded in
-// its facets: the three edges looked up directly, without the loop lists
-// and their sorts (half of the facet triangulation's work on a triangle
-// mesh). False sends the facet down the general path, which also reports
-// bad loops.
-bool FacetTriangulator::unsplit_triangle(size_t f, const std::vector<VertexId>* interior,
-                                         Subfaces& out) const {
-  const Facet& facet = plc_.facets[f];
-  if (facet.loops.size() != 1 || facet.loops[0].size() != 3 ||
-      (interior != nullptr && !interior->empty()))
     return false;
   const auto& L = facet.loops[0];
   for (int i = 0; i < 3; ++i) {
@@ -921,17 +904,12 @@ void FacetTriangulator::mark_outside(size_t f, const std::vector<Tri>& T, int dr
 // Facet f's subfaces, appended to `out` oriented like its outer loop.
 Status FacetTriangulator::run(size_t f, const std::vector<VertexId>* interior, Subfaces& out) {
   if (plc_.facets[f].loops.empty()) return facet_error(f, "the facet has no loop");
-  if (nothing_embedded_ && unsplit_triangle(f, interior, out)) return Status::success();
+  // Most facets of a triangle mesh: no loop lists, no search for embedded
+  // points, no projection (check_plc rejected collinear loops).
+  if (nothing_embedded_ && plain_triangle(f, interior, out)) return Status::success();
   Status st = collect_loops(f);
   if (!st.ok()) return st;
   int drop = 2;
-  if (nothing_embedded_) {
-    // Most facets of a triangle mesh: no search for embedded points, no
-    // projection (check_plc rejected collinear loops).
-    extra_points_.clear();
-    extra_segs_.clear();
-    if (plain_triangle(f, interior, out)) return Status::success();
-  }
   st = choose_projection(f, drop);
   if (!st.ok()) return st;
   if (plain_triangle(f, interior, out)) return Status::success();
