@@ -243,42 +243,57 @@ const char* TetMesh::ring_around_edge(TetId t0, VertexId p, VertexId q, size_t m
   return nullptr;
 }
 
-TetId TetMesh::find_edge(VertexId a, VertexId b) {
-  if (a == kInfinite) std::swap(a, b);
-  if (a >= num_vertices() || vtet[a] == kNone || a == b) return kNone;
-  // Star walk as in vertex_star, stopping at the first tet containing b.
-  const uint32_t e = next_epoch();
-  std::vector<TetId>& queue = scratch;
+namespace {
+
+// The first tet around vertex a (a tet of its star) for which found(t)
+// holds, in the breadth-first order of vertex_star, or kNone. Breadth-first
+// order takes tets out of the queue in the order they were found, so
+// testing each tet when found returns the same tet as testing them on
+// removal, or after the whole walk, and skips the tets queued before it:
+// about half of the walk when it succeeds, as it nearly always does
+// (segment recovery's first check of every segment with find_edge was 6% of
+// nefertiti's run).
+template <class Found>
+TetId first_in_star(TetMesh& m, VertexId a, Found&& found) {
+  const TetId t0 = m.vtet[a];
+  if (found(t0)) return t0;
+  const uint32_t e = m.next_epoch();
+  std::vector<TetId>& queue = m.scratch;
   queue.clear();
-  queue.push_back(vtet[a]);
-  stamp(vtet[a], e);
+  queue.push_back(t0);
+  m.stamp(t0, e);
   for (size_t k = 0; k < queue.size(); ++k) {
     const TetId t = queue[k];
-    if (index_in_tet(t, b) >= 0) return t;
-    const int ia = index_in_tet(t, a);
+    const int ia = m.index_in_tet(t, a);
+    const HalfFace* adj = &m.tadj[4 * static_cast<size_t>(t)];
     for (int i = 0; i < 4; ++i) {
-      if (i == ia || tadj[4 * static_cast<size_t>(t) + i] == kNoHalfFace) continue;  // open face
-      const TetId n = neighbor(t, i);
-      if (!stamped(n, e)) {
-        stamp(n, e);
-        queue.push_back(n);
-      }
+      if (i == ia || adj[i] == kNoHalfFace) continue;  // open face
+      const TetId n = hf_tet(adj[i]);
+      if (m.stamped(n, e)) continue;
+      if (found(n)) return n;
+      m.stamp(n, e);
+      queue.push_back(n);
     }
   }
   return kNone;
 }
 
+}  // namespace
+
+TetId TetMesh::find_edge(VertexId a, VertexId b) {
+  if (a == kInfinite) std::swap(a, b);
+  if (a >= num_vertices() || vtet[a] == kNone || a == b) return kNone;
+  return first_in_star(*this, a, [&](TetId t) { return index_in_tet(t, b) >= 0; });
+}
+
 HalfFace TetMesh::find_face(VertexId a, VertexId b, VertexId c) {
   if (a == kInfinite) std::swap(a, c);
   if (a >= num_vertices() || vtet[a] == kNone) return kNone;
-  vertex_star(a, scratch);
-  for (TetId t : scratch) {
-    const int ib = index_in_tet(t, b), ic = index_in_tet(t, c);
-    if (ib < 0 || ic < 0) continue;
-    const int ia = index_in_tet(t, a);
-    return make_hf(t, 6 - ia - ib - ic);
-  }
-  return kNone;
+  const TetId t = first_in_star(*this, a, [&](TetId x) {
+    return index_in_tet(x, b) >= 0 && index_in_tet(x, c) >= 0;
+  });
+  if (t == kNone) return kNone;
+  return make_hf(t, 6 - index_in_tet(t, a) - index_in_tet(t, b) - index_in_tet(t, c));
 }
 
 void TetMesh::compact() {
