@@ -321,6 +321,7 @@ class PointInserter {
   bool locate_shared(const double* p, TetId& t, LocateKind& kind);
   Status fill_cavity(VertexId v);
   void point_vertices_to_new_tets();
+  void point_vertices_shared();
   uint32_t local_id(VertexId x);
   VertexId sos(VertexId v) const { return sos_id_ && v != kInfinite ? sos_id_[v] : v; }
 
@@ -343,6 +344,10 @@ class PointInserter {
   // so that new tets sharing a boundary edge meet in a small dense table.
   std::vector<uint32_t> vlocal_;
   std::vector<VertexId> locals_;
+  // Shared mode: the vertices already pointed at a new tet in this
+  // insertion (vmark_[x] == mark_epoch_), see point_vertices_to_new_tets.
+  std::vector<uint32_t> vmark_;
+  uint32_t mark_epoch_ = 0;
   // Written before read (each directed boundary edge by its own new tet,
   // read by its partner), so left uninitialized: zeroing its 36 KiB cost
   // more than a whole Delaunay tetrahedralization of a few points.
