@@ -374,6 +374,19 @@ int check_mesh_args(MeshArgs& m) {
 
 }  // namespace
 
+// Ends the process once the answer is out (stdio flushed, the output files
+// closed by write_result): std::exit does not run the destructors of the
+// caller's frame, so the PLC and the Result are not freed one allocation at
+// a time only for the process to give their memory back anyway (igea: two
+// allocations per facet, 540k frees, ~3% of its run).
+namespace {
+[[noreturn]] void exit_keeping_memory(int code) {
+  std::fflush(stdout);
+  std::fflush(stderr);
+  std::exit(code);
+}
+}  // namespace
+
 int run_mesh(int argc, char** argv) {
   MeshArgs m;
   int code = parse_mesh_args(argc, argv, m);
@@ -416,7 +429,7 @@ int run_mesh(int argc, char** argv) {
       print_json_error(st.error);
     else
       std::fprintf(stderr, "cdt3d mesh: %s\n", st.error.to_string().c_str());
-    return kExitError;
+    exit_keeping_memory(kExitError);
   }
   if (json) {
     print_json(r, stop, validated, st, fix ? repair_json(report) : std::string());
@@ -424,7 +437,7 @@ int run_mesh(int argc, char** argv) {
     print_table(input, r, stop, opt.degeneracy, m.show_quality, opt.quality.enabled, validated);
     if (fix) std::printf("%s", repair_summary(report).c_str());
   }
-  return kExitOk;
+  exit_keeping_memory(kExitOk);
 }
 
 }  // namespace cli
