@@ -360,7 +360,7 @@ void PointInserter::point_vertices_to_new_tets() {
 // consistent atomic stores only (an exchange on x86-64, where a relaxed
 // store is a plain move), so each vertex is written once: to the last new
 // real tet at it, as the writes in order would leave it, taking the tets
-// from the last. Four stores per new tet made step 1 of nefertiti ~6%
+// from the last. Four stores per new tet made step 1 of nefertiti ~11%
 // slower under Node.
 void PointInserter::point_vertices_shared() {
   TetMesh& m = mesh_;
