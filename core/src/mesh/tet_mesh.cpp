@@ -174,25 +174,48 @@ uint32_t TetMesh::next_epoch() {
   return ++epoch;
 }
 
+namespace {
+
+// The first tet around vertex a (a tet of its star) for which found(t)
+// holds, breadth-first from vtet[a] across the faces through a (a
+// deterministic order), or kNone. Breadth-first order takes tets out of the
+// queue in the order they were found, so testing each tet when found
+// returns the same tet as testing them on removal, or after the whole walk,
+// and skips the tets queued before it: about half of the walk when it
+// succeeds, as it nearly always does (segment recovery's first check of
+// every segment with find_edge was 6% of nefertiti's run). `queue` ends up
+// holding the tets walked, in that order: the whole star (vertex_star) when
+// found() never holds.
+template <class Found>
+TetId first_in_star(TetMesh& m, VertexId a, std::vector<TetId>& queue, Found&& found) {
+  const TetId t0 = m.vtet[a];
+  if (found(t0)) return t0;
+  const uint32_t e = m.next_epoch();
+  queue.clear();
+  queue.push_back(t0);
+  m.stamp(t0, e);
+  for (size_t k = 0; k < queue.size(); ++k) {
+    const TetId t = queue[k];
+    const int ia = m.index_in_tet(t, a);
+    const HalfFace* adj = &m.tadj[4 * static_cast<size_t>(t)];
+    for (int i = 0; i < 4; ++i) {
+      if (i == ia || adj[i] == kNoHalfFace) continue;  // open face
+      const TetId n = hf_tet(adj[i]);
+      if (m.stamped(n, e)) continue;
+      if (found(n)) return n;
+      m.stamp(n, e);
+      queue.push_back(n);
+    }
+  }
+  return kNone;
+}
+
+}  // namespace
+
 void TetMesh::vertex_star(VertexId v, std::vector<TetId>& out) {
   out.clear();
   if (v >= num_vertices() || vtet[v] == kNone) return;
-  const uint32_t e = next_epoch();
-  out.push_back(vtet[v]);
-  stamp(vtet[v], e);
-  // Breadth-first over the tets around v: cross only faces containing v.
-  for (size_t k = 0; k < out.size(); ++k) {
-    const TetId t = out[k];
-    const int iv = index_in_tet(t, v);
-    for (int i = 0; i < 4; ++i) {
-      if (i == iv || tadj[4 * static_cast<size_t>(t) + i] == kNoHalfFace) continue;  // open face
-      const TetId n = neighbor(t, i);
-      if (!stamped(n, e)) {
-        stamp(n, e);
-        out.push_back(n);
-      }
-    }
-  }
+  first_in_star(*this, v, out, [](TetId) { return false; });
 }
 
 void TetMesh::vertex_neighbors(VertexId v, std::vector<VertexId>& out) {
@@ -243,53 +266,16 @@ const char* TetMesh::ring_around_edge(TetId t0, VertexId p, VertexId q, size_t m
   return nullptr;
 }
 
-namespace {
-
-// The first tet around vertex a (a tet of its star) for which found(t)
-// holds, in the breadth-first order of vertex_star, or kNone. Breadth-first
-// order takes tets out of the queue in the order they were found, so
-// testing each tet when found returns the same tet as testing them on
-// removal, or after the whole walk, and skips the tets queued before it:
-// about half of the walk when it succeeds, as it nearly always does
-// (segment recovery's first check of every segment with find_edge was 6% of
-// nefertiti's run).
-template <class Found>
-TetId first_in_star(TetMesh& m, VertexId a, Found&& found) {
-  const TetId t0 = m.vtet[a];
-  if (found(t0)) return t0;
-  const uint32_t e = m.next_epoch();
-  std::vector<TetId>& queue = m.scratch;
-  queue.clear();
-  queue.push_back(t0);
-  m.stamp(t0, e);
-  for (size_t k = 0; k < queue.size(); ++k) {
-    const TetId t = queue[k];
-    const int ia = m.index_in_tet(t, a);
-    const HalfFace* adj = &m.tadj[4 * static_cast<size_t>(t)];
-    for (int i = 0; i < 4; ++i) {
-      if (i == ia || adj[i] == kNoHalfFace) continue;  // open face
-      const TetId n = hf_tet(adj[i]);
-      if (m.stamped(n, e)) continue;
-      if (found(n)) return n;
-      m.stamp(n, e);
-      queue.push_back(n);
-    }
-  }
-  return kNone;
-}
-
-}  // namespace
-
 TetId TetMesh::find_edge(VertexId a, VertexId b) {
   if (a == kInfinite) std::swap(a, b);
   if (a >= num_vertices() || vtet[a] == kNone || a == b) return kNone;
-  return first_in_star(*this, a, [&](TetId t) { return index_in_tet(t, b) >= 0; });
+  return first_in_star(*this, a, scratch, [&](TetId t) { return index_in_tet(t, b) >= 0; });
 }
 
 HalfFace TetMesh::find_face(VertexId a, VertexId b, VertexId c) {
   if (a == kInfinite) std::swap(a, c);
   if (a >= num_vertices() || vtet[a] == kNone) return kNone;
-  const TetId t = first_in_star(*this, a, [&](TetId x) {
+  const TetId t = first_in_star(*this, a, scratch, [&](TetId x) {
     return index_in_tet(x, b) >= 0 && index_in_tet(x, c) >= 0;
   });
   if (t == kNone) return kNone;
