@@ -51,13 +51,13 @@ void split_segment(TetMesh& mesh, SegmentSet& segs, VertexId a, VertexId b,
     chain.push_back(mesh.add_vertex(p, kVertexSteiner));
   }
   chain.push_back(k[1]);
-  segs.chain[s] = chain;
+  segs.chain[s].assign(chain.data(), chain.data() + chain.size());
 }
 
 std::vector<VertexId> chain_of(const SegmentSet& segs, VertexId a, VertexId b) {
   const std::array<VertexId, 2> k = {std::min(a, b), std::max(a, b)};
   const size_t s = std::lower_bound(segs.input.begin(), segs.input.end(), k) - segs.input.begin();
-  std::vector<VertexId> c = segs.chain.at(s);
+  std::vector<VertexId> c = segs.chain.at(s).to_vector();
   if (c.front() != a) std::reverse(c.begin(), c.end());
   return c;
 }

@@ -56,3 +56,22 @@ TEST_CASE("PointIndex queries equal a brute-force scan", "[point_index]") {
     REQUIRE(got == brute_force(xyz, lo, hi));
   }
 }
+
+TEST_CASE("PointIndex keeps every copy of a point a leaf cannot split", "[point_index]") {
+  // 3 * kLeafSize copies of one point end in a cell of the deepest level,
+  // which holds them all (three blocks), beside a few other points.
+  PointIndex index;
+  const double root_lo[3] = {0, 0, 0}, root_hi[3] = {1, 1, 1};
+  index.reset(root_lo, root_hi);
+  const double same[3] = {0.25, 0.5, 0.75}, other[3] = {0.75, 0.5, 0.25};
+  const uint32_t copies = 3 * PointIndex::kLeafSize;
+  for (uint32_t i = 0; i < copies; ++i) index.insert(i, i % 7 == 3 ? other : same);
+  std::vector<uint32_t> got, want;
+  index.query(same, same, got);
+  std::sort(got.begin(), got.end());
+  for (uint32_t i = 0; i < copies; ++i)
+    if (i % 7 != 3) want.push_back(i);
+  REQUIRE(got == want);
+  index.query(root_lo, root_hi, got);
+  REQUIRE(got.size() == copies);
+}

@@ -121,7 +121,7 @@ TEST_CASE("rule 1 splits at the sphere around the near endpoint", "[segments]") 
   CHECK(v[1] == 0);
   CHECK(v[2] == 0);
   CHECK(r.segs.steiner[0].t == Approx(std::sqrt(0.26) / 4).margin(std::ldexp(1.0, -21)));
-  CHECK(r.segs.chain[0] == std::vector<VertexId>{0, r.segs.steiner[0].vertex, 1});
+  CHECK(r.segs.chain[0].to_vector() == std::vector<VertexId>{0, r.segs.steiner[0].vertex, 1});
 }
 
 TEST_CASE("the default splits at the projection of the reference point", "[segments]") {
@@ -271,4 +271,35 @@ TEST_CASE("segment recovery on every valid model of tests/data", "[segments][cor
     ++models;
   }
   CHECK(models >= 10);
+}
+
+TEST_CASE("SegmentChain inserts, erases, copies and moves past its local room",
+          "[segment_recovery]") {
+  SegmentChain c(10, 20);
+  std::vector<VertexId> want = {10, 20};
+  // Ten insertions at varying positions: the chain leaves its four local
+  // places for the heap, and grows there twice.
+  for (VertexId v = 0; v < 10; ++v) {
+    const size_t at = 1 + (v * 7) % (c.size() - 1);
+    c.insert(c.begin() + at, v);
+    want.insert(want.begin() + static_cast<long>(at), v);
+    REQUIRE(c.to_vector() == want);
+  }
+  SegmentChain copy = c;
+  c.erase(c.begin() + 3);
+  want.erase(want.begin() + 3);
+  REQUIRE(c.to_vector() == want);
+  REQUIRE(copy.size() == want.size() + 1);
+  SegmentChain moved = std::move(copy);
+  REQUIRE(moved.size() == want.size() + 1);
+  REQUIRE(moved.front() == 10);
+  REQUIRE(moved.back() == 20);
+  // A short chain assigned into the heap room, and a local chain moved.
+  SegmentChain small(1, 2);
+  moved = small;
+  REQUIRE(moved.to_vector() == std::vector<VertexId>{1, 2});
+  SegmentChain taken = std::move(small);
+  REQUIRE(taken.to_vector() == std::vector<VertexId>{1, 2});
+  taken.insert(taken.end(), 3);
+  REQUIRE(taken.to_vector() == std::vector<VertexId>{1, 2, 3});
 }

@@ -7,15 +7,16 @@
 namespace cdt3d {
 
 namespace {
-// A leaf splits beyond this many points; a cell this deep never splits
+// A cell this deep never splits, beyond kLeafSize points or not
 // (its side is 2^-kMaxDepth of the root's: only nearly coincident points
 // gather there, and a longer leaf is still correct).
-constexpr size_t kLeafSize = 16;
 constexpr uint32_t kMaxDepth = 40;
 }  // namespace
 
 void PointIndex::reset(const double lo[3], const double hi[3]) {
   cells_.assign(1, Cell());
+  blocks_.clear();
+  free_blocks_.clear();
   outside_.clear();
   for (int d = 0; d < 3; ++d) cells_[0].lo[d] = lo[d], cells_[0].hi[d] = hi[d];
 }
@@ -27,23 +28,58 @@ int PointIndex::octant(const Cell& cell, const double* p) {
   return o;
 }
 
+// Adds e at the end of leaf c's points (a new block when the last is full).
+void PointIndex::append(uint32_t c, const Entry& e) {
+  Cell& cell = cells_[c];
+  if (cell.tail == kNoBlock || blocks_[cell.tail].count == kBlockSize) {
+    uint32_t b;
+    if (!free_blocks_.empty()) {
+      b = free_blocks_.back();
+      free_blocks_.pop_back();
+      blocks_[b].count = 0, blocks_[b].next = kNoBlock;
+    } else {
+      b = static_cast<uint32_t>(blocks_.size());
+      blocks_.emplace_back();
+    }
+    if (cell.tail == kNoBlock)
+      cell.head = b;
+    else
+      blocks_[cell.tail].next = b;
+    cell.tail = b;
+  }
+  Block& block = blocks_[cell.tail];
+  block.entries[block.count++] = e;
+  ++cell.size;
+}
+
 void PointIndex::split(uint32_t c) {
   const int32_t first = static_cast<int32_t>(cells_.size());
   cells_.resize(cells_.size() + 8);  // may move cells_[c]: index it afresh below
-  Cell& cell = cells_[c];
-  for (int o = 0; o < 8; ++o) {
-    Cell& k = cells_[first + o];
-    k.depth = cell.depth + 1;
-    for (int d = 0; d < 3; ++d) {
-      const double mid = 0.5 * (cell.lo[d] + cell.hi[d]);
-      k.lo[d] = (o >> d & 1) ? mid : cell.lo[d];
-      k.hi[d] = (o >> d & 1) ? cell.hi[d] : mid;
+  {
+    const Cell& cell = cells_[c];
+    for (int o = 0; o < 8; ++o) {
+      Cell& k = cells_[first + o];
+      k.depth = cell.depth + 1;
+      for (int d = 0; d < 3; ++d) {
+        const double mid = 0.5 * (cell.lo[d] + cell.hi[d]);
+        k.lo[d] = (o >> d & 1) ? mid : cell.lo[d];
+        k.hi[d] = (o >> d & 1) ? cell.hi[d] : mid;
+      }
     }
   }
-  cell.child = first;
-  std::vector<Entry> entries;
-  entries.swap(cell.entries);
-  for (const Entry& e : entries) cells_[first + octant(cells_[c], e.p)].entries.push_back(e);
+  cells_[c].child = first;
+  // The points move to the children in their order; the blocks are reused.
+  uint32_t b = cells_[c].head;
+  cells_[c].head = cells_[c].tail = kNoBlock;
+  cells_[c].size = 0;
+  while (b != kNoBlock) {
+    for (uint32_t i = 0; i < blocks_[b].count; ++i) {
+      const Entry e = blocks_[b].entries[i];
+      append(static_cast<uint32_t>(first + octant(cells_[c], e.p)), e);
+    }
+    free_blocks_.push_back(b);
+    b = blocks_[b].next;
+  }
 }
 
 void PointIndex::insert(uint32_t id, const double* p) {
@@ -54,8 +90,8 @@ void PointIndex::insert(uint32_t id, const double* p) {
   }
   uint32_t c = 0;
   while (cells_[c].child >= 0) c = static_cast<uint32_t>(cells_[c].child + octant(cells_[c], p));
-  cells_[c].entries.push_back(e);
-  if (cells_[c].entries.size() > kLeafSize && cells_[c].depth < kMaxDepth) split(c);
+  append(c, e);
+  if (cells_[c].size > kLeafSize && cells_[c].depth < kMaxDepth) split(c);
 }
 
 void PointIndex::query(const double lo[3], const double hi[3], std::vector<uint32_t>& out) const {
@@ -71,8 +107,9 @@ void PointIndex::query(const double lo[3], const double hi[3], std::vector<uint3
     for (int d = 0; d < 3; ++d) meets = meets && cell.lo[d] <= hi[d] && lo[d] <= cell.hi[d];
     if (!meets) continue;
     if (cell.child < 0) {
-      for (const Entry& e : cell.entries)
-        if (inside(e.p, lo, hi)) out.push_back(e.id);
+      for (uint32_t b = cell.head; b != kNoBlock; b = blocks_[b].next)
+        for (uint32_t i = 0; i < blocks_[b].count; ++i)
+          if (inside(blocks_[b].entries[i].p, lo, hi)) out.push_back(blocks_[b].entries[i].id);
     } else {
       for (int o = 0; o < 8; ++o) stack_.push_back(static_cast<uint32_t>(cell.child + o));
     }

@@ -22,25 +22,43 @@ class PointIndex {
   /// particular order.
   void query(const double lo[3], const double hi[3], std::vector<uint32_t>& out) const;
 
+  /// A leaf splits beyond this many points (point_index.cpp).
+  static constexpr uint32_t kLeafSize = 16;
+
  private:
   struct Entry {
     double p[3];
     uint32_t id;
   };
+  static constexpr uint32_t kNoBlock = ~0u;
+  // A leaf's points live in blocks of one pool, not in a vector per leaf:
+  // allocating and freeing those was ~1% of nefertiti's run under Node
+  // (WebAssembly's malloc takes a lock). One block holds a full leaf (a
+  // leaf splits past kLeafSize points); only leaves that may not split any
+  // more chain more blocks, in insertion order.
+  static constexpr uint32_t kBlockSize = kLeafSize + 1;
+  struct Block {
+    Entry entries[kBlockSize];
+    uint32_t count = 0;
+    uint32_t next = kNoBlock;
+  };
   struct Cell {
     double lo[3], hi[3];
-    int32_t child = -1;          // first of 8 children in cells_, -1 for a leaf
+    int32_t child = -1;  // first of 8 children in cells_, -1 for a leaf
     uint32_t depth = 0;
-    std::vector<Entry> entries;  // a leaf's points
+    uint32_t size = 0;   // a leaf's points
+    uint32_t head = kNoBlock, tail = kNoBlock;  // a leaf's blocks
   };
   void split(uint32_t c);
+  void append(uint32_t c, const Entry& e);
   static int octant(const Cell& cell, const double* p);
   static bool inside(const double* p, const double lo[3], const double hi[3]) {
     return lo[0] <= p[0] && p[0] <= hi[0] && lo[1] <= p[1] && p[1] <= hi[1] && lo[2] <= p[2] &&
            p[2] <= hi[2];
   }
-
   std::vector<Cell> cells_;
+  std::vector<Block> blocks_;
+  std::vector<uint32_t> free_blocks_;
   std::vector<Entry> outside_;
   mutable std::vector<uint32_t> stack_;
 };

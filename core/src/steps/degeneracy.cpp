@@ -756,7 +756,7 @@ Status DegeneracyRemoval::split_subsegment(uint32_t s, VertexId a, VertexId b, T
                                                  std::to_string(s))
         .vertex(res.vertex)
         .segment(s);
-  std::vector<VertexId>& chain = segs_.chain[s];
+  SegmentChain& chain = segs_.chain[s];
   chain.insert(chain.begin() + segs_.chain_position(s, b), res.vertex);
   if (segs_.steiner_of.size() <= res.vertex) segs_.steiner_of.resize(res.vertex + 1, kNone);
   segs_.steiner_of[res.vertex] = static_cast<uint32_t>(segs_.steiner.size());

@@ -489,7 +489,7 @@ bool SegmentRecovery::exact_point_on_line(VertexId u, VertexId w, double f, Vec3
 // an end we stop with an error.
 Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Vec3 point, double t,
                                           VertexId origin, SplitRule rule) {
-  std::vector<VertexId>& chain = segs_.chain[s];
+  SegmentChain& chain = segs_.chain[s];
   if (chain.size() - 2 >= kMaxSplitsPerSegment)
     return segment_error(ErrorCode::LimitReached, segs_, s,
                          "more than " + std::to_string(kMaxSplitsPerSegment) +
@@ -692,7 +692,7 @@ bool SegmentRecovery::try_remove(VertexId v) {
   const SegmentVertex* sv = segs_.on_segment(v);
   const uint32_t s = sv->segment;
   const long i = segs_.chain_position(s, v);
-  std::vector<VertexId>& chain = segs_.chain[s];
+  SegmentChain& chain = segs_.chain[s];
   if (i <= 0 || i + 1 >= static_cast<long>(chain.size())) return false;
   const VertexId u = chain[i - 1], w = chain[i + 1];
   if (!may_become_edge(u, w, v)) return false;
@@ -731,7 +731,7 @@ void SegmentRecovery::remove_redundant_points() {
   for (size_t k = first_record_; k < segs_.steiner.size(); ++k) {
     const SegmentVertex& sv = segs_.steiner[k];
     if (sv.rule != SplitRule::Projection && sv.rule != SplitRule::Shell) continue;
-    const std::vector<VertexId>& chain = segs_.chain[sv.segment];
+    const SegmentChain& chain = segs_.chain[sv.segment];
     const long i = segs_.chain_position(sv.segment, sv.vertex);
     const VertexId u = chain[i - 1], w = chain[i + 1];
     const std::array<VertexId, 2>& was = split_of_[k - first_record_];
@@ -768,7 +768,7 @@ void SegmentRecovery::index_chain_neighbours() {
   prev_.assign(mesh_.num_vertices(), kNone);
   next_.assign(mesh_.num_vertices(), kNone);
   for (uint32_t s = 0; s < segs_.chain.size(); ++s) {
-    const std::vector<VertexId>& c = segs_.chain[s];
+    const SegmentChain& c = segs_.chain[s];
     set_chain_neighbour(s, c.front(), true, c[1]);
     set_chain_neighbour(s, c.back(), false, c[c.size() - 2]);
     for (size_t i = 1; i + 1 < c.size(); ++i) prev_[c[i]] = c[i - 1], next_[c[i]] = c[i + 1];
@@ -847,8 +847,58 @@ Status SegmentRecovery::run(const volatile bool* cancel, const std::atomic<bool>
 // once. Chains are ordered by parameter, so a binary search finds the spot;
 // equal parameters (possible only after rounding on extremely short
 // subsegments) fall back to a scan.
+void SegmentChain::release() {
+  if (cap_ > kLocal) delete[] heap_;
+  cap_ = kLocal, size_ = 0;
+}
+
+void SegmentChain::take(SegmentChain& o) {
+  size_ = o.size_, cap_ = o.cap_;
+  if (cap_ > kLocal)
+    heap_ = o.heap_;
+  else
+    std::copy(o.local_, o.local_ + o.size_, local_);
+  o.size_ = 0, o.cap_ = kLocal;
+}
+
+void SegmentChain::assign(const VertexId* first, const VertexId* last) {
+  const uint32_t n = static_cast<uint32_t>(last - first);
+  if (n > cap_) {
+    VertexId* fresh = new VertexId[n];
+    std::copy(first, last, fresh);
+    release();
+    heap_ = fresh, cap_ = n;
+  } else {
+    std::copy(first, last, data());  // first..last is never our own storage here
+  }
+  size_ = n;
+}
+
+void SegmentChain::insert(const VertexId* at, VertexId v) {
+  const size_t i = static_cast<size_t>(at - begin());
+  if (size_ == cap_) {
+    const uint32_t cap = 2 * cap_;
+    VertexId* fresh = new VertexId[cap];
+    std::copy(begin(), end(), fresh);
+    const uint32_t n = size_;
+    release();
+    heap_ = fresh, cap_ = cap, size_ = n;
+  }
+  VertexId* d = data();
+  std::copy_backward(d + i, d + size_, d + size_ + 1);
+  d[i] = v;
+  ++size_;
+}
+
+void SegmentChain::erase(const VertexId* at) {
+  VertexId* d = data();
+  const size_t i = static_cast<size_t>(at - d);
+  std::copy(d + i + 1, d + size_, d + i);
+  --size_;
+}
+
 long SegmentSet::chain_position(uint32_t s, VertexId v) const {
-  const std::vector<VertexId>& c = chain[s];
+  const SegmentChain& c = chain[s];
   if (v == input[s][0]) return 0;
   if (v == input[s][1]) return static_cast<long>(c.size()) - 1;
   if (const SegmentVertex* sv = on_segment(v))
@@ -888,7 +938,7 @@ void init_segments(const Plc& plc, SegmentSet& segs, std::vector<std::array<Vert
   segs = SegmentSet();
   segs.input = std::move(known);
   segs.chain.reserve(segs.input.size());
-  for (const auto& e : segs.input) segs.chain.push_back({e[0], e[1]});
+  for (const auto& e : segs.input) segs.chain.emplace_back(e[0], e[1]);
   segs.midpoint.assign(segs.input.size(), kNone);
 
   // Acute vertices (§5): two incident segments at an angle below 90°, i.e. a
