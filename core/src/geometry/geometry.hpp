@@ -201,9 +201,9 @@ inline bool numerically_flat(const double* a, const double* b, const double* c, 
   const double w[3] = {c[0] - d[0], c[1] - d[1], c[2] - d[2]};
   const double det = six_volume(u, v, w);
   if (!(det > 0)) return true;  // volume_ratio <= 0 (or NaN)
-  const double m2 = std::max({u[0] * u[0] + u[1] * u[1] + u[2] * u[2],
-                              v[0] * v[0] + v[1] * v[1] + v[2] * v[2],
-                              w[0] * w[0] + w[1] * w[1] + w[2] * w[2]});
+  const double m2 =
+      std::max({u[0] * u[0] + u[1] * u[1] + u[2] * u[2], v[0] * v[0] + v[1] * v[1] + v[2] * v[2],
+                w[0] * w[0] + w[1] * w[1] + w[2] * w[2]});
   constexpr double kFilter = 128 * kFlatTetRatio * kFlatTetRatio;
   if (m2 > 1e-60 && m2 < 1e60 && det * det > kFilter * (m2 * m2 * m2)) return false;
   return !(volume_ratio(a, b, c, d) > kFlatTetRatio);

@@ -46,7 +46,7 @@ class PointIndex {
     double lo[3], hi[3];
     int32_t child = -1;  // first of 8 children in cells_, -1 for a leaf
     uint32_t depth = 0;
-    uint32_t size = 0;   // a leaf's points
+    uint32_t size = 0;                          // a leaf's points
     uint32_t head = kNoBlock, tail = kNoBlock;  // a leaf's blocks
   };
   void split(uint32_t c);

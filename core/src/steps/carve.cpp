@@ -87,30 +87,45 @@ Status constrained_half_faces(TetMesh& mesh, const Subfaces& subfaces,
   return Status::success();
 }
 
-// Regions: connected across unconstrained faces, numbered in slot order.
-// The ghosts' region is removed unless the hull is kept.
+// Regions: connected across unconstrained faces, numbered in slot order
+// (region r holds R.first[r], and the lowest slot of each region comes
+// before that of the next). The ghosts' region is removed unless the hull
+// is kept. A union-find over the faces in slot order, whose roots are the
+// lowest slots of their sets: it reads the adjacency and the constrained
+// faces in memory order, where a depth-first walk missed the cache at
+// nearly every tet (~60% of carving on nefertiti, measured with perf).
 void connect_regions(const TetMesh& mesh, const std::vector<uint32_t>& hf_sub,
                      bool keep_convex_hull, Regions& R) {
-  const size_t slots = mesh.num_tet_slots();
+  const TetId slots = static_cast<TetId>(mesh.num_tet_slots());
+  std::vector<TetId> parent(slots);
+  for (TetId t = 0; t < slots; ++t) parent[t] = t;
+  auto root = [&parent](TetId x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];  // path halving
+    return x;
+  };
+  for (TetId t = 0; t < slots; ++t) {
+    if (mesh.is_dead(t)) continue;
+    for (int i = 0; i < 4; ++i) {
+      const HalfFace hf = make_hf(t, i);
+      if (hf_sub[hf] != kNone) continue;
+      const TetId n = hf_tet(mesh.adjacent(hf));
+      if (n < t) continue;  // the face was met from n
+      const TetId a = root(t), b = root(n);
+      if (a < b)
+        parent[b] = a;
+      else if (b < a)
+        parent[a] = b;
+    }
+  }
   R.of.assign(slots, kNone);
-  std::vector<TetId> stack;
-  for (TetId t0 = 0; t0 < slots; ++t0) {
-    if (mesh.is_dead(t0) || R.of[t0] != kNone) continue;
-    const uint32_t r = static_cast<uint32_t>(R.first.size());
-    R.first.push_back(t0);
-    R.of[t0] = r;
-    stack.push_back(t0);
-    while (!stack.empty()) {
-      const TetId t = stack.back();
-      stack.pop_back();
-      for (int i = 0; i < 4; ++i) {
-        const HalfFace hf = make_hf(t, i);
-        if (hf_sub[hf] != kNone) continue;
-        const TetId n = hf_tet(mesh.adjacent(hf));
-        if (R.of[n] != kNone) continue;
-        R.of[n] = r;
-        stack.push_back(n);
-      }
+  for (TetId t = 0; t < slots; ++t) {
+    if (mesh.is_dead(t)) continue;
+    const TetId r = root(t);
+    if (r == t) {  // the lowest slot of its region: the next number
+      R.of[t] = static_cast<uint32_t>(R.first.size());
+      R.first.push_back(t);
+    } else {
+      R.of[t] = R.of[r];  // r < t is numbered already
     }
   }
   R.removed.assign(R.count(), 0);

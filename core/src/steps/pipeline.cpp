@@ -726,7 +726,10 @@ void Pipeline::run() {
     s.flat_flips = ff.flips;
     CarveResult carved;
     st = carve(*plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved, &subface_hf_);
-    if (st.ok() && move_flat_tets_outside(mesh_, segs_, carved, subfaces_) > 0) {
+    // remove_flat_tets counted the flat tets it left in the whole mesh, and
+    // carving changes no tet: with none left, no kept tet is flat.
+    if (st.ok() && ff.remaining > 0 &&
+        move_flat_tets_outside(mesh_, segs_, carved, subfaces_) > 0) {
       carved = CarveResult();
       st = carve(*plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved, &subface_hf_);
     }
