@@ -266,10 +266,35 @@ const char* TetMesh::ring_around_edge(TetId t0, VertexId p, VertexId q, size_t m
   return nullptr;
 }
 
+// first_in_star's walk with a cheaper test: every tet the walk leaves from
+// lacks b, so a neighbour across a face through a holds b only as the vertex
+// opposite that face, which its half-face indexes directly (one load, not a
+// search of four; segment recovery's checks of every segment were ~7% of
+// nefertiti's run). The tets tested, their order and the result are
+// first_in_star's.
 TetId TetMesh::find_edge(VertexId a, VertexId b) {
   if (a == kInfinite) std::swap(a, b);
   if (a >= num_vertices() || vtet[a] == kNone || a == b) return kNone;
-  return first_in_star(*this, a, scratch, [&](TetId t) { return index_in_tet(t, b) >= 0; });
+  const TetId t0 = vtet[a];
+  if (index_in_tet(t0, b) >= 0) return t0;
+  const uint32_t e = next_epoch();
+  scratch.clear();
+  scratch.push_back(t0);
+  stamp(t0, e);
+  for (size_t k = 0; k < scratch.size(); ++k) {
+    const TetId t = scratch[k];
+    const int ia = index_in_tet(t, a);
+    const HalfFace* adj = &tadj[4 * static_cast<size_t>(t)];
+    for (int i = 0; i < 4; ++i) {
+      if (i == ia || adj[i] == kNoHalfFace) continue;  // open face
+      const TetId n = hf_tet(adj[i]);
+      if (stamped(n, e)) continue;
+      if (tv[adj[i]] == b) return n;  // the vertex of n opposite the shared face
+      stamp(n, e);
+      scratch.push_back(n);
+    }
+  }
+  return kNone;
 }
 
 HalfFace TetMesh::find_face(VertexId a, VertexId b, VertexId c) {

@@ -841,12 +841,6 @@ Status SegmentRecovery::run(const volatile bool* cancel, const std::atomic<bool>
 
 }  // namespace
 
-// Position of v in the chain of segment s, or -1. The endpoints are the
-// chain's ends, and a Steiner vertex lies in the chain of its own segment
-// only, which answers the many queries for vertices of other segments at
-// once. Chains are ordered by parameter, so a binary search finds the spot;
-// equal parameters (possible only after rounding on extremely short
-// subsegments) fall back to a scan.
 void SegmentChain::release() {
   if (cap_ > kLocal) delete[] heap_;
   cap_ = kLocal, size_ = 0;
@@ -897,6 +891,12 @@ void SegmentChain::erase(const VertexId* at) {
   --size_;
 }
 
+// Position of v in the chain of segment s, or -1. The endpoints are the
+// chain's ends, and a Steiner vertex lies in the chain of its own segment
+// only, which answers the many queries for vertices of other segments at
+// once. Chains are ordered by parameter, so a binary search finds the spot;
+// equal parameters (possible only after rounding on extremely short
+// subsegments) fall back to a scan.
 long SegmentSet::chain_position(uint32_t s, VertexId v) const {
   const SegmentChain& c = chain[s];
   if (v == input[s][0]) return 0;
