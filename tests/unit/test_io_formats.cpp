@@ -631,3 +631,75 @@ TEST_CASE("exact_decimal rounds like a correctly rounded strtod", "[io]") {
   CHECK_FALSE(io::exact_decimal(12345, 23, out));
   CHECK_FALSE(io::exact_decimal(0, 0, out));
 }
+
+// TextReader::next takes the usual token inline and the rest through the
+// general path; next_uint reads plain indices. Both must agree with a plain
+// definition of the tokens: maximal runs without white space, cut before a
+// comment mark, with the line they start on.
+TEST_CASE("TextReader tokens and indices match a plain tokenization", "[io]") {
+  const std::string text =
+      "OFF\r\n  3\t4 0 # comment 5\n\n 1.5 -2e3 +7\f8 9\x01x 10#c\n"
+      "\t\t 11 \v 12\r\n0012 123456789012345678 1234567890123456789 \n13";
+  struct Want {
+    std::string token;
+    int64_t line;
+  };
+  const std::vector<Want> want = {{"OFF", 1},
+                                  {"3", 2},
+                                  {"4", 2},
+                                  {"0", 2},
+                                  {"1.5", 4},
+                                  {"-2e3", 4},
+                                  {"+7", 4},
+                                  {"8", 4},
+                                  {"9\x01x", 4},
+                                  {"10", 4},
+                                  {"11", 5},
+                                  {"12", 5},
+                                  {"0012", 6},
+                                  {"123456789012345678", 6},
+                                  {"1234567890123456789", 6},
+                                  {"13", 7}};
+  io::TextReader r(text.data(), text.size(), '#');
+  io::Token t;
+  for (const Want& w : want) {
+    REQUIRE(r.next(t));
+    CHECK(t.str() == w.token);
+    CHECK(t.line == w.line);
+    CHECK(r.last_line() == w.line);
+  }
+  CHECK_FALSE(r.next(t));
+
+  // next_uint: the same positions for plain indices, false for the others
+  // (the caller then reads the record again from a mark).
+  io::TextReader u(text.data(), text.size(), '#');
+  uint64_t v = 0;
+  CHECK_FALSE(u.next_uint(v));  // "OFF"
+  u.reset({5, 2});              // just past "OFF\r\n"
+  REQUIRE(u.next_uint(v));
+  CHECK(v == 3);
+  REQUIRE(u.next_uint(v));
+  CHECK(v == 4);
+  REQUIRE(u.next_uint(v));
+  CHECK(v == 0);
+  CHECK(u.last_line() == 2);
+  CHECK_FALSE(u.next_uint(v));  // "1.5", after a comment and a blank line
+  const size_t at = text.find("11");
+  u.reset({at, 5});
+  REQUIRE(u.next_uint(v));
+  CHECK(v == 11);
+  REQUIRE(u.next_uint(v));  // past a vertical tab
+  CHECK(v == 12);
+  CHECK(u.last_line() == 5);
+  REQUIRE(u.next_uint(v));  // "0012" on the next line
+  CHECK(v == 12);
+  CHECK(u.last_line() == 6);
+  REQUIRE(u.next_uint(v));
+  CHECK(v == 123456789012345678u);
+  CHECK_FALSE(u.next_uint(v));  // 19 digits: next() and parse_int decide
+  u.reset({text.find("13"), 7});
+  REQUIRE(u.next_uint(v));
+  CHECK(v == 13);
+  CHECK(u.last_line() == 7);
+  CHECK_FALSE(u.next_uint(v));  // the end
+}

@@ -54,18 +54,13 @@ bool fast_vertex(TextReader& r, double (&c)[3]) {
 }
 
 bool fast_face(TextReader& r, uint64_t nv, std::vector<VertexId>& loop, int64_t& face_line) {
-  Token t;
-  int64_t n = 0;
-  if (!r.next(t) || parse_int(t.p, t.n, n) != NumParse::Ok || n < 1 ||
-      static_cast<uint64_t>(n) > r.remaining() / 2 + 1)
-    return false;
-  face_line = t.line;
+  uint64_t n = 0;
+  if (!r.next_uint(n) || n < 1 || n > r.remaining() / 2 + 1) return false;
+  face_line = r.last_line();
   loop.clear();
-  for (int64_t k = 0; k < n; ++k) {
-    int64_t v = 0;
-    if (!r.next(t) || parse_int(t.p, t.n, v) != NumParse::Ok || v < 0 ||
-        static_cast<uint64_t>(v) >= nv)
-      return false;
+  for (uint64_t k = 0; k < n; ++k) {
+    uint64_t v = 0;
+    if (!r.next_uint(v) || v >= nv) return false;
     loop.push_back(static_cast<VertexId>(v));
   }
   return true;

@@ -406,7 +406,7 @@ void TextReader::read_token(Token& t) {
   last_line_ = line_;
 }
 
-bool TextReader::next(Token& t) {
+bool TextReader::next_slow(Token& t) {
   skip_blank_and_comments(true);
   if (pos_ >= size_) return false;
   read_token(t);
