@@ -172,7 +172,7 @@ class SegmentRecovery {
   // Adds face (a, b, c) (opposite the inserted vertex) and its finite
   // vertices. The face is written one vertex at a time: copying it in from
   // an array just built on the stack stalled on store forwarding (its three
-  // 4-byte stores read back by an 8-byte load), ~1% of tray_bottom's run.
+  // 4-byte stores read back by an 8-byte load), 1-2% of tray_bottom's run.
   void add_ring_face(VertexId a, VertexId b, VertexId c) {
     std::array<VertexId, 3>& f = ring_faces_.emplace_back();
     f[0] = a, f[1] = b, f[2] = c;
