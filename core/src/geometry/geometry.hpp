@@ -155,9 +155,6 @@ inline void dihedral_range(const Vec3 p[4], double& lo, double& hi) {
   lo = std::acos(c_lo) * deg, hi = std::acos(c_hi) * deg;
 }
 
-/// 6V / l_max^3 of tet (a, b, c, d) in doubles: 6V = (a - d) . ((b - d) x
-/// (c - d)) evaluated in floating point, l_max its longest edge. Positive for
-/// a positively oriented tet (tet_mesh.hpp), up to rounding.
 /// 6V of tet (a, b, c, d) in doubles, from u = a - d, v = b - d, w = c - d:
 /// the one expression volume_ratio and numerically_flat share, so both see
 /// the same rounded value.
@@ -166,6 +163,9 @@ inline double six_volume(const double u[3], const double v[3], const double w[3]
          u[2] * (v[0] * w[1] - v[1] * w[0]);
 }
 
+/// 6V / l_max^3 of tet (a, b, c, d) in doubles: 6V = (a - d) . ((b - d) x
+/// (c - d)) evaluated in floating point, l_max its longest edge. Positive for
+/// a positively oriented tet (tet_mesh.hpp), up to rounding.
 inline double volume_ratio(const double* a, const double* b, const double* c, const double* d) {
   const double u[3] = {a[0] - d[0], a[1] - d[1], a[2] - d[2]};
   const double v[3] = {b[0] - d[0], b[1] - d[1], b[2] - d[2]};

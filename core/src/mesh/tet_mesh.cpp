@@ -176,20 +176,23 @@ uint32_t TetMesh::next_epoch() {
 
 namespace {
 
-// The first tet around vertex a (a tet of its star) for which found(t)
-// holds, breadth-first from vtet[a] across the faces through a (a
-// deterministic order), or kNone. Breadth-first order takes tets out of the
-// queue in the order they were found, so testing each tet when found
-// returns the same tet as testing them on removal, or after the whole walk,
-// and skips the tets queued before it: about half of the walk when it
-// succeeds, as it nearly always does (segment recovery's first check of
-// every segment with find_edge was 6% of nefertiti's run). `queue` ends up
-// holding the tets walked, in that order: the whole star (vertex_star) when
-// found() never holds.
+// The first tet around vertex a (a tet of its star) for which found holds,
+// breadth-first from vtet[a] across the faces through a (a deterministic
+// order), or kNone. found(t, hf) tests tet t, reached through its half-face
+// hf (kNoHalfFace for vtet[a], where the walk starts): every tet the walk
+// leaves from failed the test, which find_edge uses to test one vertex
+// only. Breadth-first order takes tets out of the queue in the order they
+// were found, so testing each tet when found returns the same tet as
+// testing them on removal, or after the whole walk, and skips the tets
+// queued before it: about half of the walk when it succeeds, as it nearly
+// always does (segment recovery's first check of every segment with
+// find_edge was 6% of nefertiti's run). `queue` ends up holding the tets
+// walked, in that order: the whole star (vertex_star) when found() never
+// holds.
 template <class Found>
 TetId first_in_star(TetMesh& m, VertexId a, std::vector<TetId>& queue, Found&& found) {
   const TetId t0 = m.vtet[a];
-  if (found(t0)) return t0;
+  if (found(t0, kNoHalfFace)) return t0;
   const uint32_t e = m.next_epoch();
   queue.clear();
   queue.push_back(t0);
@@ -202,7 +205,7 @@ TetId first_in_star(TetMesh& m, VertexId a, std::vector<TetId>& queue, Found&& f
       if (i == ia || adj[i] == kNoHalfFace) continue;  // open face
       const TetId n = hf_tet(adj[i]);
       if (m.stamped(n, e)) continue;
-      if (found(n)) return n;
+      if (found(n, adj[i])) return n;
       m.stamp(n, e);
       queue.push_back(n);
     }
@@ -215,7 +218,7 @@ TetId first_in_star(TetMesh& m, VertexId a, std::vector<TetId>& queue, Found&& f
 void TetMesh::vertex_star(VertexId v, std::vector<TetId>& out) {
   out.clear();
   if (v >= num_vertices() || vtet[v] == kNone) return;
-  first_in_star(*this, v, out, [](TetId) { return false; });
+  first_in_star(*this, v, out, [](TetId, HalfFace) { return false; });
 }
 
 void TetMesh::vertex_neighbors(VertexId v, std::vector<VertexId>& out) {
@@ -266,41 +269,22 @@ const char* TetMesh::ring_around_edge(TetId t0, VertexId p, VertexId q, size_t m
   return nullptr;
 }
 
-// first_in_star's walk with a cheaper test: every tet the walk leaves from
-// lacks b, so a neighbour across a face through a holds b only as the vertex
-// opposite that face, which its half-face indexes directly (one load, not a
-// search of four; segment recovery's checks of every segment were ~7% of
-// nefertiti's run). The tets tested, their order and the result are
-// first_in_star's.
+// A neighbour across a face through a holds b only as the vertex opposite
+// that face, since the tet the walk left lacks b: its half-face indexes that
+// vertex directly (one load, not a search of four; segment recovery's checks
+// of every segment were ~7% of nefertiti's run).
 TetId TetMesh::find_edge(VertexId a, VertexId b) {
   if (a == kInfinite) std::swap(a, b);
   if (a >= num_vertices() || vtet[a] == kNone || a == b) return kNone;
-  const TetId t0 = vtet[a];
-  if (index_in_tet(t0, b) >= 0) return t0;
-  const uint32_t e = next_epoch();
-  scratch.clear();
-  scratch.push_back(t0);
-  stamp(t0, e);
-  for (size_t k = 0; k < scratch.size(); ++k) {
-    const TetId t = scratch[k];
-    const int ia = index_in_tet(t, a);
-    const HalfFace* adj = &tadj[4 * static_cast<size_t>(t)];
-    for (int i = 0; i < 4; ++i) {
-      if (i == ia || adj[i] == kNoHalfFace) continue;  // open face
-      const TetId n = hf_tet(adj[i]);
-      if (stamped(n, e)) continue;
-      if (tv[adj[i]] == b) return n;  // the vertex of n opposite the shared face
-      stamp(n, e);
-      scratch.push_back(n);
-    }
-  }
-  return kNone;
+  return first_in_star(*this, a, scratch, [&](TetId t, HalfFace across) {
+    return across == kNoHalfFace ? index_in_tet(t, b) >= 0 : tv[across] == b;
+  });
 }
 
 HalfFace TetMesh::find_face(VertexId a, VertexId b, VertexId c) {
   if (a == kInfinite) std::swap(a, c);
   if (a >= num_vertices() || vtet[a] == kNone) return kNone;
-  const TetId t = first_in_star(*this, a, scratch, [&](TetId x) {
+  const TetId t = first_in_star(*this, a, scratch, [&](TetId x, HalfFace) {
     return index_in_tet(x, b) >= 0 && index_in_tet(x, c) >= 0;
   });
   if (t == kNone) return kNone;

@@ -861,29 +861,27 @@ void SegmentChain::take(SegmentChain& o) {
   o.size_ = 0, o.cap_ = kLocal;
 }
 
+void SegmentChain::move_to_heap(uint32_t cap) {
+  VertexId* fresh = new VertexId[cap];
+  std::copy(begin(), end(), fresh);
+  const uint32_t n = size_;
+  release();
+  heap_ = fresh, cap_ = cap, size_ = n;
+}
+
 void SegmentChain::assign(const VertexId* first, const VertexId* last) {
   const uint32_t n = static_cast<uint32_t>(last - first);
   if (n > cap_) {
-    VertexId* fresh = new VertexId[n];
-    std::copy(first, last, fresh);
-    release();
-    heap_ = fresh, cap_ = n;
-  } else {
-    std::copy(first, last, data());  // first..last is never our own storage here
+    size_ = 0;  // nothing of the old vertices to keep
+    move_to_heap(n);
   }
+  std::copy(first, last, data());  // first..last is never our own storage here
   size_ = n;
 }
 
 void SegmentChain::insert(const VertexId* at, VertexId v) {
   const size_t i = static_cast<size_t>(at - begin());
-  if (size_ == cap_) {
-    const uint32_t cap = 2 * cap_;
-    VertexId* fresh = new VertexId[cap];
-    std::copy(begin(), end(), fresh);
-    const uint32_t n = size_;
-    release();
-    heap_ = fresh, cap_ = cap, size_ = n;
-  }
+  if (size_ == cap_) move_to_heap(2 * cap_);
   VertexId* d = data();
   std::copy_backward(d + i, d + size_, d + size_ + 1);
   d[i] = v;

@@ -88,7 +88,7 @@ class SegmentChain {
   void insert(const VertexId* at, VertexId v);
   /// Removes the vertex at `at`.
   void erase(const VertexId* at);
-  /// The vertices as a vector (tests, messages).
+  /// The vertices as a vector (tests).
   std::vector<VertexId> to_vector() const { return {begin(), end()}; }
 
  private:
@@ -97,6 +97,7 @@ class SegmentChain {
   const VertexId* data() const { return cap_ > kLocal ? heap_ : local_; }
   void release();
   void take(SegmentChain& o);
+  void move_to_heap(uint32_t cap);  // cap >= size_, the vertices kept
   uint32_t size_ = 0, cap_ = kLocal;
   union {
     VertexId local_[kLocal];
