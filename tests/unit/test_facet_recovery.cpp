@@ -458,6 +458,30 @@ TEST_CASE("refreshed subface half-faces hold their subfaces", "[facets]") {
   CHECK(changed > 0);
 }
 
+// The first pass on two threads (the subface index here, the adjacency
+// there, then both scanning pieces of the tet slots) must find exactly what
+// one thread finds: the same half-face per subface (the first in slot
+// order, from either thread's pieces), so the same recovery and mesh.
+TEST_CASE("facet recovery finds the same faces beside the other core and alone", "[facets]") {
+  for (const char* name : {"bunny.off", "plate_holes_binary.stl", "fandisk.off"}) {
+    INFO(name);
+    Run alone, beside;
+    REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) + "/" + name, alone.plc).ok());
+    prepare(alone);
+    REQUIRE(alone.sf.tri.size() >= 2000);  // the size from which the pass is shared
+    beside.plc = alone.plc, beside.mesh = alone.mesh, beside.segs = alone.segs;
+    beside.sf = alone.sf;
+    std::vector<HalfFace> hf_alone, hf_beside;
+    REQUIRE(recover_facets(alone.mesh, alone.sf, &alone.st, nullptr, false, &hf_alone, false).ok());
+    REQUIRE(
+        recover_facets(beside.mesh, beside.sf, &beside.st, nullptr, false, &hf_beside, true).ok());
+    CHECK(hf_beside == hf_alone);
+    CHECK(beside.st.missing_initially == alone.st.missing_initially);
+    CHECK(beside.mesh.tv == alone.mesh.tv);
+    CHECK(beside.sf.tri == alone.sf.tri);
+  }
+}
+
 TEST_CASE("facet recovery on every valid model of tests/data", "[facets][corpus]") {
   size_t ran = 0;
   for (const std::string& file : corpus::valid_models()) {

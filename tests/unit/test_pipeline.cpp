@@ -8,11 +8,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sched.h>
 #include <set>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "beside.hpp"
 #include "delaunay.hpp"
 
 using namespace cdt3d;
@@ -324,6 +326,45 @@ TEST_CASE("tetrahedralize() runs on several threads at once", "[pipeline]") {
     CHECK(x.mesh.tets == alone.mesh.tets);
     CHECK(x.mesh.points == alone.mesh.points);
   }
+}
+
+// The second thread of run_beside and of the self-intersection test runs
+// its job once, off the calling thread, and is joined; on Linux it starts on
+// another core than its creator's (beside.cpp) and then widens its affinity
+// back to the creator's, so that it is not pinned for good.
+TEST_CASE("a thread beside runs its job on another thread, free to move", "[pipeline]") {
+  if (!threads_available()) return;
+  std::thread::id id;
+  int runs = 0;
+#ifdef CDT3D_PLACES_THREADS
+  cpu_set_t creator, seen;
+  CPU_ZERO(&creator);
+  CPU_ZERO(&seen);
+  REQUIRE(sched_getaffinity(0, sizeof(creator), &creator) == 0);
+#endif
+  {
+    BesideThread t;
+    t.start([&] {
+      id = std::this_thread::get_id();
+      ++runs;
+#ifdef CDT3D_PLACES_THREADS
+      sched_getaffinity(0, sizeof(seen), &seen);
+#endif
+    });
+    t.join();
+    t.join();  // a second join does nothing
+  }
+  CHECK(runs == 1);
+  CHECK(id != std::thread::id());
+  CHECK(id != std::this_thread::get_id());
+#ifdef CDT3D_PLACES_THREADS
+  CHECK(CPU_EQUAL(&seen, &creator));
+#endif
+  // run_beside: both halves, each once, whatever the threads.
+  int first = 0, second = 0;
+  run_beside(
+      true, [&] { ++first; }, [&] { ++second; });
+  CHECK((first == 1 && second == 1));
 }
 
 namespace {

@@ -6,14 +6,20 @@
 // core (the self-intersection test beside steps 1-2) is done by then.
 #pragma once
 
+#include <atomic>
 #include <exception>
 #include <utility>
 
 #if (!defined(__EMSCRIPTEN__) || defined(__EMSCRIPTEN_PTHREADS__)) && \
     (defined(__cpp_exceptions) || defined(__EXCEPTIONS))
+#include <functional>
 #include <system_error>
 #include <thread>
 #define CDT3D_HAS_THREADS 1
+#if defined(__linux__) && defined(__GLIBC__) && !defined(__EMSCRIPTEN__)
+#include <pthread.h>
+#define CDT3D_PLACES_THREADS 1
+#endif
 #endif
 
 namespace cdt3d {
@@ -22,10 +28,47 @@ namespace cdt3d {
 /// find no thread to start).
 inline bool threads_available() {
 #ifdef CDT3D_HAS_THREADS
-  return std::thread::hardware_concurrency() > 1;
+  // Asked once: glibc reads /sys/devices/system/cpu/online on every call.
+  static const bool two_or_more = std::thread::hardware_concurrency() > 1;
+  return two_or_more;
 #else
   return false;
 #endif
+}
+
+#ifdef CDT3D_HAS_THREADS
+/// The second thread of run_beside and of the pipeline's self-intersection
+/// test. On Linux it starts on a core other than its creator's, then may run
+/// on any (beside.cpp says why); elsewhere it is a plain std::thread.
+class BesideThread {
+ public:
+  BesideThread() = default;
+  BesideThread(const BesideThread&) = delete;
+  BesideThread& operator=(const BesideThread&) = delete;
+  ~BesideThread() { join(); }
+  /// Runs body() on a new thread; std::system_error when none can be
+  /// started. body() must not throw (the callers catch inside it).
+  void start(std::function<void()> body);
+  void join();
+
+ private:
+#ifdef CDT3D_PLACES_THREADS
+  pthread_t id_{};
+  bool running_ = false;
+#else
+  std::thread thread_;
+#endif
+};
+#endif
+
+/// Returns once `flag` is true: another thread sets it (with release order)
+/// while this one yields the core. Without threads the flag is already set.
+inline void wait_until(const std::atomic<bool>& flag) {
+  while (!flag.load(std::memory_order_acquire)) {
+#ifdef CDT3D_HAS_THREADS
+    std::this_thread::yield();
+#endif
+  }
 }
 
 /// Runs first() here and second() beside it when `beside` (and threads
@@ -38,9 +81,9 @@ void run_beside(bool beside, First&& first, Second&& second) {
 #ifdef CDT3D_HAS_THREADS
   if (beside && threads_available()) {
     std::exception_ptr failure;
-    std::thread worker;
+    BesideThread worker;
     try {
-      worker = std::thread([&] {
+      worker.start([&] {
         try {
           second();
         } catch (...) {

@@ -5,8 +5,10 @@
 #include "facet_recovery.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <deque>
+#include <memory>
 #include <string>
 
 #include "beside.hpp"
@@ -168,6 +170,59 @@ class SubfaceIndex {
   std::vector<std::pair<Triangle, uint32_t>> by_key_;
   std::vector<uint32_t> slot_;
   size_t mask_ = 0;
+};
+
+// Subfaces are grouped by their smallest vertex (counting sort), each entry
+// holding the other two vertices packed in one 64-bit key next to its
+// subface, so a lookup scans a short contiguous run instead of chasing the
+// subface's triangle; a pass over the real tets in slot order (memory order)
+// checks each of their faces against the group of its smallest vertex:
+// cheaper than a star walk per subface. Every face with finite vertices
+// belongs to a real tet.
+class SubfaceFaces {
+ public:
+  SubfaceFaces(const Subfaces& sf, size_t num_vertices)
+      : start_(num_vertices + 1, 0), entries_(sf.tri.size()) {
+    const size_t n = sf.tri.size();
+    auto key_of = [&](uint32_t s) { return sorted_triangle(sf.tri[s]); };
+    for (uint32_t s = 0; s < n; ++s) ++start_[key_of(s)[0] + 1];
+    for (size_t v = 0; v < num_vertices; ++v) start_[v + 1] += start_[v];
+    std::vector<uint32_t> fill(start_.begin(), start_.end() - 1);
+    for (uint32_t s = 0; s < n; ++s) {
+      const Triangle k = key_of(s);
+      entries_[fill[k[0]]++] = {(uint64_t(k[1]) << 32) | k[2], s};
+    }
+  }
+
+  // out[s] = the first half-face in slot order, among the real tets of
+  // slots [begin, end), that holds subface s (entries already set stay).
+  void scan(const TetMesh& mesh, TetId begin, TetId end, std::vector<HalfFace>& out) const {
+    for (TetId t = begin; t < end; ++t) {
+      if (mesh.is_dead(t)) continue;
+      const VertexId* w = mesh.tet_vertices(t);
+      if (w[3] == kInfinite) continue;
+      for (int i = 0; i < 4; ++i) {
+        // A face between two real tets was checked with the first of them
+        // in slot order, which is the one it gets: half the lookups.
+        const HalfFace nb = mesh.adjacent(make_hf(t, i));
+        if (nb != kNoHalfFace && hf_tet(nb) < t && !mesh.is_ghost(hf_tet(nb))) continue;
+        const Triangle key =
+            sorted_triangle({w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]});
+        const uint64_t rest = (uint64_t(key[1]) << 32) | key[2];
+        for (uint32_t j = start_[key[0]]; j < start_[key[0] + 1]; ++j)
+          if (entries_[j].rest == rest && out[entries_[j].s] == kNone)
+            out[entries_[j].s] = make_hf(t, i);
+      }
+    }
+  }
+
+ private:
+  struct Entry {
+    uint64_t rest;  // the two larger vertices, ascending, packed
+    uint32_t s;
+  };
+  std::vector<uint32_t> start_;
+  std::vector<Entry> entries_;
 };
 
 // missing[s] = 1 unless subface s is a face of the mesh; hf: subface_half_faces.
@@ -342,6 +397,53 @@ void missing_region(uint32_t s0, const Subfaces& sf, MeshQuery& q, const std::ve
 // thread costs to start (~35 us).
 constexpr size_t kMinSubfacesBeside = 2000;
 
+// Tet slots per piece of the shared scan below.
+constexpr size_t kScanChunk = 1024;
+
+// find_missing and subface_adjacency on two threads; both only read the mesh
+// and the subfaces. The scan of the tets is most of the work, so it is
+// shared: this thread indexes the subfaces while the other builds the
+// adjacency, then both take pieces of the tet slots in turn, each into its
+// own array, and the smaller half-face of the two (the first in slot order)
+// is the one a single pass finds. Run as two fixed halves (find_missing
+// beside the adjacency: bunny 1.5 ms beside 0.35, nefertiti 22 beside 5) the
+// other core idled for most of the pass; bunny's facet phase 3.3 -> 2.8 ms.
+void missing_and_adjacency_beside(const TetMesh& mesh, const Subfaces& sf,
+                                  std::vector<uint8_t>& missing, std::vector<HalfFace>& hf,
+                                  std::vector<uint32_t>& nbr, std::vector<uint8_t>& fixed) {
+  const size_t n = sf.tri.size(), slots = mesh.num_tet_slots();
+  std::unique_ptr<SubfaceFaces> index;
+  std::atomic<bool> indexed{false};
+  std::atomic<size_t> next{0};
+  auto scan_pieces = [&](std::vector<HalfFace>& out) {
+    out.assign(n, kNone);
+    for (size_t c; (c = next.fetch_add(kScanChunk)) < slots;)
+      index->scan(mesh, TetId(c), TetId(std::min(slots, c + kScanChunk)), out);
+  };
+  std::vector<HalfFace> other;
+  run_beside(
+      true,
+      [&] {
+        try {
+          index.reset(new SubfaceFaces(sf, mesh.num_vertices()));
+        } catch (...) {
+          indexed.store(true, std::memory_order_release);  // the other thread must not wait
+          throw;
+        }
+        indexed.store(true, std::memory_order_release);
+        scan_pieces(hf);
+      },
+      [&] {
+        subface_adjacency(sf, nbr, fixed);
+        wait_until(indexed);
+        if (index) scan_pieces(other);
+      });
+  for (size_t s = 0; s < n; ++s) {
+    if (!other.empty()) hf[s] = std::min(hf[s], other[s]);
+    missing[s] = hf[s] == kNone;
+  }
+}
+
 }  // namespace
 
 Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* stats,
@@ -365,15 +467,15 @@ Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* sta
   MeshQuery q(mesh);
   auto present = [&](uint32_t s) { return q.has_face(sf.tri[s][0], sf.tri[s][1], sf.tri[s][2]); };
 
-  // The subfaces' adjacency and their faces in the mesh only read both: on
-  // two threads from kMinSubfacesBeside subfaces (bunny's 8k: ~4M
-  // instructions each).
   std::vector<uint32_t> nbr;
   std::vector<uint8_t> fixed, missing(n);
   std::vector<HalfFace> hf;
-  run_beside(
-      beside && n >= kMinSubfacesBeside, [&] { find_missing(mesh, sf, missing, hf); },
-      [&] { subface_adjacency(sf, nbr, fixed); });
+  if (beside && n >= kMinSubfacesBeside) {
+    missing_and_adjacency_beside(mesh, sf, missing, hf, nbr, fixed);
+  } else {
+    find_missing(mesh, sf, missing, hf);
+    subface_adjacency(sf, nbr, fixed);
+  }
   st.subface_flips = flip_toward_mesh_impl(mesh, sf, q, nbr, fixed, missing);
   const SubfaceIndex index(sf);  // after the flips
 
@@ -468,49 +570,10 @@ Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* sta
   return Status::success();
 }
 
-// Subfaces are grouped by their smallest vertex (counting sort), each entry
-// holding the other two vertices packed in one 64-bit key next to its
-// subface, so a lookup scans a short contiguous run instead of chasing the
-// subface's triangle; one pass over the real tets in slot order (memory
-// order) checks each of their faces against the group of its smallest
-// vertex: cheaper than a star walk per subface. Every face with finite
-// vertices belongs to a real tet.
 void subface_half_faces(const TetMesh& mesh, const Subfaces& sf, std::vector<HalfFace>& out) {
-  const size_t n = sf.tri.size(), nv = mesh.num_vertices();
-  struct Entry {
-    uint64_t rest;  // the two larger vertices, ascending, packed
-    uint32_t s;
-  };
-  std::vector<uint32_t> start(nv + 1, 0);
-  std::vector<Entry> entries(n);
-  auto key_of = [&](uint32_t s) { return sorted_triangle(sf.tri[s]); };
-  for (uint32_t s = 0; s < n; ++s) ++start[key_of(s)[0] + 1];
-  for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  {
-    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
-    for (uint32_t s = 0; s < n; ++s) {
-      const Triangle k = key_of(s);
-      entries[fill[k[0]]++] = {(uint64_t(k[1]) << 32) | k[2], s};
-    }
-  }
-  out.assign(n, kNone);
-  const size_t slots = mesh.num_tet_slots();
-  for (TetId t = 0; t < slots; ++t) {
-    if (mesh.is_dead(t)) continue;
-    const VertexId* w = mesh.tet_vertices(t);
-    if (w[3] == kInfinite) continue;
-    for (int i = 0; i < 4; ++i) {
-      // A face between two real tets was checked with the first of them in
-      // slot order, which is the one it gets: half the lookups.
-      const HalfFace nb = mesh.adjacent(make_hf(t, i));
-      if (nb != kNoHalfFace && hf_tet(nb) < t && !mesh.is_ghost(hf_tet(nb))) continue;
-      const Triangle key =
-          sorted_triangle({w[kFaceVertex[i][0]], w[kFaceVertex[i][1]], w[kFaceVertex[i][2]]});
-      const uint64_t rest = (uint64_t(key[1]) << 32) | key[2];
-      for (uint32_t j = start[key[0]]; j < start[key[0] + 1]; ++j)
-        if (entries[j].rest == rest && out[entries[j].s] == kNone) out[entries[j].s] = make_hf(t, i);
-    }
-  }
+  const SubfaceFaces index(sf, mesh.num_vertices());
+  out.assign(sf.tri.size(), kNone);
+  index.scan(mesh, 0, static_cast<TetId>(mesh.num_tet_slots()), out);
 }
 
 void refresh_subface_half_faces(TetMesh& mesh, const Subfaces& sf, std::vector<HalfFace>& hf) {

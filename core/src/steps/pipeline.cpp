@@ -128,7 +128,7 @@ class IntersectionTest {
 #ifdef CDT3D_HAS_THREADS
     if (beside && threads_available()) {
       try {
-        thread_ = std::thread([this, &plc] { run(plc); });
+        thread_.start([this, &plc] { run(plc); });
         return;
       } catch (const std::system_error&) {
         // no thread to be had: test here
@@ -203,7 +203,7 @@ class IntersectionTest {
   }
   void join() {
 #ifdef CDT3D_HAS_THREADS
-    if (thread_.joinable()) thread_.join();
+    thread_.join();
 #endif
   }
 
@@ -218,7 +218,7 @@ class IntersectionTest {
   std::vector<std::array<VertexId, 2>> segments_;
   SegmentSet segment_set_;
 #ifdef CDT3D_HAS_THREADS
-  std::thread thread_;
+  BesideThread thread_;
   std::mutex mutex_;
   std::condition_variable published_cv_;
   bool published_ = false;
