@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -255,6 +256,27 @@ TEST_CASE("an untetrahedralizable region fails naming a facet, mesh intact", "[f
   std::vector<uint32_t> after;
   r.mesh.real_tets(after);
   CHECK(before == after);  // failed attempts leave the mesh untouched
+}
+
+// The pipeline lets step 4 start before the self-intersection test beside
+// it has ended, and stops it through `stop` when the test finds a pair: a
+// missing subface then ends the recovery as cancelled; with nothing missing
+// the recovery has nothing to stop.
+TEST_CASE("facet recovery ends as cancelled once its stop flag is set", "[facets]") {
+  Run r;
+  REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) + "/decimated_knight.off", r.plc).ok());
+  prepare(r);
+  Run again = r;
+  std::atomic<bool> stop{true};
+  r.status = recover_facets(r.mesh, r.sf, &r.st, nullptr, false, nullptr, false, &stop);
+  REQUIRE(r.st.missing_initially > 0);
+  CHECK(r.status.error.code == ErrorCode::Cancelled);
+  stop = false;
+  again.status =
+      recover_facets(again.mesh, again.sf, &again.st, nullptr, false, nullptr, false, &stop);
+  CHECK(again.status.ok());
+  stop = true;  // nothing left to stop
+  CHECK(recover_facets(again.mesh, again.sf, nullptr, nullptr, false, nullptr, false, &stop).ok());
 }
 
 TEST_CASE("a triangle pierced by a Delaunay edge is recovered", "[facets]") {

@@ -448,7 +448,8 @@ void missing_and_adjacency_beside(const TetMesh& mesh, const Subfaces& sf,
 
 Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* stats,
                       const volatile bool* cancel, bool force_failure,
-                      std::vector<HalfFace>* half_faces, bool beside) {
+                      std::vector<HalfFace>* half_faces, bool beside,
+                      const std::atomic<bool>* stop) {
   FacetRecoveryStats st;
   if (stats) *stats = st;
   // Statistics are reported on failure as well (what was done until then).
@@ -498,7 +499,8 @@ Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* sta
   const size_t max_attempts = 16 * st.missing_initially + 256;
   size_t attempts = 0;
   while (!queue.empty()) {
-    if (cancel && *cancel) return make_error(ErrorCode::Cancelled, "Facet recovery was cancelled.");
+    if ((cancel && *cancel) || (stop && stop->load(std::memory_order_relaxed)))
+      return make_error(ErrorCode::Cancelled, "Facet recovery was cancelled.");
     const uint32_t s0 = queue.front();
     queue.pop_front();
     queued[s0] = 0;

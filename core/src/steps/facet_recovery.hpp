@@ -6,6 +6,7 @@
 #include <cdt3d/cdt3d.hpp>
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -73,9 +74,12 @@ size_t flip_subfaces_toward_mesh(TetMesh& mesh, Subfaces& subfaces);
 /// before recovery (right for the subfaces that were present then and whose
 /// tets no cavity took): input for refresh_subface_half_faces.
 /// `beside`: the first pass may use a second thread (beside.hpp); the
-/// result is the same either way.
+/// result is the same either way. `stop` (optional) ends the recovery like
+/// *cancel once it becomes true (the pipeline's self-intersection test
+/// found a pair).
 Status recover_facets(TetMesh& mesh, Subfaces& subfaces, FacetRecoveryStats* stats = nullptr,
                       const volatile bool* cancel = nullptr, bool force_failure = false,
-                      std::vector<HalfFace>* half_faces = nullptr, bool beside = false);
+                      std::vector<HalfFace>* half_faces = nullptr, bool beside = false,
+                      const std::atomic<bool>* stop = nullptr);
 
 }  // namespace cdt3d

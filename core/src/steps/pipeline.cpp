@@ -163,6 +163,8 @@ class IntersectionTest {
     return found_;
   }
   double ms() const { return ms_; }
+  /// Whether the test has ended (found() then does not wait).
+  bool finished() const { return finished_.load(std::memory_order_acquire); }
 
  private:
   void run(const Plc& plc) {
@@ -180,6 +182,7 @@ class IntersectionTest {
 #endif
     ms_ = ms_since(t0);
     if (found_any_ && (!found_.empty() || failure_)) found_any_->store(true);
+    finished_.store(true, std::memory_order_release);
   }
   // check_plc, plc_segments and init_segments when asked for; false when
   // the checks failed.
@@ -210,6 +213,7 @@ class IntersectionTest {
   std::vector<Intersection> found_;
   std::exception_ptr failure_;
   std::atomic<bool>* found_any_ = nullptr;
+  std::atomic<bool> finished_{false};
   double ms_ = 0;
   bool checks_ = false;
   // Written before the checks are published, read by checked() after.
@@ -276,6 +280,7 @@ class Pipeline {
   Status insert_facet_splits();
   Status intersection_verdict(IntersectionTest& test, bool beside);
   bool await_intersections();
+  bool take_ended_test();
   // Step 1's options: two threads where the run may use them.
   DelaunayOptions delaunay_options() const {
     DelaunayOptions o;
@@ -538,15 +543,26 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
     s.ms_degeneracy += ms;
   }
 
-  // Step 4, on a PLC that passed the self-intersection test.
+  // Step 4. On a large PLC the self-intersection test may still run beside:
+  // step 4 does not wait for it (igea: ~80 ms of the WebAssembly build's
+  // ~720, ~15-80 natively), its verdict comes when it has ended, at the
+  // latest after step 4 (run()). An intersecting PLC makes step 4's work
+  // wasted and its outcome moot (the intersection is the run's error,
+  // whatever step 4 did), so step 4 stops when the test finds a pair. Until
+  // the test's thread is joined step 4 keeps to this thread: halves beside
+  // would share the test's core, and the WebAssembly module's one pool
+  // worker is the test's (a thread asked for then fails with an exception
+  // that is not std::system_error).
   if (opt_.stop_after >= Phase::Facets) {
-    if (!await_intersections()) return false;
     if (!begin(Phase::Facets)) return false;
+    if (!take_ended_test()) return false;
     st = triangulate_facets(*plc_, segs_, mesh_, facet_interior_, subfaces_, nothing_embedded_,
-                            opt_.threads);
+                            opt_.threads && !pending_test_);
     const bool force = facet_splits_.size() < opt_.debug_forced_facet_splits;
-    if (st.ok()) st = recover_facets(mesh_, subfaces_, &fst, opt_.cancel, force, &subface_hf_,
-                                      opt_.threads);
+    if (st.ok() && !take_ended_test()) return false;
+    if (st.ok())
+      st = recover_facets(mesh_, subfaces_, &fst, opt_.cancel, force, &subface_hf_,
+                          opt_.threads && !pending_test_, &intersecting_);
     s.missing_subfaces = fst.missing_initially, s.regions = fst.regions;
     s.cavities = fst.cavities, s.largest_cavity = fst.largest_cavity, s.fallbacks = fst.fallbacks;
     if (!end(Phase::Facets, st, &s.ms_facets)) return false;
@@ -591,6 +607,12 @@ Status Pipeline::intersection_verdict(IntersectionTest& test, bool beside) {
 // Waits for the test running beside the steps, if one is; false (with its
 // error as the run's, replacing any error of the steps, which an
 // intersection explains) when it found a pair.
+// The verdict of the test beside if it has ended (await_intersections, which
+// then does not wait); true while it runs.
+bool Pipeline::take_ended_test() {
+  return !pending_test_ || !pending_test_->finished() || await_intersections();
+}
+
 bool Pipeline::await_intersections() {
   if (!pending_test_) return true;
   IntersectionTest& test = *pending_test_;
