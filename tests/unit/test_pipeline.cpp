@@ -344,13 +344,14 @@ TEST_CASE("a thread beside runs its job on another thread, free to move", "[pipe
 #endif
   {
     BesideThread t;
-    t.start([&] {
+    const bool started = t.start([&] {
       id = std::this_thread::get_id();
       ++runs;
 #ifdef CDT3D_PLACES_THREADS
       sched_getaffinity(0, sizeof(seen), &seen);
 #endif
     });
+    REQUIRE(started);
     t.join();
     t.join();  // a second join does nothing
   }

@@ -3,7 +3,9 @@
 
 #ifdef CDT3D_HAS_THREADS
 
+#include <atomic>
 #include <memory>
+#include <system_error>
 
 #ifdef CDT3D_PLACES_THREADS
 #include <sched.h>
@@ -41,7 +43,7 @@ void* run_start(void* arg) {
 
 }  // namespace
 
-void BesideThread::start(std::function<void()> body) {
+bool BesideThread::start(std::function<void()> body) {
   auto start = std::make_unique<Start>();
   start->body = std::move(body);
   pthread_attr_t attr;
@@ -56,9 +58,10 @@ void BesideThread::start(std::function<void()> body) {
   }
   const int rc = pthread_create(&id_, &attr, run_start, start.get());
   pthread_attr_destroy(&attr);
-  if (rc != 0) throw std::system_error(rc, std::generic_category(), "pthread_create");
+  if (rc != 0) return false;
   start.release();  // run_start owns it now
   running_ = true;
+  return true;
 }
 
 void BesideThread::join() {
@@ -67,9 +70,47 @@ void BesideThread::join() {
   running_ = false;
 }
 
+#elif defined(__EMSCRIPTEN__)
+
+// The Node module has one pool worker (wasm/CMakeLists.txt). Asked for a
+// thread while that worker runs one, Emscripten 3.1.6's std::thread throws
+// (something no catch of std::system_error or std::exception matched), so a
+// second live thread is refused here before it is asked for. (The module
+// is called from one JS thread.)
+namespace {
+std::atomic<int> live_threads{0};
+}  // namespace
+
+bool BesideThread::start(std::function<void()> body) {
+  if (live_threads.fetch_add(1) > 0) {
+    live_threads.fetch_sub(1);
+    return false;
+  }
+  try {
+    thread_ = std::thread(std::move(body));
+  } catch (...) {
+    live_threads.fetch_sub(1);
+    return false;
+  }
+  return true;
+}
+
+void BesideThread::join() {
+  if (!thread_.joinable()) return;
+  thread_.join();
+  live_threads.fetch_sub(1);
+}
+
 #else
 
-void BesideThread::start(std::function<void()> body) { thread_ = std::thread(std::move(body)); }
+bool BesideThread::start(std::function<void()> body) {
+  try {
+    thread_ = std::thread(std::move(body));
+  } catch (const std::system_error&) {
+    return false;
+  }
+  return true;
+}
 
 void BesideThread::join() {
   if (thread_.joinable()) thread_.join();

@@ -13,7 +13,6 @@
 #if (!defined(__EMSCRIPTEN__) || defined(__EMSCRIPTEN_PTHREADS__)) && \
     (defined(__cpp_exceptions) || defined(__EXCEPTIONS))
 #include <functional>
-#include <system_error>
 #include <thread>
 #define CDT3D_HAS_THREADS 1
 #if defined(__linux__) && defined(__GLIBC__) && !defined(__EMSCRIPTEN__)
@@ -46,9 +45,12 @@ class BesideThread {
   BesideThread(const BesideThread&) = delete;
   BesideThread& operator=(const BesideThread&) = delete;
   ~BesideThread() { join(); }
-  /// Runs body() on a new thread; std::system_error when none can be
-  /// started. body() must not throw (the callers catch inside it).
-  void start(std::function<void()> body);
+  /// Runs body() on a new thread; false (body() not run) when none can be
+  /// started. body() must not throw (the callers catch inside it). No
+  /// exception reports a refusal: in the WebAssembly build a failed
+  /// std::thread throws something that no catch of std::system_error (nor
+  /// of std::exception) matched.
+  bool start(std::function<void()> body);
   void join();
 
  private:
@@ -82,15 +84,14 @@ void run_beside(bool beside, First&& first, Second&& second) {
   if (beside && threads_available()) {
     std::exception_ptr failure;
     BesideThread worker;
-    try {
-      worker.start([&] {
-        try {
-          second();
-        } catch (...) {
-          failure = std::current_exception();
-        }
-      });
-    } catch (const std::system_error&) {
+    const bool started = worker.start([&] {
+      try {
+        second();
+      } catch (...) {
+        failure = std::current_exception();
+      }
+    });
+    if (!started) {
       first();  // no thread to be had
       second();
       return;

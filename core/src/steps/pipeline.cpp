@@ -126,14 +126,8 @@ class IntersectionTest {
     found_any_ = found_any;
     checks_ = checks;
 #ifdef CDT3D_HAS_THREADS
-    if (beside && threads_available()) {
-      try {
-        thread_.start([this, &plc] { run(plc); });
-        return;
-      } catch (const std::system_error&) {
-        // no thread to be had: test here
-      }
-    }
+    if (beside && threads_available() && thread_.start([this, &plc] { run(plc); })) return;
+      // else no thread to be had: test here
 #else
     (void)beside;
 #endif
@@ -551,8 +545,7 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
   // whatever step 4 did), so step 4 stops when the test finds a pair. Until
   // the test's thread is joined step 4 keeps to this thread: halves beside
   // would share the test's core, and the WebAssembly module's one pool
-  // worker is the test's (a thread asked for then fails with an exception
-  // that is not std::system_error).
+  // worker is the test's (BesideThread would refuse a second thread).
   if (opt_.stop_after >= Phase::Facets) {
     if (!begin(Phase::Facets)) return false;
     if (!take_ended_test()) return false;
