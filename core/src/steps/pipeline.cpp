@@ -126,8 +126,8 @@ class IntersectionTest {
     found_any_ = found_any;
     checks_ = checks;
 #ifdef CDT3D_HAS_THREADS
+    // Else (no thread to be had) the test runs here.
     if (beside && threads_available() && thread_.start([this, &plc] { run(plc); })) return;
-      // else no thread to be had: test here
 #else
     (void)beside;
 #endif
