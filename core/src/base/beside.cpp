@@ -56,8 +56,12 @@ bool BesideThread::start(std::function<void()> body) {
     CPU_CLR(here, &others);
     start->widen = pthread_attr_setaffinity_np(&attr, sizeof(others), &others) == 0;
   }
-  const int rc = pthread_create(&id_, &attr, run_start, start.get());
+  int rc = pthread_create(&id_, &attr, run_start, start.get());
   pthread_attr_destroy(&attr);
+  if (rc != 0 && start->widen) {  // the placement refused (a cpuset, say): anywhere then
+    start->widen = false;
+    rc = pthread_create(&id_, nullptr, run_start, start.get());
+  }
   if (rc != 0) return false;
   start.release();  // run_start owns it now
   running_ = true;
