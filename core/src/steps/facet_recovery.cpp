@@ -438,8 +438,8 @@ void missing_and_adjacency_beside(const TetMesh& mesh, const Subfaces& sf,
         wait_until(indexed);
         if (index) scan_pieces(other);
       });
-  for (size_t s = 0; s < n; ++s) {
-    if (!other.empty()) hf[s] = std::min(hf[s], other[s]);
+  for (size_t s = 0; s < n; ++s) {  // both arrays are full size once both halves ran
+    hf[s] = std::min(hf[s], other[s]);
     missing[s] = hf[s] == kNone;
   }
 }

@@ -600,18 +600,18 @@ Status Pipeline::intersection_verdict(IntersectionTest& test, bool beside) {
 // Waits for the test running beside the steps, if one is; false (with its
 // error as the run's, replacing any error of the steps, which an
 // intersection explains) when it found a pair.
-// The verdict of the test beside if it has ended (await_intersections, which
-// then does not wait); true while it runs.
-bool Pipeline::take_ended_test() {
-  return !pending_test_ || !pending_test_->finished() || await_intersections();
-}
-
 bool Pipeline::await_intersections() {
   if (!pending_test_) return true;
   IntersectionTest& test = *pending_test_;
   pending_test_ = nullptr;
   const Status st = intersection_verdict(test, true);
   return st.ok() || fail(st);
+}
+
+// The verdict of the test beside if it has ended (await_intersections, which
+// then does not wait); true while it runs.
+bool Pipeline::take_ended_test() {
+  return !pending_test_ || !pending_test_->finished() || await_intersections();
 }
 
 void Pipeline::run() {
