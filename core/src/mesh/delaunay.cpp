@@ -340,7 +340,7 @@ void PointInserter::point_vertices_to_new_tets() {
   TetMesh& m = mesh_;
   // Vertex-to-tet map: every vertex of the cavity lies on its boundary and
   // gets a new real tet (near the vertex the old tets it had are replaced by
-  // new ones), so vtet always names a real tet.
+  // new ones), so vtet always names a real tet (not in shared mode, below).
   if (shared_) {
     point_vertices_shared();
     return;
@@ -353,50 +353,47 @@ void PointInserter::point_vertices_to_new_tets() {
   }
 }
 
-// The same map in shared mode. Both threads may point a vertex of both
-// their cavities at their own new tet; either is right (each is live and
-// locked when written, and whoever removes it later points the vertex
-// again), but the stores must be atomic. WebAssembly has sequentially
-// consistent atomic stores only (an exchange on x86-64, where a relaxed
-// store is a plain move), so each vertex is written once: to the last new
-// real tet at it, as the writes in order would leave it, taking the tets
-// from the last. Four stores per new tet made step 1 of nefertiti ~11%
-// slower under Node.
+// Shared mode leaves the map alone: a two-thread round only happens in a
+// build that numbers its tets canonically afterwards, and canonicalize
+// points every vertex anew; until then the map is read only at vertices
+// not inserted yet (insert_vertex's check, kNone there) and as a walk
+// start that start_tet_shared checks. Both threads would write the
+// vertices of the border between their parts, so the stores had to be
+// atomic, and under Node every atomic store is an exchange: ~20 per point
+// made step 1 of nefertiti ~11% slower even when each vertex was written
+// once per point. The walk goes on from the last new real tet.
 void PointInserter::point_vertices_shared() {
-  TetMesh& m = mesh_;
-  if (vmark_.size() < m.num_vertices()) vmark_.resize(m.num_vertices(), 0);
-  if (++mark_epoch_ == 0) {  // wrapped: forget every old mark
-    std::fill(vmark_.begin(), vmark_.end(), 0u);
-    mark_epoch_ = 1;
-  }
-  bool last = true;
-  for (auto it = new_tets_.rbegin(); it != new_tets_.rend(); ++it) {
-    const TetId t = *it;
-    const VertexId* w = &m.tv[4 * static_cast<size_t>(t)];
-    if (w[3] == kInfinite) continue;
-    if (last) last_tet_ = t, last = false;
-    for (int i = 0; i < 4; ++i) {
-      if (vmark_[w[i]] == mark_epoch_) continue;
-      vmark_[w[i]] = mark_epoch_;
-      __atomic_store_n(&m.vtet[w[i]], t, __ATOMIC_RELAXED);
+  for (auto it = new_tets_.rbegin(); it != new_tets_.rend(); ++it)
+    if (mesh_.tv[4 * static_cast<size_t>(*it) + 3] != kInfinite) {
+      last_tet_ = *it;
+      return;
     }
-  }
 }
 
 // ---------------------------------------------------------------------------
 // Shared mode: two inserters on one mesh (the two-thread bulk build)
 // ---------------------------------------------------------------------------
 
-// One thread's part of a shared build: the lock word of every tet slot
-// (0 free, else the holder's id), this part's id, its range of fresh slots,
-// the slots it freed and its change of the live tet count. Locks are only
-// ever tried, never waited for, so the two threads cannot deadlock; a tet
-// is read only by its holder, and a release of a lock publishes what its
-// holder wrote (acquire on taking, release on giving back).
+// One thread's part of a shared build. Every tet slot has a lock word: 0,
+// or the token of the attempt (one point's insertion) that last took it. A
+// token is (attempt number << 2) | the part's id (1 or 2), and each part
+// publishes its current one; a word holding the other part's current token
+// is held, any other word is free (a finished attempt's tets need no
+// unlocking). So an attempt ends with one store, the next token, instead of
+// one store per tet it took: under Node every atomic store is an exchange
+// (~60 per insertion), a plain move natively. Locks are only ever tried,
+// never waited for, so the two threads cannot deadlock; a tet is read only
+// by its holder. Publication: taking a word is an acquire, and the other
+// part's token is read with acquire before a word it wrote is taken, which
+// pairs with the release store that ended that attempt (after all its
+// writes). 30-bit attempt numbers never wrap within one build.
 struct PointInserter::Shared {
-  std::atomic<uint8_t>* owner = nullptr;
-  uint8_t me = 0;
-  TetId next = 0, end = 0;
+  std::atomic<uint32_t>* owner = nullptr;
+  std::atomic<uint32_t>* token = nullptr;        ///< this part's current token
+  const std::atomic<uint32_t>* other = nullptr;  ///< the other part's
+  uint32_t me = 0;                               ///< 1 or 2
+  uint32_t current = 0;                          ///< == *token, this thread's copy
+  TetId begin = 0, next = 0, end = 0;            ///< this part's fresh slots, the next one
   std::vector<TetId> freed;
   int64_t live_delta = 0;
   size_t inserted = 0;
@@ -404,12 +401,11 @@ struct PointInserter::Shared {
 
 TetId PointInserter::alloc_slot() {
   if (!shared_) return mesh_.alloc_tet();
-  // A fresh slot from this part's range (insert_vertex_shared checked there
-  // are enough), locked so that releasing it publishes its contents.
+  // A fresh slot from this part's range: the other thread cannot reach it
+  // before this attempt's tets are published, so a relaxed store takes it.
   const TetId t = shared_->next++;
   mesh_.tflag[t] = 0;
-  shared_->owner[t].store(shared_->me, std::memory_order_relaxed);
-  held_.push_back(t);
+  shared_->owner[t].store(shared_->current, std::memory_order_relaxed);
   ++shared_->live_delta;
   return t;
 }
@@ -426,59 +422,55 @@ void PointInserter::free_slot(TetId t) {
   --shared_->live_delta;
 }
 
+// Takes tet t for this attempt; false when the other part's current
+// attempt holds it (or takes it meanwhile).
 bool PointInserter::lock(TetId t) {
-  std::atomic<uint8_t>& o = shared_->owner[t];
-  uint8_t cur = o.load(std::memory_order_relaxed);
-  if (cur == shared_->me) return true;
-  if (cur != 0 || !o.compare_exchange_strong(cur, shared_->me, std::memory_order_acquire,
-                                             std::memory_order_relaxed))
+  std::atomic<uint32_t>& o = shared_->owner[t];
+  uint32_t cur = o.load(std::memory_order_relaxed);
+  if (cur == shared_->current) return true;
+  if ((cur & 3) != 0 && (cur & 3) != shared_->me &&
+      cur == shared_->other->load(std::memory_order_acquire))
     return false;
-  held_.push_back(t);
-  return true;
+  return o.compare_exchange_strong(cur, shared_->current, std::memory_order_acquire,
+                                   std::memory_order_relaxed);
 }
 
-void PointInserter::unlock(TetId t) {
-  shared_->owner[t].store(0, std::memory_order_release);
-  held_.erase(std::find(held_.begin(), held_.end(), t));
-}
-
+// Ends this part's attempt: publishes its writes and frees every tet it
+// took, by moving on to the next token.
 void PointInserter::unlock_all() {
-  for (TetId t : held_) shared_->owner[t].store(0, std::memory_order_release);
-  held_.clear();
+  shared_->current += 4;
+  shared_->token->store(shared_->current, std::memory_order_release);
 }
 
 // A locked live real tet to start the walk from: the last tet this inserter
-// made, else one at the last vertex it inserted.
+// made, else (the other thread took it apart) the newest live one among the
+// few last slots of this part's range, which is where this thread works.
 bool PointInserter::start_tet_shared(TetId& t) {
   TetMesh& m = mesh_;
   const TetId slots = static_cast<TetId>(m.num_tet_slots());
-  const TetId at_vertex =
-      last_vertex_ == kNone ? kNone : __atomic_load_n(&m.vtet[last_vertex_], __ATOMIC_RELAXED);
-  for (TetId c : {last_tet_, at_vertex}) {
-    if (c >= slots || !lock(c)) continue;
-    if (!m.is_dead(c) && !m.is_ghost(c)) {
+  auto usable = [&](TetId c) { return c < slots && lock(c) && !m.is_dead(c) && !m.is_ghost(c); };
+  if (usable(last_tet_)) {
+    t = last_tet_;
+    return true;
+  }
+  constexpr TetId kTries = 64;
+  for (TetId c = shared_->next; c > shared_->begin && shared_->next - c < kTries;)
+    if (usable(--c)) {
       t = c;
       return true;
     }
-    unlock(c);
-  }
   return false;
 }
 
-// locate_point's visibility walk, holding one tet at a time (the next is
-// locked before the current is let go, so the step across their shared face
-// stays valid). False when a tet on the way is held by the other thread.
+// locate_point's visibility walk, taking each tet before it steps in (the
+// tets it passed stay taken until the attempt ends: the walks are a few
+// steps long between neighbouring points, and no lock is given back alone).
+// False when a tet on the way is held by the other thread.
 bool PointInserter::locate_shared(const double* p, TetId& t, LocateKind& kind) {
   TetId start;
   if (!start_tet_shared(start)) return false;
   const Location loc = walk_to_point(
-      mesh_, p, start, rng_,
-      [this](TetId from, TetId to) {
-        if (!lock(to)) return false;
-        unlock(from);
-        return true;
-      },
-      box_at(p));
+      mesh_, p, start, rng_, [this](TetId, TetId to) { return lock(to); }, box_at(p));
   walk_steps += loc.steps;
   t = loc.tet, kind = loc.kind;
   return kind != LocateKind::Failed;
@@ -508,7 +500,6 @@ PointInserter::Attempt PointInserter::insert_vertex_shared(VertexId v) {
     } else {
       point_vertices_to_new_tets();
       m.vkind[v] = kVertexInput;
-      last_vertex_ = v;
       ++shared_->inserted;
       result = Attempt::Inserted;
     }
@@ -930,12 +921,21 @@ RoundResult insert_round_two_threads(TetMesh& w, PointInserter& ins, uint64_t se
   w.tadj.resize(4 * slots, kNone);
   w.tstamp.resize(slots, 0);
   w.tflag.resize(slots, kTetDead);
-  std::unique_ptr<std::atomic<uint8_t>[]> owner(new std::atomic<uint8_t>[slots]());
+  std::unique_ptr<std::atomic<uint32_t>[]> owner(new std::atomic<uint32_t>[slots]());
+  // Attempt 1 of each part; a cache line each (each thread writes its own
+  // once per point).
+  struct alignas(64) Token {
+    std::atomic<uint32_t> word;
+  };
+  Token token_a{{4 | 1}}, token_b{{4 | 2}};
   PointInserter::Shared pa, pb;
   pa.owner = pb.owner = owner.get();
   pa.me = 1, pb.me = 2;
-  pa.next = TetId(base), pa.end = TetId(base + per);
-  pb.next = TetId(base + per), pb.end = TetId(slots);
+  pa.current = token_a.word.load(), pb.current = token_b.word.load();
+  pa.token = &token_a.word, pa.other = &token_b.word;
+  pb.token = &token_b.word, pb.other = &token_a.word;
+  pa.begin = pa.next = TetId(base), pa.end = TetId(base + per);
+  pb.begin = pb.next = TetId(base + per), pb.end = TetId(slots);
 
   PointInserter other(w, seed ^ 0x6f74686572ull);
   other.take_settings(ins);

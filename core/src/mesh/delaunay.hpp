@@ -314,7 +314,6 @@ class PointInserter {
   TetId alloc_slot();
   void free_slot(TetId t);
   bool lock(TetId t);
-  void unlock(TetId t);
   void unlock_all();
   bool start_tet_shared(TetId& t);
   const pred::BoxBounds* box_at(const double* p);
@@ -328,8 +327,6 @@ class PointInserter {
   TetMesh& mesh_;
   const VertexId* sos_id_ = nullptr;
   Shared* shared_ = nullptr;
-  std::vector<TetId> held_;  // tets locked by this inserter (shared mode)
-  VertexId last_vertex_ = kNone;
   bool reject_flat_ = false;
   bool cospherical_ = false;
   bool small_integers_ = false;
@@ -344,10 +341,6 @@ class PointInserter {
   // so that new tets sharing a boundary edge meet in a small dense table.
   std::vector<uint32_t> vlocal_;
   std::vector<VertexId> locals_;
-  // Shared mode: the vertices already pointed at a new tet in this
-  // insertion (vmark_[x] == mark_epoch_), see point_vertices_to_new_tets.
-  std::vector<uint32_t> vmark_;
-  uint32_t mark_epoch_ = 0;
   // Written before read (each directed boundary edge by its own new tet,
   // read by its partner), so left uninitialized: zeroing its 36 KiB cost
   // more than a whole Delaunay tetrahedralization of a few points.
