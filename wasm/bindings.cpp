@@ -270,7 +270,8 @@ val stats_js(const cdt3d::Statistics& s) {
   n("splitRemoved", s.split_removed);
   n("maxSplits", s.max_splits), n("perturbations", s.perturbations);
   n("breakPoints", s.break_points), n("protectSegment", s.protect_segment);
-  n("protectFacet", s.protect_facet), n("mergedFacets", s.merged_facets);
+  n("protectFacet", s.protect_facet), n("flatEdges", s.flat_edges);
+  n("mergedFacets", s.merged_facets);
   n("missingSubfaces", s.missing_subfaces), n("regions", s.regions), n("cavities", s.cavities);
   n("largestCavity", s.largest_cavity), n("fallbacks", s.fallbacks);
   n("facetSplits", s.facet_splits), n("refineSegment", s.refine_segment);
@@ -435,7 +436,7 @@ val tetrahedralize_js(val input, val options, val on_progress) {
   opt.keep_convex_hull = options["keepConvexHull"].as<bool>();
   opt.validate = options["validate"].as<bool>();
   opt.check_intersections = options["checkIntersections"].as<bool>();
-  opt.merge_coplanar_facets = options["mergeCoplanarFacets"].as<bool>();
+  opt.keep_triangles = options["keepTriangles"].as<bool>();
   const std::string degeneracy = options["degeneracy"].as<std::string>();
   if (degeneracy == "paper")
     opt.degeneracy = cdt3d::DegeneracyMode::Paper;

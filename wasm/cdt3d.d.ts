@@ -244,7 +244,14 @@ export interface TetrahedralizeOptions {
   validate?: boolean;
   /** Reject self-intersecting input (exact). Default true. */
   checkIntersections?: boolean;
-  /** Join coplanar edge-adjacent facets (TetGen's default; fewer Steiner points). Default false (like tetgen -M). */
+  /**
+   * Keep every input facet (triangle) as a facet of its own, like `tetgen -pM`.
+   * Default false: flat faces are merged first (facets joined by exactly
+   * coplanar edges form one facet whose inner edges are no constraints, like
+   * `tetgen -p`); `faceFacets` then name the smallest input facet of each flat face.
+   */
+  keepTriangles?: boolean;
+  /** Old name of the default: `false` means `keepTriangles: true`. */
   mergeCoplanarFacets?: boolean;
   /**
    * Repair the PLC first (as {@link Cdt3d.repair}); the result's faceFacets,
@@ -325,7 +332,9 @@ export interface MeshStatistics {
   protectSegment: number;
   /** Step 3 in "paper" mode: points protecting facets (0 with the default symbolic perturbation). */
   protectFacet: number;
-  /** Input facets joined into others (option mergeCoplanarFacets). */
+  /** Flat edges found (two exactly coplanar facets on opposite sides); 0 with keepTriangles. */
+  flatEdges: number;
+  /** Facets of the merged PLC made of two or more input facets; 0 with keepTriangles. */
   mergedFacets: number;
   /** Facet recovery (§7): subfaces missing from the mesh when facet recovery starts. */
   missingSubfaces: number;

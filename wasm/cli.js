@@ -62,7 +62,8 @@ function parse(args) {
     else if (a === '--keep-hull') opts.tet.keepConvexHull = true;
     else if (a === '--validate') opts.tet.validate = true;
     else if (a === '--no-intersection-check') opts.tet.checkIntersections = false;
-    else if (a === '--merge') opts.tet.mergeCoplanarFacets = true;
+    else if (a === '--keep-triangles') opts.tet.keepTriangles = true;
+    else if (a === '--merge') opts.tet.keepTriangles = false;  // the default, named
     else if (a === '--paper-degeneracy') opts.tet.degeneracy = 'paper';
     else if ((a === '-o' || a === '--format' || a === '--stop-after') && i + 1 < args.length) {
       const v = args[++i];

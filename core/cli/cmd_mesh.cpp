@@ -31,7 +31,7 @@ void usage(std::FILE* out) {
   std::fprintf(
       out,
       "usage: cdt3d mesh MODEL [-o PREFIX] [--format node|vtk|mesh] [--keep-hull]\n"
-      "                        [--validate] [--stats] [--json] [-q] [--merge]\n"
+      "                        [--validate] [--stats] [--json] [-q] [--keep-triangles]\n"
       "                        [--paper-degeneracy] [--no-intersection-check] [--one-thread]\n"
       "                        [--stop-after PHASE]\n"
       "                        [--repair] [--quality [RATIO]] [--max-volume V] [--min-dihedral D]\n"
@@ -47,8 +47,10 @@ void usage(std::FILE* out) {
       "                    before and after refinement when it ran)\n"
       "  --json            print the statistics as one JSON object on stdout\n"
       "  -q                quiet: print nothing but errors\n"
-      "  --merge           join coplanar edge-adjacent facets into one (TetGen's default;\n"
-      "                    by default every input facet is kept, like tetgen -M)\n"
+      "  --keep-triangles  keep every input facet (triangle) as a facet, like tetgen -pM; by\n"
+      "                    default flat faces are merged first: facets joined by exactly\n"
+      "                    coplanar edges form one facet whose inner edges are no\n"
+      "                    constraints (like tetgen -p); --merge names that default\n"
       "  --paper-degeneracy  step 3 as in Si & Gaertner 2005, section 6 (perturbations, break points,\n"
       "                    boundary protection) instead of the symbolic perturbation\n"
       "  --no-intersection-check  skip the exact self-intersection test of the input\n"
@@ -154,6 +156,12 @@ void print_table(const std::string& input, const Result& r, Phase stop, Degenera
   std::printf("%s\n", input.c_str());
   std::printf("  Input points:              %zu\n", s.input_points);
   std::printf("  Input facets:              %zu\n", s.input_facets);
+  if (r.flat_faces_merged)
+    std::printf("  Flat faces:                %zu flat edges, %zu facets merged from several "
+                "(--keep-triangles keeps every input facet)\n",
+                s.flat_edges, s.merged_facets);
+  else
+    std::printf("  Flat faces:                not merged (--keep-triangles)\n");
   std::printf("  Input segments:            %zu\n", s.input_segments);
   std::printf("  Mesh points:               %zu\n", s.points);
   std::printf("  Mesh tetrahedra:           %zu\n", s.tets);
@@ -313,8 +321,10 @@ int parse_mesh_args(int argc, char** argv, MeshArgs& m) {
       opt.validate = true;
     } else if (a == "--paper-degeneracy") {
       opt.degeneracy = DegeneracyMode::Paper;
+    } else if (a == "--keep-triangles") {
+      opt.keep_triangles = true;
     } else if (a == "--merge") {
-      opt.merge_coplanar_facets = true;
+      opt.keep_triangles = false;  // the default, named
     } else if (a == "--repair") {
       fix = true;
     } else if (a == "--no-intersection-check") {

@@ -418,22 +418,35 @@ TEST_CASE("stop_after returns the intermediate tetrahedralization and its subseg
   CHECK(volume(r) == Approx(32));
 }
 
-TEST_CASE("merge_coplanar_facets joins the two triangles of each cube face", "[pipeline]") {
+TEST_CASE("merge_flat_facets joins the two triangles of each cube face", "[pipeline]") {
   Plc plc;
   REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) + "/cube_ascii.stl", plc).ok());
   Plc merged;
   std::vector<uint32_t> into;
-  CHECK(merge_coplanar_facets(plc, merged, into) == 6);
+  size_t flat = 0;
+  CHECK(merge_flat_facets(plc, merged, into, &flat) == 6);
+  CHECK(flat == 6);
   CHECK(merged.facets.size() == 6);
-  for (const Facet& f : merged.facets) CHECK(f.loops.at(0).size() == 4);
+  for (const Facet& f : merged.facets) {
+    CHECK(f.loops.size() == 1);
+    CHECK(f.loops.at(0).size() == 4);
+    CHECK(f.even_odd);
+  }
+  const Result joined = run(plc);  // the default merges
   Options opt;
-  opt.merge_coplanar_facets = true;
-  const Result joined = run(plc, opt);
-  const Result kept = run(plc);
+  opt.keep_triangles = true;
+  const Result kept = run(plc, opt);
+  CHECK(joined.flat_faces_merged);
+  CHECK_FALSE(kept.flat_faces_merged);
   CHECK(joined.stats.merged_facets == 6);
+  CHECK(joined.stats.flat_edges == 6);
+  CHECK(kept.stats.flat_edges == 0);
+  CHECK(joined.stats.input_segments == 12);
   CHECK(joined.stats.input_segments < kept.stats.input_segments);
   for (uint32_t f : joined.face_facet) CHECK(f < plc.facets.size());
   CHECK(volume(joined) == Approx(1));
+  CHECK(validate(plc, joined).ok());
+  CHECK(validate(plc, kept).ok());
 }
 
 TEST_CASE("a region facet recovery gives up on gets a Steiner point in its facet", "[pipeline]") {

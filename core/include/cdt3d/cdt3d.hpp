@@ -96,10 +96,14 @@ inline bool operator==(const Vec3& a, const Vec3& b) {
 /// A planar facet: one or more vertex loops in one plane (TetGen's polygons).
 /// The region covered is the union of the loops' interiors minus the areas
 /// marked by `holes` (points inside facet holes, as in TetGen .poly). A loop of
-/// an STL/OFF triangle is the triangle itself.
+/// an STL/OFF triangle is the triangle itself. With `even_odd` the region is
+/// instead the points enclosed by an odd number of loops (holes unused): the
+/// form of a merged flat face (merge_flat_facets), whose loops are the cycles
+/// of its boundary, the first an outer one.
 struct Facet {
   std::vector<std::vector<VertexId>> loops;  ///< each loop has >= 3 vertices
   std::vector<Vec3> holes;                   ///< hole points lying in the facet's plane
+  bool even_odd = false;                     ///< region by the even-odd rule (see above)
   int marker = 0;                            ///< boundary marker (TetGen)
   int64_t line = -1;    ///< source line of the facet (text formats), -1 if none
   int64_t record = -1;  ///< source record (binary formats), -1 if none
@@ -270,13 +274,15 @@ struct Options {
   /// browser module always uses one thread). tetrahedralize() may also be
   /// called from several threads at once.
   bool threads = true;
-  /// Join facets that share an edge and lie in one plane into one polygon
-  /// facet (TetGen's default; off here, like tetgen -M): their common edges
-  /// are no segments then, which saves Steiner points. Only simply connected
-  /// groups of single-loop facets with equal markers are joined. Result
-  /// faces name the smallest input facet of their group; validate() the
-  /// result against merge_coplanar_facets() of the input.
-  bool merge_coplanar_facets = false;
+  /// Keep every input facet (triangle) as a facet of its own, like tetgen
+  /// -pM. By default (false) flat faces are merged first, like TetGen's -p
+  /// and the Diazzi-Attene CDT: facets joined by flat edges (two facets,
+  /// exactly coplanar, on opposite sides, equal markers; see
+  /// merge_flat_facets) form one facet, whose inner edges are no segments,
+  /// which spares their Steiner points. Result faces then name the smallest
+  /// input facet of their flat face (Result::flat_faces_merged), and
+  /// validate() checks the result against the merged PLC.
+  bool keep_triangles = false;
   QualityOptions quality;         ///< refinement after carving (off by default)
   Phase stop_after = Phase::Done; ///< stop after this phase (debugging); result holds that mesh
   /// Testing only: the first N times facet recovery runs, its first missing
@@ -315,7 +321,9 @@ struct Statistics {
   size_t split_projection = 0, split_shell = 0, split_removed = 0;
   size_t max_splits = 0;           ///< most points on one input segment
   size_t perturbations = 0, break_points = 0, protect_segment = 0, protect_facet = 0;  ///< §6
-  size_t merged_facets = 0;        ///< input facets joined into others (merge_coplanar_facets)
+  /// Flat-face merging (Options::keep_triangles off): flat edges found, and
+  /// facets of the merged PLC made of two or more input facets.
+  size_t flat_edges = 0, merged_facets = 0;
   size_t missing_subfaces = 0, regions = 0, cavities = 0, largest_cavity = 0, fallbacks = 0;  ///< §7
   /// Steiner points inserted inside a facet because neither cavity
   /// retetrahedralization nor gift-wrapping recovered a missing region
@@ -373,6 +381,10 @@ struct Result {
   /// vertices: every facet and segment is still covered, but faces need not
   /// be locally Delaunay, and validate() does not check that.
   bool delaunay = true;
+  /// True when flat faces were merged (Options::keep_triangles off): the
+  /// mesh is a CDT of merge_flat_facets() of the input, face_facet names
+  /// the smallest input facet of each flat face, and validate() merges too.
+  bool flat_faces_merged = false;
   Statistics stats;
   /// Pairs of input facets that intersect improperly (filled when the status
   /// is SelfIntersection; all pairs found, for highlighting).
@@ -382,10 +394,19 @@ struct Result {
 /// Runs the four steps of Si & Gärtner (2005) and carves the exterior.
 Result tetrahedralize(const Plc& plc, const Options& options = {});
 
-/// The PLC with coplanar edge-adjacent facets joined (Options::
-/// merge_coplanar_facets). merged_into[f] is the facet of `out` that input
-/// facet f became part of. Returns the number of facets joined into others.
-size_t merge_coplanar_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged_into);
+/// The PLC with its flat faces merged (the default of tetrahedralize()): an
+/// edge is flat when exactly two single-loop facets without holes and with
+/// equal markers use it, it is no explicit segment, they are exactly
+/// coplanar and lie on opposite sides of it. Facets joined by flat edges
+/// become one even-odd facet (Facet::even_odd) whose loops are the cycles
+/// of the group's boundary edges, the first an outer one oriented like the
+/// group's smallest facet; all other facets are copied. merged_into[f] is
+/// the facet of `out` holding input facet f (facets of `out` in the order
+/// of their smallest input facet). Returns the number of facets of `out`
+/// made of two or more input facets; `flat_edges` (optional) gets the
+/// number of flat edges. Exact; no point is constructed.
+size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged_into,
+                         size_t* flat_edges = nullptr);
 
 /// Step 1 alone: the Delaunay tetrahedralization of points xyz[3i..3i+2]
 /// (duplicates inserted once). `tets` gets 4 point ids per tet, positively

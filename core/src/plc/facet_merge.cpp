@@ -1,34 +1,40 @@
-// merge_coplanar_facets(): TetGen's default (without -M) as an option. Facets
-// that share an edge and lie in one plane (exact orient3d) are joined into one
-// polygon facet, so their common edges stop being segments and the mesh needs
-// no Steiner points on them (§5 splits missing segments; fewer segments, fewer
-// splits).
+// merge_flat_facets(): flat faces as one facet each (the default of
+// tetrahedralize(), like TetGen's -p without -M).
 //
-// Conservative by design, each rule keeping the merged PLC valid without any
-// construction:
-//  * only single-loop facets without facet holes, with equal markers, are
-//    merged, across an edge used by exactly those two facets;
-//  * a group is merged only when its boundary (the edges used by exactly one
-//    of its facets) is one simple cycle: a simply connected polygon. Groups
-//    whose union has a hole or a pinch keep their facets (a hole would need a
-//    hole point, i.e. a constructed, rounded point);
-//  * vertices strictly inside the merged polygon stay PLC points; facet
-//    triangulation finds them (facet_triangulate.cpp, step 1).
+// A CAD part exported as triangles splits every planar face along diagonals
+// that mean nothing. An edge is *flat* when exactly two facets use it, both
+// are single-loop polygons without facet holes and with equal markers, it is
+// no explicit segment, their vertices are exactly coplanar (orient3d = 0) and
+// the two facets lie on opposite sides of it in their plane. Facets joined by
+// flat edges form one merged facet: a planar region, possibly with holes,
+// pinches and input vertices inside it. Every other edge (one facet, three or
+// more, a fold, different planes, an explicit segment) stays a segment.
+//
+// The merged facet is represented without any constructed point: its loops
+// are the cycles of its boundary edges (the edges an odd number of its
+// triangles use), and its region is the even-odd rule over those loops
+// (Facet::even_odd). For triangles with disjoint interiors the parity of
+// the loops around a point equals the number of input facets covering it,
+// modulo 2, so the region is exactly the union of the input facets. Input
+// vertices strictly inside the region stay PLC points; facet triangulation
+// finds them (facet_triangulate.cpp, step 1). All tests are exact.
 #include <algorithm>
 #include <array>
 #include <cdt3d/cdt3d.hpp>
 #include <numeric>
 #include <vector>
 
+#include "geometry.hpp"
 #include "predicates.hpp"
 
 namespace cdt3d {
 namespace {
 
-struct Edge {
+struct EdgeUse {
   VertexId lo, hi;
   uint32_t facet;
-  bool operator<(const Edge& o) const {
+  bool forward;  // the loop runs lo -> hi
+  bool operator<(const EdgeUse& o) const {
     return lo != o.lo ? lo < o.lo : hi != o.hi ? hi < o.hi : facet < o.facet;
   }
 };
@@ -38,129 +44,242 @@ uint32_t find_root(std::vector<uint32_t>& parent, uint32_t x) {
   return x;
 }
 
-bool mergeable(const Facet& f) { return f.loops.size() == 1 && f.holes.empty(); }
+const double* xyz(const Plc& plc, VertexId v) { return &plc.points[v].x; }
 
-// Exact: every vertex of g lies in the plane of f's first non-collinear triple.
-bool coplanar(const Plc& plc, const Facet& f, const Facet& g) {
-  const auto& L = f.loops[0];
-  const double* a = &plc.points[L[0]].x;
-  const double* b = &plc.points[L[1]].x;
-  const double* c = nullptr;
-  for (size_t i = 2; i < L.size() && !c; ++i)
-    if (!pred::collinear3d(a, b, &plc.points[L[i]].x)) c = &plc.points[L[i]].x;
-  if (!c) return false;
-  for (VertexId v : g.loops[0])
-    if (pred::orient3d(a, b, c, &plc.points[v].x) != 0) return false;
+// A facet that may join others: one loop of >= 3 valid indices, no holes.
+// (The input need not have passed check_plc yet: bad facets stay as they
+// are and check_plc reports them.)
+bool mergeable(const Plc& plc, const Facet& f) {
+  if (f.loops.size() != 1 || !f.holes.empty() || f.loops[0].size() < 3) return false;
+  for (VertexId v : f.loops[0])
+    if (v >= plc.points.size()) return false;
   return true;
 }
 
-// The boundary of a group as one cycle, or false (several cycles, pinches).
-bool boundary_cycle(const std::vector<std::array<VertexId, 2>>& edges, std::vector<VertexId>& loop) {
-  loop.clear();
-  if (edges.size() < 3) return false;
-  std::vector<std::array<VertexId, 3>> inc;  // (vertex, other end, edge)
-  for (uint32_t e = 0; e < edges.size(); ++e) {
-    inc.push_back({edges[e][0], edges[e][1], e});
-    inc.push_back({edges[e][1], edges[e][0], e});
+// The facet's plane: three non-collinear loop vertices and an axis whose
+// projection keeps them non-collinear; false for a degenerate loop.
+struct Plane {
+  const double *a, *b, *c;
+  int drop;
+};
+bool facet_plane(const Plc& plc, const Facet& f, Plane& p) {
+  const auto& L = f.loops[0];
+  p.a = xyz(plc, L[0]), p.b = xyz(plc, L[1]), p.c = nullptr;
+  for (size_t i = 2; i < L.size() && !p.c; ++i)
+    if (!pred::collinear3d(p.a, p.b, xyz(plc, L[i]))) p.c = xyz(plc, L[i]);
+  if (!p.c) return false;
+  p.drop = projection_axis(p.a, p.b, p.c);
+  for (int k = 0; k < 3 && pred::orient2d_projected(p.a, p.b, p.c, p.drop) == 0; ++k) p.drop = k;
+  return pred::orient2d_projected(p.a, p.b, p.c, p.drop) != 0;
+}
+
+// Orientation of a planar simple loop in the projection dropping `drop`: the
+// turn at its lexicographically smallest projected vertex (a convex corner).
+int loop_orientation(const Plc& plc, const std::vector<VertexId>& L, int drop) {
+  const int u = (drop + 1) % 3, w = (drop + 2) % 3;
+  size_t best = 0;
+  for (size_t i = 1; i < L.size(); ++i) {
+    const double* p = xyz(plc, L[i]);
+    const double* q = xyz(plc, L[best]);
+    if (p[u] < q[u] || (p[u] == q[u] && p[w] < q[w])) best = i;
   }
-  std::sort(inc.begin(), inc.end());
-  for (size_t i = 0; i < inc.size(); i += 2)
-    if (i + 1 >= inc.size() || inc[i][0] != inc[i + 1][0] ||
-        (i + 2 < inc.size() && inc[i + 2][0] == inc[i][0]))
-      return false;  // every boundary vertex has exactly two boundary edges
-  auto next = [&](VertexId v, VertexId from) {
-    auto it = std::lower_bound(inc.begin(), inc.end(), std::array<VertexId, 3>{v, 0, 0});
-    return it[0][1] == from ? it[1][1] : it[0][1];
+  const size_t n = L.size();
+  return pred::orient2d_projected(xyz(plc, L[(best + n - 1) % n]), xyz(plc, L[best]),
+                                  xyz(plc, L[(best + 1) % n]), drop);
+}
+
+bool coplanar(const Plc& plc, const Plane& p, const Facet& g) {
+  for (VertexId v : g.loops[0])
+    if (pred::orient3d(p.a, p.b, p.c, xyz(plc, v)) != 0) return false;
+  return true;
+}
+
+// Splits the boundary edges of a group into simple cycles. Directed by the
+// loops when every vertex has as many boundary edges in as out (consistent
+// orientation), else undirected. A walk that comes back to a vertex of its
+// own path cuts the cycle off there, so every cycle is simple.
+void boundary_cycles(std::vector<std::array<VertexId, 2>> edges,
+                     std::vector<std::vector<VertexId>>& cycles) {
+  cycles.clear();
+  const size_t m = edges.size();
+  std::vector<std::array<VertexId, 2>> out_of;  // (tail, edge) sorted
+  bool directed = true;
+  {
+    std::vector<VertexId> tails, heads;
+    for (const auto& e : edges) tails.push_back(e[0]), heads.push_back(e[1]);
+    std::sort(tails.begin(), tails.end());
+    std::sort(heads.begin(), heads.end());
+    directed = tails == heads;
+  }
+  for (uint32_t e = 0; e < m; ++e) {
+    out_of.push_back({edges[e][0], e});
+    if (!directed) out_of.push_back({edges[e][1], e});
+  }
+  std::sort(out_of.begin(), out_of.end());
+  std::vector<uint8_t> used(m, 0);
+  std::vector<size_t> cursor;  // per out_of run start: next unused position
+  auto first_at = [&](VertexId v) {
+    return std::lower_bound(out_of.begin(), out_of.end(), std::array<VertexId, 2>{v, 0}) -
+           out_of.begin();
   };
-  VertexId prev = edges[0][0], cur = edges[0][1];
-  loop.push_back(prev);
-  while (cur != edges[0][0] && loop.size() <= edges.size()) {
-    loop.push_back(cur);
-    const VertexId n = next(cur, prev);
-    prev = cur, cur = n;
+  auto take = [&](VertexId v, uint32_t& e, VertexId& to) {
+    for (size_t i = first_at(v); i < out_of.size() && out_of[i][0] == v; ++i) {
+      const uint32_t k = out_of[i][1];
+      if (used[k]) continue;
+      used[k] = 1;
+      e = k;
+      to = edges[k][0] == v ? edges[k][1] : edges[k][0];
+      return true;
+    }
+    return false;
+  };
+  std::vector<VertexId> path;
+  for (uint32_t s = 0; s < m; ++s) {
+    if (used[s]) continue;
+    used[s] = 1;
+    path.assign({edges[s][0], edges[s][1]});
+    for (;;) {
+      uint32_t e;
+      VertexId to;
+      if (!take(path.back(), e, to)) break;  // cannot happen on an Eulerian edge set
+      auto it = std::find(path.begin(), path.end(), to);
+      if (it != path.end()) {
+        cycles.emplace_back(it, path.end());
+        path.erase(it + 1, path.end());
+        if (path.size() == 1) break;
+      } else {
+        path.push_back(to);
+      }
+    }
+    if (path.size() > 2 && path.front() == path.back()) {
+      path.pop_back();
+      cycles.push_back(path);
+    }
   }
-  return loop.size() == edges.size();
 }
 
 }  // namespace
 
-size_t merge_coplanar_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged_into) {
+size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged_into,
+                         size_t* flat_edges) {
   const uint32_t nf = static_cast<uint32_t>(plc.facets.size());
-  std::vector<Edge> edges;
+  std::vector<uint8_t> ok(nf, 0);
+  std::vector<Plane> plane(nf);
+  std::vector<int> orient(nf, 0);
+  for (uint32_t f = 0; f < nf; ++f) {
+    const Facet& F = plc.facets[f];
+    if (!mergeable(plc, F) || !facet_plane(plc, F, plane[f])) continue;
+    orient[f] = loop_orientation(plc, F.loops[0], plane[f].drop);
+    ok[f] = orient[f] != 0;
+  }
+  std::vector<EdgeUse> uses;
   for (uint32_t f = 0; f < nf; ++f)
     for (const auto& L : plc.facets[f].loops)
       for (size_t i = 0; i < L.size(); ++i) {
         const VertexId p = L[i], q = L[(i + 1) % L.size()];
-        edges.push_back({std::min(p, q), std::max(p, q), f});
+        uses.push_back({std::min(p, q), std::max(p, q), f, p < q});
       }
-  std::sort(edges.begin(), edges.end());
+  std::sort(uses.begin(), uses.end());
+  std::vector<std::array<VertexId, 2>> explicit_segs;
+  for (const auto& s : plc.segments) explicit_segs.push_back({std::min(s[0], s[1]), std::max(s[0], s[1])});
+  std::sort(explicit_segs.begin(), explicit_segs.end());
+
   std::vector<uint32_t> parent(nf);
   std::iota(parent.begin(), parent.end(), 0u);
-  for (size_t i = 0; i < edges.size();) {
+  size_t nflat = 0;
+  for (size_t i = 0; i < uses.size();) {
     size_t j = i;
-    while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
-    if (j - i == 2) {
-      const Facet& f = plc.facets[edges[i].facet];
-      const Facet& g = plc.facets[edges[i + 1].facet];
-      if (mergeable(f) && mergeable(g) && f.marker == g.marker && coplanar(plc, f, g)) {
-        const uint32_t a = find_root(parent, edges[i].facet), b = find_root(parent, edges[i + 1].facet);
+    while (j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi) ++j;
+    const EdgeUse &x = uses[i], &y = uses[i + 1];
+    if (j - i == 2 && x.facet != y.facet && ok[x.facet] && ok[y.facet] && x.lo != x.hi &&
+        plc.facets[x.facet].marker == plc.facets[y.facet].marker &&
+        !std::binary_search(explicit_segs.begin(), explicit_segs.end(),
+                            std::array<VertexId, 2>{x.lo, x.hi}) &&
+        coplanar(plc, plane[x.facet], plc.facets[y.facet])) {
+      // Same projection for both (one plane). The interior of a loop lies
+      // left of its edges when it turns counterclockwise: the facets are on
+      // opposite sides of lo -> hi when those sides differ.
+      const int drop = plane[x.facet].drop;
+      const int sy = loop_orientation(plc, plc.facets[y.facet].loops[0], drop);
+      const int side_x = orient[x.facet] * (x.forward ? 1 : -1);
+      const int side_y = sy * (y.forward ? 1 : -1);
+      if (sy != 0 && side_x != side_y) {
+        ++nflat;
+        const uint32_t a = find_root(parent, x.facet), b = find_root(parent, y.facet);
         if (a != b) parent[std::max(a, b)] = std::min(a, b);  // root: smallest facet id
       }
     }
     i = j;
   }
-  // Per group: its boundary edges (used by exactly one of its facets).
-  std::vector<uint32_t> root(nf);
-  for (uint32_t f = 0; f < nf; ++f) root[f] = find_root(parent, f);
+  if (flat_edges) *flat_edges = nflat;
+
+  std::vector<uint32_t> root(nf), size(nf, 0);
+  for (uint32_t f = 0; f < nf; ++f) ++size[root[f] = find_root(parent, f)];
+  // Per group: its boundary edges, directed as its facets' loops run them
+  // (the edges used an odd number of times by its facets).
   std::vector<std::vector<std::array<VertexId, 2>>> boundary(nf);
-  for (size_t i = 0; i < edges.size();) {
+  for (size_t i = 0; i < uses.size();) {
     size_t j = i;
-    while (j < edges.size() && edges[j].lo == edges[i].lo && edges[j].hi == edges[i].hi) ++j;
+    while (j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi) ++j;
     for (size_t k = i; k < j; ++k) {
+      const uint32_t r = root[uses[k].facet];
+      if (size[r] < 2) continue;
       size_t same = 0;
-      for (size_t m = i; m < j; ++m) same += root[edges[m].facet] == root[edges[k].facet];
-      if (same == 1) boundary[root[edges[k].facet]].push_back({edges[k].lo, edges[k].hi});
+      for (size_t m = i; m < j; ++m) same += root[uses[m].facet] == r;
+      bool first = true;  // the group's first use of this edge stands for it
+      for (size_t m = i; m < k; ++m) first = first && root[uses[m].facet] != r;
+      if (same % 2 == 1 && first) {
+        const EdgeUse& u = uses[k];
+        boundary[r].push_back(u.forward ? std::array<VertexId, 2>{u.lo, u.hi}
+                                        : std::array<VertexId, 2>{u.hi, u.lo});
+      }
     }
     i = j;
   }
-  out = plc;
+
+  out.points = plc.points;
+  out.segments = plc.segments;
+  out.holes = plc.holes;
+  out.regions = plc.regions;
+  out.file = plc.file;
+  out.file_vertices = plc.file_vertices;
+  out.welded_vertices = plc.welded_vertices;
   out.facets.clear();
   merged_into.assign(nf, kNone);
-  std::vector<uint32_t> group_size(nf, 0);
-  for (uint32_t f = 0; f < nf; ++f) ++group_size[root[f]];
-  std::vector<VertexId> loop;
-  std::vector<uint8_t> merged(nf, 0);
-  size_t joined = 0;
+  size_t groups = 0;
+  std::vector<std::vector<VertexId>> cycles;
   for (uint32_t f = 0; f < nf; ++f) {
-    if (root[f] != f || group_size[f] < 2) continue;
-    // Keep the orientation of the group's first facet: walk the cycle in the
-    // direction that facet's boundary edges run.
-    if (!boundary_cycle(boundary[f], loop)) continue;
-    const auto& L = plc.facets[f].loops[0];
-    bool reverse = false;
-    for (size_t i = 0; i < loop.size(); ++i) {
-      const VertexId p = loop[i], q = loop[(i + 1) % loop.size()];
-      for (size_t k = 0; k < L.size(); ++k) {
-        if (L[k] == q && L[(k + 1) % L.size()] == p) reverse = true;
-      }
-    }
-    if (reverse) std::reverse(loop.begin(), loop.end());
-    merged[f] = 1;
-    Facet m = plc.facets[f];
-    m.loops.assign(1, loop);
-    merged_into[f] = static_cast<uint32_t>(out.facets.size());
-    out.facets.push_back(std::move(m));
-    joined += group_size[f] - 1;
-  }
-  for (uint32_t f = 0; f < nf; ++f) {
-    if (merged[root[f]]) {
+    if (root[f] != f) {
       merged_into[f] = merged_into[root[f]];
       continue;
     }
     merged_into[f] = static_cast<uint32_t>(out.facets.size());
-    out.facets.push_back(plc.facets[f]);
+    if (size[f] < 2) {
+      out.facets.push_back(plc.facets[f]);
+      continue;
+    }
+    ++groups;
+    boundary_cycles(std::move(boundary[f]), cycles);
+    // The loop through the lexicographically smallest projected vertex is an
+    // outer one: first, and turning like the group's first facet, whose
+    // orientation the merged facet's subfaces keep.
+    const int drop = plane[f].drop, u = (drop + 1) % 3, w = (drop + 2) % 3;
+    size_t outer = 0;
+    const double* best = nullptr;
+    for (size_t c = 0; c < cycles.size(); ++c)
+      for (VertexId v : cycles[c]) {
+        const double* p = xyz(plc, v);
+        if (!best || p[u] < best[u] || (p[u] == best[u] && p[w] < best[w])) best = p, outer = c;
+      }
+    std::swap(cycles[0], cycles[outer]);
+    if (loop_orientation(plc, cycles[0], drop) != orient[f])
+      std::reverse(cycles[0].begin(), cycles[0].end());
+    Facet m = plc.facets[f];
+    m.loops = cycles;
+    m.even_odd = true;
+    out.facets.push_back(std::move(m));
   }
-  return joined;
+  return groups;
 }
 
 }  // namespace cdt3d

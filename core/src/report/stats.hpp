@@ -45,6 +45,7 @@ inline constexpr StatisticsField kStatisticsFields[] = {
     {"breakPoints", &Statistics::break_points, nullptr, nullptr},
     {"protectSegment", &Statistics::protect_segment, nullptr, nullptr},
     {"protectFacet", &Statistics::protect_facet, nullptr, nullptr},
+    {"flatEdges", &Statistics::flat_edges, nullptr, nullptr},
     {"mergedFacets", &Statistics::merged_facets, nullptr, nullptr},
     {"missingSubfaces", &Statistics::missing_subfaces, nullptr, nullptr},
     {"regions", &Statistics::regions, nullptr, nullptr},

@@ -95,7 +95,11 @@ struct FaceRec {
 
 class Validator {
  public:
-  Validator(const Plc& plc, const Result& r) : plc_(plc), r_(r), m_(r.mesh) {}
+  // face_facet and steiner_parent: the result's, or those of a result that
+  // names input facets translated to the merged PLC's (validate()).
+  Validator(const Plc& plc, const Result& r, const std::vector<uint32_t>& face_facet,
+            const std::vector<int64_t>& steiner_parent)
+      : plc_(plc), r_(r), m_(r.mesh), face_facet_(face_facet), steiner_parent_(steiner_parent) {}
   Status run();
 
  private:
@@ -151,6 +155,7 @@ class Validator {
   void project(uint32_t v, int drop, double out[2]) const;
   bool beyond_subsegment(const Tri3& k, uint32_t f, int drop) const;
   bool overlaps_facet(const Tri3& k, uint32_t f, int drop) const;
+  bool overlaps_subfaces(const Tri3& k, uint32_t f, int drop) const;
   Status segments();
   Status volume();
   Status delaunay();
@@ -160,6 +165,8 @@ class Validator {
   const Plc& plc_;
   const Result& r_;
   const TetMeshData& m_;
+  const std::vector<uint32_t>& face_facet_;
+  const std::vector<int64_t>& steiner_parent_;
   size_t np_ = 0, nt_ = 0, nf_ = 0;
   double scale_ = 0;  // largest |coordinate|
   std::vector<FaceRec> faces_;                // every tet face, sorted by key
@@ -207,11 +214,11 @@ Status Validator::sizes() {
           .vertex(static_cast<int64_t>(i));
   }
   const size_t ns = np_ - r_.input_points;
-  if (r_.steiner_kind.size() != ns || r_.steiner_parent.size() != ns)
+  if (r_.steiner_kind.size() != ns || steiner_parent_.size() != ns)
     return fail("steiner_kind and steiner_parent need one entry per Steiner point.");
   for (size_t i = 0; i < ns; ++i) {
     const SteinerKind k = r_.steiner_kind[i];
-    const int64_t p = r_.steiner_parent[i];
+    const int64_t p = steiner_parent_[i];
     const int64_t v = static_cast<int64_t>(r_.input_points + i);
     if (k != SteinerKind::Segment && k != SteinerKind::Facet && k != SteinerKind::Volume)
       return fail("Steiner point " + std::to_string(v) + " has an unknown kind.").vertex(v);
@@ -221,7 +228,7 @@ Status Validator::sizes() {
       return fail("facet Steiner point " + std::to_string(v) + " has no valid parent facet.")
           .vertex(v);
   }
-  if (r_.face_facet.size() != nf_) return fail("face_facet needs one entry per face.");
+  if (face_facet_.size() != nf_) return fail("face_facet needs one entry per face.");
   if (!m_.face_markers.empty() && m_.face_markers.size() != nf_)
     return fail("face_markers needs one entry per face.");
   if (!m_.tet_attributes.empty() && m_.tet_attributes.size() != nt_)
@@ -232,12 +239,12 @@ Status Validator::sizes() {
     for (int k = 0; k < 3; ++k)
       if (m_.faces[3 * i + k] >= np_)
         return fail("face " + std::to_string(i) + " uses a point that does not exist.");
-    if (r_.face_facet[i] >= plc_.facets.size())
+    if (face_facet_[i] >= plc_.facets.size())
       return fail("face " + std::to_string(i) + " names facet " +
-                  std::to_string(r_.face_facet[i]) + ", which does not exist.");
-    if (!m_.face_markers.empty() && m_.face_markers[i] != plc_.facets[r_.face_facet[i]].marker)
+                  std::to_string(face_facet_[i]) + ", which does not exist.");
+    if (!m_.face_markers.empty() && m_.face_markers[i] != plc_.facets[face_facet_[i]].marker)
       return fail("face " + std::to_string(i) + " has a marker other than its facet's.")
-          .facet(r_.face_facet[i]);
+          .facet(face_facet_[i]);
   }
   for (double x : m_.points) scale_ = std::max(scale_, std::fabs(x));
   return Status::success();
@@ -311,7 +318,7 @@ Status Validator::constrained_faces() {
     auto it = lower(constrained_[i]);
     if (it == faces_.end() || it->key != constrained_[i])
       return fail("constrained face " + tri_name(constrained_[i]) + " is not a face of a tet.")
-          .facet(r_.face_facet[i])
+          .facet(face_facet_[i])
           .vertex(constrained_[i][0]);
     face_tet_[i] = static_cast<uint32_t>(it - faces_.begin());
     face_two_[i] = (it + 1) != faces_.end() && (it + 1)->key == it->key;
@@ -392,7 +399,7 @@ Status Validator::segments() {
   for (size_t s = 0; s < segments_.size(); ++s) chains_[s] = {segments_[s][0], segments_[s][1]};
   for (size_t i = 0; i < r_.steiner_kind.size(); ++i) {
     if (r_.steiner_kind[i] != SteinerKind::Segment) continue;
-    const int64_t p = r_.steiner_parent[i];
+    const int64_t p = steiner_parent_[i];
     const uint32_t v = static_cast<uint32_t>(r_.input_points + i);
     if (p < 0 || static_cast<size_t>(p) >= segments_.size())
       return fail("segment Steiner point " + std::to_string(v) + " has no valid parent segment.")
@@ -484,7 +491,7 @@ void Validator::facet_edges(size_t f, std::vector<uint64_t>& allowed_edges,
 bool Validator::vertex_in_facet(uint32_t v, size_t f) const {
   if (v < r_.input_points) return std::binary_search(fverts_[f].begin(), fverts_[f].end(), v);
   const size_t i = v - r_.input_points;
-  const int64_t p = r_.steiner_parent[i];
+  const int64_t p = steiner_parent_[i];
   switch (r_.steiner_kind[i]) {
     case SteinerKind::Facet:
       return p == static_cast<int64_t>(f);
@@ -619,7 +626,7 @@ Status Validator::facets() {
   const size_t nfacets = plc_.facets.size();
   std::vector<std::vector<size_t>> sub_of(nfacets), faces_of(nfacets);
   for (size_t i = 0; i < tri_facet.size(); ++i) sub_of[tri_facet[i]].push_back(i);
-  for (size_t i = 0; i < nf_; ++i) faces_of[r_.face_facet[i]].push_back(i);
+  for (size_t i = 0; i < nf_; ++i) faces_of[face_facet_[i]].push_back(i);
 
   std::vector<Probe> probes;
   fverts_.assign(nfacets, {});
@@ -671,7 +678,7 @@ void Validator::build_membership() {
     for (VertexId v : segments_[s])
       if (v < r_.input_points) ms.segs_at[v].push_back(s);
   ms.faces_of_facet.assign(nfacets, {});
-  for (size_t j = 0; j < nf_; ++j) ms.faces_of_facet[r_.face_facet[j]].push_back(j);
+  for (size_t j = 0; j < nf_; ++j) ms.faces_of_facet[face_facet_[j]].push_back(j);
   ms.subsegs.clear();
   for (size_t j = 0; j + 1 < r_.edges.size(); j += 2)
     ms.subsegs.push_back({std::min(r_.edges[j], r_.edges[j + 1]), std::max(r_.edges[j], r_.edges[j + 1])});
@@ -685,7 +692,7 @@ const std::vector<uint32_t>& Validator::facets_of(uint32_t v, int slot) {
   if (v < r_.input_points) return ms_.input_facets[v];
   const size_t i = v - r_.input_points;
   ms_.one[slot].clear();
-  const int64_t p = r_.steiner_parent[i];
+  const int64_t p = steiner_parent_[i];
   if (r_.steiner_kind[i] == SteinerKind::Segment) return ms_.seg_facets[static_cast<size_t>(p)];
   if (r_.steiner_kind[i] == SteinerKind::Facet) ms_.one[slot].push_back(static_cast<uint32_t>(p));
   return ms_.one[slot];
@@ -712,23 +719,38 @@ bool Validator::on_segment(uint32_t v, uint32_t s) const {
   if (v < r_.input_points)
     return std::find(ms_.segs_at[v].begin(), ms_.segs_at[v].end(), s) != ms_.segs_at[v].end();
   const size_t i = v - r_.input_points;
-  return r_.steiner_kind[i] == SteinerKind::Segment && r_.steiner_parent[i] == static_cast<int64_t>(s);
+  return r_.steiner_kind[i] == SteinerKind::Segment && steiner_parent_[i] == static_cast<int64_t>(s);
 }
 
-// Three vertices on one segment (its ends or its Steiner points) make a
-// face that is flat along the segment, up to the rounding of Steiner
-// points: it lies in no facet's interior.
+// Three vertices on one line of segments (input points and Steiner points
+// of segments whose ends are all exactly collinear, e.g. the consecutive
+// collinear edges along a merged flat face) make a face that is flat along
+// that line, up to the rounding of Steiner points: it lies in no facet's
+// interior.
 bool Validator::along_one_segment(const Tri3& k) const {
-  std::vector<uint32_t> cand;
-  if (k[0] < r_.input_points) {
-    cand = ms_.segs_at[k[0]];
-  } else {
-    const size_t i = k[0] - r_.input_points;
-    if (r_.steiner_kind[i] == SteinerKind::Segment) cand.push_back(static_cast<uint32_t>(r_.steiner_parent[i]));
+  std::array<uint32_t, 6> ends;  // input points spanning the line
+  size_t n = 0;
+  for (uint32_t v : k) {
+    if (v < r_.input_points) {
+      ends[n++] = v;
+      continue;
+    }
+    const size_t i = v - r_.input_points;
+    if (r_.steiner_kind[i] != SteinerKind::Segment) return false;
+    const int64_t s = steiner_parent_[i];
+    if (s < 0 || s >= static_cast<int64_t>(segments_.size())) return false;
+    ends[n++] = segments_[s][0];
+    ends[n++] = segments_[s][1];
   }
-  for (uint32_t s : cand)
-    if (on_segment(k[1], s) && on_segment(k[2], s)) return true;
-  return false;
+  const double* a = &plc_.points[ends[0]].x;
+  size_t j = 1;
+  while (j < n && ends[j] == ends[0]) ++j;
+  if (j == n) return true;
+  const double* b = &plc_.points[ends[j]].x;
+  for (size_t x = j + 1; x < n; ++x)
+    if (ends[x] != ends[0] && ends[x] != ends[j] && !pred::collinear3d(a, b, &plc_.points[ends[x]].x))
+      return false;
+  return true;
 }
 
 void Validator::project(uint32_t v, int drop, double out[2]) const {
@@ -805,13 +827,34 @@ bool Validator::overlaps_facet(const Tri3& k, uint32_t f, int drop) const {
   return false;
 }
 
+// The same against f's constrained faces (their rounded Steiner points
+// included). A face beside f's rounded subsegments can overlap f's input
+// triangles by the rounding alone (e.g. a hull face along a merged facet's
+// nearly straight boundary); where it overlaps none of f's faces it is not
+// in f as meshed, and check 6 has shown those faces cover f.
+bool Validator::overlaps_subfaces(const Tri3& k, uint32_t f, int drop) const {
+  if (ms_.faces_of_facet[f].empty()) return true;  // check 6 did not cover f
+  double g[3][2];
+  for (int x = 0; x < 3; ++x) project(k[x], drop, g[x]);
+  if (pred::orient2d(g[0], g[1], g[2]) < 0) std::swap(g[1], g[2]);
+  if (pred::orient2d(g[0], g[1], g[2]) == 0) return false;
+  for (size_t j : ms_.faces_of_facet[f]) {
+    double h[3][2];
+    for (int x = 0; x < 3; ++x) project(m_.faces[3 * j + x], drop, h[x]);
+    if (pred::orient2d(h[0], h[1], h[2]) < 0) std::swap(h[1], h[2]);
+    if (pred::orient2d(h[0], h[1], h[2]) == 0) continue;
+    if (!separated(g, h) && !separated(h, g)) return true;
+  }
+  return false;
+}
+
 // Check 7: a face that is not constrained must not lie in a facet. For
 // every unconstrained face of the mesh whose three vertices all belong to
 // facet f, its projection must not overlap the interior of
 // any triangle of f (exact orient2d in f's projection; two triangles'
 // interiors are disjoint iff an edge line of one separates them), but for
 // the rounding cases above (flat_in_facet, along_one_segment,
-// beyond_subsegment).
+// beyond_subsegment, overlaps_subfaces).
 Status Validator::unconstrained_in_facets() {
   build_membership();
   std::vector<Tri3> keys = constrained_;
@@ -833,7 +876,7 @@ Status Validator::unconstrained_in_facets() {
     for (uint32_t f : abc) {
       const int drop = fdrop_[f];
       if (overlaps_facet(k, f, drop) && !flat_in_facet(i, f) && !along_one_segment(k) &&
-          !beyond_subsegment(k, f, drop))
+          !beyond_subsegment(k, f, drop) && overlaps_subfaces(k, f, drop))
         return fail("face " + tri_name(k) + " lies in facet " + std::to_string(f) +
                     " but is not constrained.")
             .facet(f)
@@ -878,7 +921,7 @@ Status Validator::volume() {
   std::vector<int> out_sign(plc_.facets.size(), 0);
   std::vector<uint8_t> interior(plc_.facets.size(), 0), any(plc_.facets.size(), 0);
   for (size_t i = 0; i < nf_; ++i) {
-    const size_t f = r_.face_facet[i];
+    const size_t f = face_facet_[i];
     any[f] = 1;
     if (face_two_[i]) {
       if (out_sign[f] != 0) return Status::success();  // mixed: not checked
@@ -965,9 +1008,43 @@ Status Validator::run() {
 
 }  // namespace
 
+// A result of merged flat faces (Result::flat_faces_merged) names input
+// facets and segments; it is checked against the merged PLC, with faces and
+// Steiner parents translated to it, and errors translated back.
 Status validate(const Plc& plc, const Result& result) {
-  Validator v(plc, result);
-  return v.run();
+  if (!result.flat_faces_merged)
+    return Validator(plc, result, result.face_facet, result.steiner_parent).run();
+  Plc merged;
+  std::vector<uint32_t> into;
+  merge_flat_facets(plc, merged, into);
+  std::vector<uint32_t> rep(merged.facets.size(), kNone);
+  for (uint32_t f = 0; f < into.size(); ++f)
+    if (rep[into[f]] == kNone) rep[into[f]] = f;
+  auto to_merged = [&](int64_t f) -> int64_t {
+    return f >= 0 && f < static_cast<int64_t>(into.size()) ? into[f] : f;
+  };
+  std::vector<uint32_t> face_facet(result.face_facet);
+  for (uint32_t& f : face_facet) f = static_cast<uint32_t>(to_merged(f));
+  const auto theirs = plc_segments(plc), mine = plc_segments(merged);
+  std::vector<int64_t> parent(result.steiner_parent);
+  for (size_t i = 0; i < parent.size() && i < result.steiner_kind.size(); ++i) {
+    int64_t& p = parent[i];
+    if (result.steiner_kind[i] == SteinerKind::Facet) p = to_merged(p);
+    if (result.steiner_kind[i] != SteinerKind::Segment || p < 0 ||
+        p >= static_cast<int64_t>(theirs.size()))
+      continue;
+    auto it = std::lower_bound(mine.begin(), mine.end(), theirs[p]);
+    p = it != mine.end() && *it == theirs[p] ? it - mine.begin() : -1;
+  }
+  Status st = Validator(merged, result, face_facet, parent).run();
+  Error& e = st.error;
+  for (int64_t* f : {&e.facet, &e.other_facet})
+    if (*f >= 0 && *f < static_cast<int64_t>(rep.size())) *f = rep[*f];
+  if (e.segment >= 0 && e.segment < static_cast<int64_t>(mine.size())) {
+    auto it = std::lower_bound(theirs.begin(), theirs.end(), mine[e.segment]);
+    e.segment = it - theirs.begin();
+  }
+  return st;
 }
 
 }  // namespace cdt3d

@@ -32,7 +32,9 @@
 //     crossing a loop edge are outside; so is everything reachable from a
 //     triangle holding a hole point without crossing a loop edge. A loop
 //     nested inside another loop without a hole point is therefore an
-//     internal constraint, not a hole.
+//     internal constraint, not a hole. An even-odd facet (a merged flat
+//     face, Facet::even_odd) keeps the triangles an odd number of loop
+//     edges away from the outside instead.
 //  6. Output orientation: the orientation of the facet's outer loop (the
 //     loop holding the lexicographically smallest projected loop vertex,
 //     lowest loop index on ties).
@@ -587,6 +589,7 @@ class FacetTriangulator {
   Status insert_constraints(size_t f, Cdt2& cdt);
   void mark_outside(size_t f, const std::vector<Tri>& T, int drop,
                     std::vector<uint8_t>& out_mark);
+  void mark_even(const std::vector<Tri>& T, std::vector<uint8_t>& out_mark);
 
   // Local id (index in verts_) of mesh vertex v, which must be in verts_.
   uint32_t local(VertexId v) const {
@@ -855,6 +858,7 @@ Status FacetTriangulator::insert_constraints(size_t f, Cdt2& cdt) {
 // a loop edge.
 void FacetTriangulator::mark_outside(size_t f, const std::vector<Tri>& T, int drop,
                                      std::vector<uint8_t>& out_mark) {
+  if (plc_.facets[f].even_odd) return mark_even(T, out_mark);
   out_mark.assign(T.size(), 0);
   std::vector<int32_t>& stack = flood_;
   stack.clear();
@@ -897,6 +901,34 @@ void FacetTriangulator::mark_outside(size_t f, const std::vector<Tri>& T, int dr
         }
         break;
       }
+    }
+  }
+}
+
+// Region of an even-odd facet (a merged flat face): a triangle is outside
+// when an even number of loop edges separate it from the outside of the
+// hull. The triangulation is connected, so one flood from the hull gives
+// every triangle its parity.
+void FacetTriangulator::mark_even(const std::vector<Tri>& T, std::vector<uint8_t>& out_mark) {
+  constexpr uint8_t kUnseen = 2;
+  out_mark.assign(T.size(), kUnseen);
+  std::vector<int32_t>& stack = flood_;
+  stack.clear();
+  for (size_t t = 0; t < T.size(); ++t)
+    for (int i = 0; i < 3 && out_mark[t] == kUnseen; ++i) {
+      if (T[t].n[i] >= 0) continue;
+      out_mark[t] = is_loop_edge(T[t].v[next3(i)], T[t].v[prev3(i)]) ? 0 : 1;
+      stack.push_back(static_cast<int32_t>(t));
+    }
+  while (!stack.empty()) {
+    const int32_t t = stack.back();
+    stack.pop_back();
+    for (int i = 0; i < 3; ++i) {
+      const int32_t nb = T[t].n[i];
+      if (nb < 0 || out_mark[nb] != kUnseen) continue;
+      const bool cross = is_loop_edge(T[t].v[next3(i)], T[t].v[prev3(i)]);
+      out_mark[nb] = cross ? !out_mark[t] : out_mark[t];
+      stack.push_back(nb);
     }
   }
 }

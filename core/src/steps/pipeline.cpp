@@ -273,6 +273,11 @@ class Pipeline {
   void add_facet_split(const FacetRecoveryStats& fst);
   Status insert_facet_splits();
   Status intersection_verdict(IntersectionTest& test, bool beside);
+  bool read_phase(IntersectionTest& intersections);
+  bool merge_flat_faces();
+  void schedule_test(bool merging);
+  void choose_order(IntersectionTest& intersections);
+  bool after_order(IntersectionTest& intersections);
   bool await_intersections();
   bool take_ended_test();
   // Step 1's options: two threads where the run may use them.
@@ -289,7 +294,7 @@ class Pipeline {
   std::vector<FacetSplit> facet_splits_;  ///< Steiner points added inside facets, in order
 
   const Plc* plc_;              // the input, or merged_ when facets were merged
-  Plc merged_;                  // merge_coplanar_facets of the input
+  Plc merged_;                  // merge_flat_facets of the input (when it joined some)
   std::vector<uint32_t> rep_;   // per facet of merged_: its smallest input facet
   Plc permuted_;                // *plc_ with its points in order_ (sos_order.hpp)
   std::vector<VertexId> order_; // point k of permuted_ is input point order_[k]; empty: none
@@ -319,6 +324,9 @@ class Pipeline {
   // it raises for step 2 when it found a pair.
   IntersectionTest* pending_test_ = nullptr;
   std::atomic<bool> intersecting_{false};
+  // Where the test and the checks run (schedule_test).
+  bool test_beside_ = false, test_after_d0_ = false, checks_beside_ = false;
+  bool done_ = false;  // run() got to the end
 };
 
 bool Pipeline::begin(Phase phase) {
@@ -368,7 +376,7 @@ Status Pipeline::check_open_facets(const CarveResult& carved) const {
 }
 
 // The phases number points, facets and segments of the PLC they mesh: after
-// merge_coplanar_facets, the merged PLC; after segment_friendly_order, its
+// merge_flat_facets, the merged PLC; after segment_friendly_order, its
 // points renumbered. The Result names those of the input: a point by its
 // input index, a merged facet by its smallest input facet, a segment by its
 // index in the input's segments.
@@ -614,87 +622,109 @@ bool Pipeline::take_ended_test() {
   return !pending_test_ || !pending_test_->finished() || await_intersections();
 }
 
-void Pipeline::run() {
-  const auto t_total = Clock::now();
+// The Read phase: input checks the readers also run (for PLCs built in
+// code), the flat-face merge, and the exact self-intersection test (a CDT of
+// an intersecting PLC does not exist, and the later steps would fail far
+// from the cause) here or scheduled beside the steps (schedule_test).
+bool Pipeline::read_phase(IntersectionTest& intersections) {
   Statistics& s = out_.stats;
-  s.input_points = plc_->points.size();
-  s.input_facets = plc_->facets.size();
-
-  // Input checks the readers also run, for PLCs built in code; then the
-  // exact self-intersection test (a CDT of an intersecting PLC does not
-  // exist, and the later steps would fail far from the cause).
-  if (!begin(Phase::Read)) return;
-  // Merging facets needs the verdict first; steps 1 and 2 do not.
-  IntersectionTest intersections;
-  const bool test_beside = opt_.threads && !opt_.merge_coplanar_facets &&
-                           plc_->facets.size() >= kMinFacetsBeside;
-  // Beside step 1 when step 1 takes one core (small PLCs), after it when it
-  // takes both (DelaunayOptions::threads).
-  const bool test_after_d0 = plc_->points.size() >= kMinTwoThreadDelaunayPoints;
-  // Beside step 1 on one core, the rest of check_plc and the list of
-  // segments go to the second thread too, ahead of the test: step 1 needs
-  // the points alone (bunny: ~6% of the run off the main thread). The
-  // search for the perturbation order waits for them after D0, and a
-  // failed check is the run's error as before (with quality options, whose
-  // error comes after check_plc's, all checks stay here).
-  const bool checks_beside = opt_.check_intersections && test_beside && !test_after_d0 &&
-                             !opt_.quality.enabled;
-  Status st = checks_beside ? check_plc_points(*plc_) : check_plc(*plc_);
+  if (!begin(Phase::Read)) return false;
+  Status st = check_plc_points(*plc_);
+  const bool merging = st.ok() && merge_flat_faces();
+  schedule_test(merging);
+  // With the checks beside, check_plc's other checks run there (they end
+  // before the order search uses the segments; see run()).
+  if (st.ok() && !checks_beside_) st = check_plc(*plc_);
   if (st.ok() && opt_.quality.enabled) st = check_quality_options(opt_.quality);
-  if (st.ok() && opt_.check_intersections && !test_beside) {
+  if (st.ok() && opt_.check_intersections && !test_beside_) {
     intersections.start(*plc_, false);
     st = intersection_verdict(intersections, false);
   }
-  if (st.ok() && opt_.check_intersections && test_beside && !test_after_d0) {
-    intersections.start(*plc_, true, &intersecting_, checks_beside);
+  if (st.ok() && opt_.check_intersections && test_beside_ && !test_after_d0_) {
+    intersections.start(*plc_, true, &intersecting_, checks_beside_);
     pending_test_ = &intersections;
   }
-  if (st.ok() && opt_.merge_coplanar_facets) {
-    std::vector<uint32_t> into;
-    s.merged_facets = merge_coplanar_facets(*plc_, merged_, into);
-    rep_.assign(merged_.facets.size(), kNone);
-    for (uint32_t f = 0; f < into.size(); ++f)
-      if (rep_[into[f]] == kNone) rep_[into[f]] = f;
-    plc_ = &merged_;
-  }
-  if (!end(Phase::Read, st, &s.ms_read)) return;
+  // The steps mesh the merged PLC; the test above read the input, and its
+  // errors (like the checks') name input facets already.
+  if (st.ok() && merging) plc_ = &merged_;
+  if (!st.ok()) rep_.clear();
+  return end(Phase::Read, st, &s.ms_read);
+}
 
-  // The perturbation order that keeps the most segments in D0 (sos_order.hpp).
-  // Choosing the symbolic perturbation is step 3's work in this design, so
-  // its time is msDegeneracy; the one tetrahedralization it hands on as D0
-  // counts as step 1 (msDelaunay). Not with merged facets, whose Result is
-  // validated against the merged PLC.
-  if (plc_->points.size() <= kMaxSosOrderPoints && !opt_.merge_coplanar_facets) {
-    const auto t0 = Clock::now();
-    SosOrderStats os;
-    const SegmentsWhenReady ready = [&intersections](std::vector<std::array<VertexId, 2>>& segs) {
-      return intersections.checked(&segs).ok();
-    };
-    order_ = segment_friendly_order(*plc_, kSosOrderRounds, d0_, &os, &input_segments_,
-                                    opt_.threads, checks_beside ? &ready : nullptr);
-    if (!order_.empty()) {
-      input_segments_.clear();  // numbered for the points before the order
-      permute_plc(*plc_, order_, permuted_);
-      plc_ = &permuted_;
-    }
-    ms_d0_ = d0_.live_tets > 0 ? os.ms_d0 : 0;
-    ms_order_ = ms_since(t0) - ms_d0_;
+// merge_flat_facets of the input into merged_ (Options::keep_triangles off);
+// true when some facets were joined (rep_ then maps merged facets back).
+bool Pipeline::merge_flat_faces() {
+  out_.flat_faces_merged = !opt_.keep_triangles;
+  if (opt_.keep_triangles) return false;
+  Statistics& s = out_.stats;
+  std::vector<uint32_t> into;
+  s.merged_facets = merge_flat_facets(*plc_, merged_, into, &s.flat_edges);
+  if (s.merged_facets == 0) {
+    merged_ = Plc();
+    return false;
   }
-  if (checks_beside) {
+  rep_.assign(merged_.facets.size(), kNone);
+  for (uint32_t f = 0; f < into.size(); ++f)
+    if (rep_[into[f]] == kNone) rep_[into[f]] = f;
+  return true;
+}
+
+// Where the self-intersection test runs. Beside the steps on a large PLC
+// (it reads the input, which the steps then share): beside step 1 when step
+// 1 takes one core (small PLCs), after it when it takes both
+// (DelaunayOptions::threads). Beside step 1 on one core, the rest of
+// check_plc and the list of segments go to the second thread too, ahead of
+// the test: step 1 needs the points alone (bunny: ~6% of the run off the
+// main thread). The search for the perturbation order waits for them after
+// D0, and a failed check is the run's error as before (with quality
+// options, whose error comes after check_plc's, all checks stay here). A
+// merged PLC is not the one the test reads, so then it all runs here first.
+void Pipeline::schedule_test(bool merging) {
+  test_beside_ = opt_.threads && !merging && plc_->facets.size() >= kMinFacetsBeside;
+  test_after_d0_ = plc_->points.size() >= kMinTwoThreadDelaunayPoints;
+  checks_beside_ = opt_.check_intersections && test_beside_ && !test_after_d0_ &&
+                   !opt_.quality.enabled;
+}
+
+// The perturbation order that keeps the most segments in D0 (sos_order.hpp).
+// Choosing the symbolic perturbation is step 3's work in this design, so its
+// time is msDegeneracy; the one tetrahedralization it hands on as D0 counts
+// as step 1 (msDelaunay).
+void Pipeline::choose_order(IntersectionTest& intersections) {
+  if (plc_->points.size() > kMaxSosOrderPoints) return;
+  const auto t0 = Clock::now();
+  SosOrderStats os;
+  const SegmentsWhenReady ready = [&intersections](std::vector<std::array<VertexId, 2>>& segs) {
+    return intersections.checked(&segs).ok();
+  };
+  order_ = segment_friendly_order(*plc_, kSosOrderRounds, d0_, &os, &input_segments_, opt_.threads,
+                                  checks_beside_ ? &ready : nullptr);
+  if (!order_.empty()) {
+    input_segments_.clear();  // numbered for the points before the order
+    permute_plc(*plc_, order_, permuted_);
+    plc_ = &permuted_;
+  }
+  ms_d0_ = d0_.live_tets > 0 ? os.ms_d0 : 0;
+  ms_order_ = ms_since(t0) - ms_d0_;
+}
+
+// With the checks beside (schedule_test): their verdict, and the segments
+// they listed for step 2 when the order kept the input's numbering. Then
+// step 1 here when the order search did not build it, and the test beside
+// the rest when it waited for step 1's two threads.
+bool Pipeline::after_order(IntersectionTest& intersections) {
+  if (checks_beside_) {
     const Status checked = intersections.checked();
     if (!checked.ok()) {
       pending_test_ = nullptr;  // no test follows failed checks
-      fail(checked);
-      return;
+      return fail(checked);
     }
-    // The segments of the input order, for step 2's first attempt.
     if (order_.empty()) initial_segments_ = intersections.take_segment_set();
   }
-  nothing_embedded_ = opt_.check_intersections && !opt_.merge_coplanar_facets &&
+  // A merged facet may hold segments (an edge where a third facet stands).
+  nothing_embedded_ = opt_.check_intersections && rep_.empty() &&
                       plc_->segments.empty() && all_points_on_loops(*plc_);
-  if (st.ok() && opt_.check_intersections && test_beside) {
-    // Step 1 here when the search above did not build it (beside the test,
-    // or before it on both cores); then the test beside the rest.
+  if (opt_.check_intersections && test_beside_) {
     const auto t0 = Clock::now();
     if (d0_.live_tets == 0 &&
         !delaunay_tetrahedralize(d0_, &plc_->points[0].x, plc_->points.size(), nullptr, nullptr,
@@ -702,11 +732,23 @@ void Pipeline::run() {
              .ok())
       d0_ = TetMesh();  // step 1 runs again below and reports why
     ms_d0_ += ms_since(t0);
-    if (test_after_d0) {
+    if (test_after_d0_) {
       intersections.start(*plc_, true, &intersecting_);
       pending_test_ = &intersections;
     }
   }
+  return true;
+}
+
+void Pipeline::run() {
+  const auto t_total = Clock::now();
+  Statistics& s = out_.stats;
+  s.input_points = plc_->points.size();
+  s.input_facets = plc_->facets.size();
+  IntersectionTest intersections;
+  if (!read_phase(intersections)) return;
+  choose_order(intersections);
+  if (!after_order(intersections)) return;
 
   // Steps 1-4. Never fail on a valid PLC: when facet recovery gives up on a
   // missing region (cavity retetrahedralization and gift-wrapping both
@@ -740,6 +782,7 @@ void Pipeline::run() {
     remove_flat_tets(mesh_, subfaces_, segs_, &ff);
     s.flat_flips = ff.flips;
     CarveResult carved;
+    Status st;
     st = carve(*plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved, &subface_hf_);
     // remove_flat_tets counted the flat tets it left in the whole mesh, and
     // carving changes no tet: with none left, no kept tet is flat.
@@ -758,32 +801,28 @@ void Pipeline::run() {
   s.dihedral_histogram_before = s.dihedral_histogram;
   if (refining()) {
     if (!begin(Phase::Refine)) return;
-    st = refine_quality(*plc_, opt_.quality, opt_.cancel, {&Pipeline::refine_progress, this}, out_);
+    const Status st = refine_quality(*plc_, opt_.quality, opt_.cancel, {&Pipeline::refine_progress, this}, out_);
     if (!end(Phase::Refine, st, &s.ms_refine)) return;
     quality_statistics(out_.mesh, s, opt_.threads);
   }
   s.ms_total = ms_since(t_total);
+  done_ = true;
+}
 
-  // Validation names vertices in its messages, so with a renumbered PLC it
-  // runs on the result in input numbering (finish()).
-  if (opt_.validate && opt_.stop_after >= Phase::Carve && order_.empty()) {
-    Status v = validate(*plc_, out_);
+// After run(): the Result in input numbering (points, facets, segments),
+// validated against the input (validate() merges flat faces as the run did:
+// Result::flat_faces_merged), since its messages name input vertices.
+void Pipeline::finish(const Plc& input) {
+  report_input_ids(input);
+  if (!done_) return;
+  if (opt_.validate && opt_.stop_after >= Phase::Carve) {
+    Status v = validate(input, out_);
     if (!v.ok()) {
       out_.status = v;
       return;
     }
   }
   progress(Phase::Done, 1);
-}
-
-// After run(): the Result in input numbering, validated against the input
-// when the points were renumbered (merge_coplanar_facets renumbers nothing).
-void Pipeline::finish(const Plc& input) {
-  report_input_ids(input);
-  if (opt_.validate && opt_.stop_after >= Phase::Carve && !order_.empty() && out_.status.ok()) {
-    Status v = validate(input, out_);
-    if (!v.ok()) out_.status = v;
-  }
 }
 
 }  // namespace
