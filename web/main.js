@@ -142,7 +142,11 @@ async function openModel(source) {
     if (id !== jobSeq) return;
     setState('meshing');
     timing.meshStart = performance.now();
-    const options = { validate: $('opt-validate').checked, keepConvexHull: $('opt-hull').checked };
+    const options = {
+      validate: $('opt-validate').checked,
+      keepConvexHull: $('opt-hull').checked,
+      keepTriangles: $('opt-keep-triangles').checked,
+    };
     if (source.repair) options.repair = true;
     const quality = qualityOption();
     if (quality) options.quality = quality;
@@ -482,7 +486,7 @@ function setStat(key, value, text = null) {
 function showStats(result, refined) {
   const s = result.stats;
   for (const key of [
-    'inputPoints', 'inputFacets', 'inputSegments', 'points', 'tets', 'faces',
+    'inputPoints', 'inputFacets', 'inputSegments', 'flatEdges', 'mergedFacets', 'points', 'tets', 'faces',
     'steinerSegment', 'steinerFacet', 'facetSplits', 'steinerVolume', 'flatTets',
     'splitProjection', 'splitShell', 'splitRemoved',
   ]) {

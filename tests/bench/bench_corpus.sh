@@ -1,9 +1,19 @@
 #!/usr/bin/env bash
 # Corpus benchmark (issues 4, 5, 6): the whole CDT pipeline of cdt3d against
-# Debian's TetGen 1.5 (`tetgen -pMQ`, run as a separate process only) on every
-# model the manifest expects to be valid, with cdt3d's own validation, both
-# programs' Steiner point counts by kind and both programs' numerically flat
-# tets.
+# Debian's TetGen 1.5 (`tetgen -pMQ` and `tetgen -pQ`, run as separate
+# processes only) and, when ATTENE_CDT names its binary, the Diazzi-Attene CDT
+# (github.com/MarcoAttene/CDT; never part of this repository), on every model
+# the manifest expects to be valid, with cdt3d's own validation, the
+# programs' Steiner point counts by kind and numerically flat tets.
+#
+# cdt3d's default (the timed run) merges exactly coplanar facets into flat
+# faces (merge_flat_facets), like `tetgen -p` without -M and like the
+# Diazzi-Attene CDT; `--keep-triangles` keeps every triangle a facet, like
+# `tetgen -pM`. So the like-for-like pairs are cdt3d default / tetgen -p /
+# Attene and cdt3d --keep-triangles / tetgen -pM (Tables 5 and 6). TetGen -p
+# merges within a tolerance, so its mesh may miss segments of the exactly
+# merged PLC; tetgen_vs_merged (tg_p_missing) and local_delaunay (tg_p_nLD)
+# tell whether it is a CDT of that PLC (cdt_ok).
 #
 # One command, from a clean clone (builds what it needs):
 #   bash tests/bench/bench_corpus.sh                # tests/data (MANIFEST.tsv)
@@ -26,6 +36,23 @@
 #                                            counts the numerically flat tets of M.1.node/.ele,
 #                                            local_delaunay its unconstrained faces that are not
 #                                            locally Delaunay (a CDT has none)
+#   cdt3d mesh MODEL --json --keep-triangles Steiner points without flat-face merging (untimed)
+#   tetgen -pQNEF M.poly                     tetgen -p (flat faces merged by TetGen): timed like
+#                                            -pMQNEF; Steiner points from -pVNEF (untimed)
+#   tetgen -pQe M.poly                       with output files (untimed), -e for M.1.edge (every
+#                                            edge): tetgen_vs_merged MODEL M.1.node M.1.edge counts
+#                                            the segments of the exactly merged PLC (merge_flat_facets,
+#                                            plc_segments) that are no chain of TetGen edges
+#                                            (tg_p_missing), local_delaunay the faces that are not
+#                                            locally Delaunay (tg_p_nLD); both 0: cdt_ok = yes, the
+#                                            -p mesh is a CDT of the exactly merged PLC
+#   tetgen_vs_merged --off MODEL M.off       (with ATTENE_CDT) the PLC as a plain OFF triangle
+#                                            surface in a scratch folder (models that are not one:
+#                                            polygons, explicit segments, holes, regions: "n/a")
+#   $ATTENE_CDT -l M.off                     timed like the others (in that folder; it writes
+#                                            M.off.tet there and appends a row to ./cdt_log.csv):
+#                                            Steiner points and its own time (the sum of its 4 phase
+#                                            columns, fastest of the runs) from cdt_log.csv
 # Every process runs under tests/bench/run_timed.cpp, which times it from its
 # fork to its end (no shell or /usr/bin/time in the interval), takes user CPU
 # and peak RSS from its rusage, and kills it after BENCH_TIMEOUT (default
@@ -40,7 +67,16 @@
 #      tetgen's mesh is a CDT (its faces that are not locally Delaunay)
 #   3  segment recovery (issue 4) and degeneracy removal (issue 5)
 #   4  facet recovery (issue 6) and the time of each phase (cdt3d's own ms)
-# Failures are printed after the tables with cdt3d's message verbatim.
+#   5  flat faces: cdt3d default vs --keep-triangles vs tetgen -p (by kind,
+#      tg_p_missing, tg_p_nLD, cdt_ok) vs Diazzi-Attene (Steiner points, its
+#      algorithm ms, its process wall ms, cdt3d default / Attene)
+#   6  summary: per model the Steiner points of cdt3d default, Attene and
+#      tetgen -p (with cdt_ok); the models where cdt3d adds more than Attene,
+#      or more than tetgen -p where tetgen -p's mesh is cdt_ok; the total wall
+#      time over the models of cdt3d default, tetgen -p and tetgen -pM (and of
+#      cdt3d and Attene over the models Attene ran), and the ratios of totals
+# Table 1 ends with tetgen -p's wall/user/RSS/Steiner and ms/tp = cdt3d wall /
+# tetgen -p wall. Failures are printed after the tables with cdt3d's message verbatim.
 #
 # Environment:
 #   CORPUS=data|shared|all   which manifest(s) (default data)
@@ -53,6 +89,10 @@
 #   BENCH_FILTER=REGEX       only models whose manifest path matches (grep -E)
 #   TETGEN_FLAGS=-pMQNEF     flags of the timed tetgen run (the stats run swaps Q for V,
 #                            the run with output files drops N, E and F)
+#   TETGEN_P_FLAGS=-pQNEF    flags of the timed tetgen -p run (default: TETGEN_FLAGS without M;
+#                            stats run: Q swapped for V; output files: N, E, F dropped, e added)
+#   ATTENE_CDT=              the Diazzi-Attene `cdt` binary (e.g. /tmp/attene/build/cdt); unset:
+#                            no Attene columns
 #   CDT3D_FLAGS=             extra flags of every cdt3d mesh run, e.g. --paper-degeneracy
 #   CDT3D_BIN=.build/bench/core/cdt3d   the CLI to use (not rebuilt if set)
 #   BENCH_WASM=1             0: skip the WASM runs (node tests/bench/wasm_mesh.mjs MODEL,
@@ -76,6 +116,10 @@ DO_WASM=${BENCH_WASM:-1}
 TG_FLAGS=${TETGEN_FLAGS:--pMQNEF}
 TG_VFLAGS=${TG_FLAGS//Q/}V
 TG_OFLAGS=${TG_FLAGS//[NEF]/}
+TGP_FLAGS=${TETGEN_P_FLAGS:-${TG_FLAGS//M/}}
+TGP_VFLAGS=${TGP_FLAGS//Q/}V
+TGP_OFLAGS=${TGP_FLAGS//[NEF]/}e
+ATT=${ATTENE_CDT:-}
 read -r -a C_FLAGS <<<"${CDT3D_FLAGS:-}"
 STEP3="symbolic perturbation (cdt3d's default: no points; pert/brk/protS/protF are 0)"
 for f in "${C_FLAGS[@]}"; do
@@ -85,6 +129,7 @@ WORK=$ROOT/.build/bench/bench/corpus
 SHARED=/work/shared/corpus
 
 die() { echo "bench_corpus: $*" >&2; exit 1; }
+[ -z "$ATT" ] || [ -x "$ATT" ] || die "ATTENE_CDT=$ATT is not an executable"
 
 # 1. Tools: the project's set-up plus Debian's tetgen (the reference).
 CDT3D_EXTRA_APT=tetgen bash tests/scripts/setup.sh || die "tests/scripts/setup.sh failed"
@@ -114,6 +159,11 @@ LD=$ROOT/.build/bench/bench/local_delaunay
 if [ ! -x "$LD" ] || [ tests/bench/local_delaunay.cpp -nt "$LD" ] || [ tests/bench/tetgen_lines.hpp -nt "$LD" ] || [ "$LIB" -nt "$LD" ]; then
   c++ -O2 -std=c++17 -I core/include -I core/src/geometry -I core/src/mesh tests/bench/local_delaunay.cpp "$LIB" -o "$LD" ||
     die "cannot build tests/bench/local_delaunay.cpp"
+fi
+TVM=$ROOT/.build/bench/bench/tetgen_vs_merged
+if [ ! -x "$TVM" ] || [ tests/bench/tetgen_vs_merged.cpp -nt "$TVM" ] || [ tests/bench/tetgen_lines.hpp -nt "$TVM" ] || [ "$LIB" -nt "$TVM" ]; then
+  c++ -O2 -std=c++17 -I core/include tests/bench/tetgen_vs_merged.cpp "$LIB" -o "$TVM" ||
+    die "cannot build tests/bench/tetgen_vs_merged.cpp"
 fi
 TIMED=$ROOT/.build/bench/bench/run_timed
 if [ ! -x "$TIMED" ] || [ tests/bench/run_timed.cpp -nt "$TIMED" ]; then
@@ -215,7 +265,16 @@ tg_steiner() {  # tg_steiner KIND TEXT: sum of "Steiner points <on|in|inside> ..
     END { print (f ? s : 0) }' <<<"$2"
 }
 
-T1=() TK=() T2=() T3=() NOTES=()
+isnum() { [[ $1 =~ ^[0-9]+([.][0-9]+)?$ ]]; }
+st_total() {  # st_total "seg/facet/vol" -> their sum, or "-"
+  awk -v s="$1" 'BEGIN{ n = split(s, a, "/"); if (n != 3 || s ~ /[^0-9\/]/) print "-"; else print a[1] + a[2] + a[3] }'
+}
+addto() { awk -v a="$1" -v b="$2" 'BEGIN{ print a + b }'; }
+
+T1=() TK=() T2=() T3=() T5=() T6=() NOTES=() MORE_ATT=() MORE_TGP=()
+# Totals (Table 6): wall ms of cdt3d default, tetgen -p, tetgen -pM over the models all
+# three meshed; cdt3d wall and msTotal, Attene wall and algorithm ms over the models both meshed.
+sum_c=0 sum_tp=0 sum_tm=0 n_sum=0 sum_ca=0 sum_cat=0 sum_aw=0 sum_aa=0 n_att=0
 total=${#MODELS[@]} i=0
 for line in "${MODELS[@]}"; do
   path=${line%%$'\t'*} name=${line#*$'\t'}
@@ -269,7 +328,9 @@ for line in "${MODELS[@]}"; do
   # tetgen on the converted PLC.
   t_ms="-" t_user="" t_rss="" t_st="-" t_ok="-" t_seg="-"
   t_kinds=$(printf '%7s %7s %7s %6s %6s' - - - - -)
+  conv_ok=0
   if "$CONV" "$path" "$dir/$stem.poly" 2>"$dir/conv.err"; then
+    conv_ok=1
     run_best "$dir" tetgen "$TG_FLAGS" "$stem.poly"
     t_rc=$B_RC
     if [ "$t_rc" -eq 0 ] && ! grep -qiE 'error|assert|terminate' <<<"$B_OUT$B_ERR"; then
@@ -315,12 +376,134 @@ for line in "${MODELS[@]}"; do
     NOTES+=("$name: plc_to_poly: $(cat "$dir/conv.err")")
   fi
 
-  T1+=("$(printf '%-40s %9s %6s %7s %13s %6s | %9s %6s %7s %13s %6s | %6s %6s %6s' \
+  # cdt3d --keep-triangles (untimed): every input facet kept, like tetgen -pM.
+  k_seg=- k_fac=- k_vol=- k_total=-
+  run_once "$dir" "$BIN" mesh "$path" --json --keep-triangles "${C_FLAGS[@]}"
+  if [ "$R_RC" -eq 0 ]; then
+    k_seg=$(jnum steinerSegment "$R_OUT") k_fac=$(jnum steinerFacet "$R_OUT") k_vol=$(jnum steinerVolume "$R_OUT")
+    k_total=$(st_total "$k_seg/$k_fac/$k_vol")
+  else
+    k_seg=$([ "$R_RC" -eq 1 ] && echo error || why "$R_RC")
+    NOTES+=("$name: cdt3d --keep-triangles: $([ "$R_RC" -eq 1 ] && jmsg "$R_OUT" || echo "$(why "$R_RC") $R_ERR")")
+  fi
+
+  # tetgen -p on the same .poly: TetGen merges coplanar facets itself (within its tolerance).
+  p_ms="-" p_user="" p_rss="" p_st="-" p_ok="-" p_seg="-" p_fac="-" p_vol="-" p_miss="-" p_nld="-"
+  if [ "$conv_ok" = 1 ]; then
+    run_best "$dir" tetgen "$TGP_FLAGS" "$stem.poly"
+    if [ "$B_RC" -eq 0 ] && ! grep -qiE 'error|assert|terminate' <<<"$B_OUT$B_ERR"; then
+      p_ms=$B_WALL p_user=$B_USER p_rss=$B_RSS p_ok=yes
+      run_once "$dir" tetgen "$TGP_VFLAGS" "$stem.poly"
+      if [ "$R_RC" -eq 0 ]; then
+        p_seg=$(tg_steiner segment "$R_OUT")
+        p_fac=$(tg_steiner facet "$R_OUT") p_vol=$(tg_steiner 'domain|volume' "$R_OUT")
+        p_st="$p_seg/$p_fac/$p_vol"
+      fi
+      # With output files (and every edge, -e): is the -p mesh a CDT of the exactly merged PLC?
+      run_once "$dir" tetgen "$TGP_OFLAGS" "$stem.poly"
+      if [ "$R_RC" -eq 0 ] && [ -f "$dir/$stem.1.node" ] && [ -f "$dir/$stem.1.ele" ] && [ -f "$dir/$stem.1.edge" ]; then
+        if [ -f "$dir/$stem.1.face" ] && ld_out=$("$LD" "$dir/$stem.1.node" "$dir/$stem.1.ele" "$dir/$stem.1.face" 2>&1); then
+          p_nld=${ld_out%% *}
+        else
+          p_nld=error
+          NOTES+=("$name: local_delaunay on tetgen $TGP_OFLAGS's output: ${ld_out:-no .face file}")
+        fi
+        if tv_out=$("$TVM" "$path" "$dir/$stem.1.node" "$dir/$stem.1.edge" 2>&1); then
+          p_miss=${tv_out%% *}
+        else
+          p_miss=error
+          NOTES+=("$name: tetgen_vs_merged: $tv_out")
+        fi
+      else
+        p_miss=$(why "$R_RC") p_nld=$(why "$R_RC")
+        NOTES+=("$name: tetgen $TGP_OFLAGS (output files): $(why "$R_RC") $(tail -c 300 <<<"$R_ERR")")
+      fi
+      rm -f "$dir/$stem".1.*
+    else
+      tg_failed "$B_RC" "$B_OUT" "$B_ERR"
+      p_ok=$F_WHY
+      NOTES+=("$name: tetgen $TGP_FLAGS: $F_WHY $F_MSG")
+    fi
+  else
+    p_ok=conv
+  fi
+  p_total=$(st_total "$p_st")
+  p_cdt=-
+  if isnum "$p_miss" && isnum "$p_nld"; then
+    p_cdt=no
+    [ "$p_miss" -eq 0 ] && [ "$p_nld" -eq 0 ] && p_cdt=yes
+  fi
+
+  # The Diazzi-Attene CDT on the PLC as an OFF triangle surface, in a scratch folder.
+  a_st=- a_alg=- a_wall=-
+  if [ -n "$ATT" ]; then
+    adir=$dir/attene
+    mkdir -p "$adir"
+    "$TVM" --off "$path" "$adir/$stem.off" 2>"$dir/off.err"
+    off_rc=$?
+    if [ "$off_rc" -eq 0 ]; then
+      rm -f "$adir/cdt_log.csv"
+      run_best "$adir" "$ATT" -l "$stem.off"
+      # One row per run: Steiner (column 10), the fastest sum of the 4 phase columns.
+      arow=$(awk -F', ' 'NR > 1 && NF >= 15 { t = $2 + $3 + $4 + $5; if (best == "" || t < best) best = t;
+          st = $10; poly = $7 } END { if (st != "") print st, best, poly }' "$adir/cdt_log.csv" 2>/dev/null)
+      if [ "$B_RC" -eq 0 ] && [ -n "$arow" ]; then
+        read -r a_st a_alg a_poly <<<"$arow"
+        a_wall=$B_WALL
+        [ "$a_poly" = True ] || NOTES+=("$name: Attene cdt: Is_Polyhedron=$a_poly (then every tet but the ghosts is inner)")
+      else
+        a_st=$(why "$B_RC")
+        [ "$B_RC" -eq 0 ] && a_st=error
+        NOTES+=("$name: Attene cdt -l: $a_st $(tail -c 300 <<<"$B_OUT"$'\n'"$B_ERR" | tr '\n' ' ')")
+      fi
+      rm -f "$adir/$stem.off.tet"
+    elif [ "$off_rc" -eq 3 ]; then
+      a_st=n/a
+      NOTES+=("$name: Attene cdt: n/a: $(sed 's/^tetgen_vs_merged: [^:]*: //' "$dir/off.err")")
+    else
+      a_st=conv
+      NOTES+=("$name: tetgen_vs_merged --off: $(cat "$dir/off.err")")
+    fi
+  fi
+
+  T1+=("$(printf '%-40s %9s %6s %7s %13s %6s | %9s %6s %7s %13s %6s | %6s %6s %6s | %9s %6s %7s %13s %6s | %6s' \
     "$name" "$c_ms" "${c_user:--}" "$(mib "${c_rss:-}")" "$c_st" "$valid" \
     "$t_ms" "${t_user:--}" "$(mib "$t_rss")" "$t_st" "$t_ok" \
-    "$(ratio "$c_ms" "$t_ms")" "$(ratio "${c_user:-}" "$t_user")" "$(ratio "${c_rss:-}" "$t_rss")")")
+    "$(ratio "$c_ms" "$t_ms")" "$(ratio "${c_user:-}" "$t_user")" "$(ratio "${c_rss:-}" "$t_rss")" \
+    "$p_ms" "${p_user:--}" "$(mib "$p_rss")" "$p_st" "$p_ok" "$(ratio "$c_ms" "$p_ms")")")
   c_total=$(awk -v s="$c_st" 'BEGIN{ n = split(s, a, "/"); if (n != 3) print "-"; else print a[1] + a[2] + a[3] }')
   t_total=$(awk -v s="$t_st" 'BEGIN{ n = split(s, a, "/"); if (n != 3) print "-"; else print a[1] + a[2] + a[3] }')
+  # Table 5 (flat faces) and Table 6 (summary).
+  c_seg=- c_fac=- c_vol=- c_fe=- c_mf=-
+  if [ "$c_rc" -eq 0 ]; then
+    c_seg=$(jnum steinerSegment "$c_json") c_fac=$(jnum steinerFacet "$c_json") c_vol=$(jnum steinerVolume "$c_json")
+    c_fe=$(jnum flatEdges "$c_json") c_mf=$(jnum mergedFacets "$c_json")
+  fi
+  T5+=("$(printf '%-40s %6s %6s %6s %7s %6s %6s | %6s %6s %6s %7s %6s | %6s %6s %6s %7s %6s | %7s %7s %6s | %7s %8s %8s %6s' \
+    "$name" "$c_seg" "$c_fac" "$c_vol" "$c_total" "$c_fe" "$c_mf" \
+    "$k_seg" "$k_fac" "$k_vol" "$k_total" "$(ratio "$k_total" "$t_total")" \
+    "$p_seg" "$p_fac" "$p_vol" "$p_total" "$(ratio "$c_total" "$p_total")" \
+    "$p_miss" "$p_nld" "$p_cdt" "$a_st" "$a_alg" "$a_wall" "$(ratio "$c_total" "$a_st")")")
+  more=""
+  if isnum "$c_total" && isnum "$a_st" && [ "$c_total" -gt "$a_st" ]; then
+    more="> Attene"
+    MORE_ATT+=("$name ($c_total > $a_st)")
+  fi
+  if [ "$p_cdt" = yes ] && isnum "$c_total" && isnum "$p_total" && [ "$c_total" -gt "$p_total" ]; then
+    more="${more:+$more, }> tetgen -p"
+    MORE_TGP+=("$name ($c_total > $p_total)")
+  fi
+  T6+=("$(printf '%-40s %7s %7s %7s %7s %6s | %7s %7s | %s' "$name" "$c_total" "$k_total" "$a_st" "$p_total" "$p_cdt" \
+    "$(ratio "$c_total" "$a_st")" "$(ratio "$c_total" "$p_total")" "${more:--}")")
+  if isnum "$c_ms" && isnum "$p_ms" && isnum "$t_ms"; then
+    sum_c=$(addto "$sum_c" "$c_ms") sum_tp=$(addto "$sum_tp" "$p_ms") sum_tm=$(addto "$sum_tm" "$t_ms")
+    n_sum=$((n_sum + 1))
+  fi
+  if isnum "$c_ms" && isnum "$a_wall" && isnum "$c_tot" && isnum "$a_alg"; then
+    sum_ca=$(addto "$sum_ca" "$c_ms") sum_cat=$(addto "$sum_cat" "$c_tot")
+    sum_aw=$(addto "$sum_aw" "$a_wall") sum_aa=$(addto "$sum_aa" "$a_alg")
+    n_att=$((n_att + 1))
+  fi
   TK+=("$(printf '%-40s %s | %s | %7s %7s %6s' "$name" "$c_kinds" "$t_kinds" "$c_total" "$t_total" \
     "$(ratio "$c_total" "$t_total")")")
   if [ "$s_rc" -eq 0 ]; then
@@ -378,12 +561,15 @@ printf '\r%80s\r' '' >&2
 
 # 5. Tables.
 echo "bench_corpus: CORPUS=$CORPUS, ${#MODELS[@]} models, $(nproc 2>/dev/null || echo ?) cores, load $(cut -d' ' -f1-3 /proc/loadavg) at end, $(date -u '+%Y-%m-%d %H:%M UTC')"
-echo "  cdt3d: $BIN mesh MODEL --json ${CDT3D_FLAGS:+$CDT3D_FLAGS }(timed) / --validate; tetgen $(dpkg-query -W -f='${Version}' tetgen 2>/dev/null) $TG_FLAGS on the converted .poly (Steiner counts from $TG_VFLAGS, flat tets from $TG_OFLAGS); timeout ${TIMEOUT}s; fastest of $RUNS runs (of up to $MAX_RUNS while the runs took under $MIN_MS ms together)"
+echo "  cdt3d: $BIN mesh MODEL --json ${CDT3D_FLAGS:+$CDT3D_FLAGS }(timed; flat faces merged) / --validate / --keep-triangles (untimed); tetgen $(dpkg-query -W -f='${Version}' tetgen 2>/dev/null) $TG_FLAGS on the converted .poly (Steiner counts from $TG_VFLAGS, flat tets from $TG_OFLAGS); timeout ${TIMEOUT}s; fastest of $RUNS runs (of up to $MAX_RUNS while the runs took under $MIN_MS ms together)"
+echo "  tetgen -p: $TGP_FLAGS (timed), $TGP_VFLAGS (Steiner counts), $TGP_OFLAGS (CDT check); Diazzi-Attene CDT: ${ATT:-not run (set ATTENE_CDT)}${ATT:+ -l M.off (timed)}"
 echo
 echo "Table 1: full pipeline. ms = process wall time (fork to exit); user = user CPU s; MiB = peak RSS; Steiner = on segments/in facets/in volume"
-h1='%-40s %9s %6s %7s %13s %6s | %9s %6s %7s %13s %6s | %6s %6s %6s\n'
-printf "$h1" model cdt3d_ms user MiB Steiner valid tetgen_ms user MiB Steiner ok ms/t user/t mem/t
-printf '%s\n' "$(printf '%.0s-' {1..170})"
+echo "  cdt3d: its default (flat faces merged); tetgen: $TG_FLAGS; ms/t user/t mem/t: cdt3d / tetgen $TG_FLAGS;"
+echo "  tgp_*: tetgen $TGP_FLAGS (TetGen merges coplanar facets, within its tolerance); ms/tp = cdt3d_ms / tgp_ms (totals: Table 6)"
+h1='%-40s %9s %6s %7s %13s %6s | %9s %6s %7s %13s %6s | %6s %6s %6s | %9s %6s %7s %13s %6s | %6s\n'
+printf "$h1" model cdt3d_ms user MiB Steiner valid tetgen_ms user MiB Steiner ok ms/t user/t mem/t tgp_ms user MiB tgp_Steiner tgp_ok ms/tp
+printf '%s\n' "$(printf '%.0s-' {1..221})"
 printf '%s\n' "${T1[@]}"
 echo
 echo "Table 2: Steiner points by kind and numerically flat tets (|6V| / l_max^3 < 1e-12 in doubles; zero or inverted counts too)"
@@ -421,6 +607,42 @@ h3='%-40s %7s %7s %7s %8s %7s %8s %6s %6s | %8s %8s %8s %8s %8s %8s %9s | %8s %8
 printf "$h3" model points tets missing regions cavities largest fallbk minDih read delaunay segments degen facets carve total rand_ms del/rand wasm_ms wasm/n warm_ms warm/n
 printf '%s\n' "$(printf '%.0s-' {1..225})"
 printf '%s\n' "${T3[@]}"
+echo
+echo "Table 5: flat faces. Steiner points (seg/facet/vol, total) of cdt3d's default (flat faces merged exactly;"
+echo "  flatE = flatEdges, mrgF = mergedFacets), of cdt3d --keep-triangles (kt/tM = its total / tetgen $TG_FLAGS total),"
+echo "  of tetgen $TGP_FLAGS (St/tp = cdt3d default total / tetgen -p total) and of the Diazzi-Attene CDT (att_St;"
+echo "  att_ms = its own time, the sum of its 4 phases, fastest run; att_wall = its process wall ms (writes M.off.tet);"
+echo "  St/att = cdt3d default total / att_St; n/a: not a plain triangle surface). tg_p_missing = segments of the exactly"
+echo "  merged PLC that are no chain of edges of tetgen -p's mesh (TetGen merges within a tolerance), tg_p_nLD = its"
+echo "  unconstrained faces that are not locally Delaunay; cdt_ok = yes when both are 0: tetgen -p's mesh is a CDT of"
+echo "  the exactly merged PLC, so its Steiner count compares with cdt3d's default"
+h5='%-40s %6s %6s %6s %7s %6s %6s | %6s %6s %6s %7s %6s | %6s %6s %6s %7s %6s | %7s %7s %6s | %7s %8s %8s %6s\n'
+printf "$h5" model seg facet vol total flatE mrgF kt_seg kt_fac kt_vol kt_tot kt/tM tp_seg tp_fac tp_vol tp_tot St/tp \
+  tg_p_missing tg_p_nLD cdt_ok att_St att_ms att_wall St/att
+printf '%s\n' "$(printf '%.0s-' {1..205})"
+printf '%s\n' "${T5[@]}"
+echo
+echo "Table 6: summary. Steiner points in all: cdt3d default (flat faces merged), cdt3d --keep-triangles, Diazzi-Attene,"
+echo "  tetgen $TGP_FLAGS (cdt_ok: its mesh is a CDT of the exactly merged PLC); St/att, St/tp = cdt3d default / theirs;"
+echo "  more = cdt3d default adds more than Attene, or more than tetgen -p where cdt_ok = yes"
+h6='%-40s %7s %7s %7s %7s %6s | %7s %7s | %s\n'
+printf "$h6" model cdt3d kt att_St tp_tot cdt_ok St/att St/tp more
+printf '%s\n' "$(printf '%.0s-' {1..120})"
+printf '%s\n' "${T6[@]}"
+echo
+if [ -n "$ATT" ]; then
+  echo "cdt3d default adds more Steiner points than Attene on ${#MORE_ATT[@]} model(s)${MORE_ATT[*]:+:}"
+  [ ${#MORE_ATT[@]} -gt 0 ] && printf '  %s\n' "${MORE_ATT[@]}"
+fi
+echo "cdt3d default adds more Steiner points than tetgen -p (where cdt_ok) on ${#MORE_TGP[@]} model(s)${MORE_TGP[*]:+:}"
+[ ${#MORE_TGP[@]} -gt 0 ] && printf '  %s\n' "${MORE_TGP[@]}"
+echo "Total wall time (ms, the fastest run of each model) over the $n_sum models that cdt3d, tetgen -p and tetgen -pM all meshed:"
+echo "  cdt3d default $sum_c, tetgen $TGP_FLAGS $sum_tp, tetgen $TG_FLAGS $sum_tm;" \
+  "cdt3d/tetgen -p $(ratio "$sum_c" "$sum_tp"), cdt3d/tetgen -pM $(ratio "$sum_c" "$sum_tm")"
+if [ -n "$ATT" ]; then
+  echo "Over the $n_att models that cdt3d and Attene both meshed: wall ms cdt3d $sum_ca, Attene $sum_aw (ratio $(ratio "$sum_ca" "$sum_aw"));"
+  echo "  own time ms cdt3d msTotal $sum_cat, Attene phases $sum_aa (ratio $(ratio "$sum_cat" "$sum_aa"))"
+fi
 if [ ${#NOTES[@]} -gt 0 ]; then
   echo
   echo "Failures and messages (verbatim):"

@@ -76,6 +76,7 @@ new Cdt3dError('internal', 'outer', { line: 3, cause: new Error('inner') });
     keepConvexHull: true,
     validate: true,
     checkIntersections: false,
+    keepTriangles: false,
     mergeCoplanarFacets: true,
     degeneracy: 'paper',
     verbosity: 1,

@@ -556,3 +556,79 @@ TEST_CASE("the perturbation order is chosen to keep segments, and ids are report
     }
   }
 }
+
+namespace {
+
+// A thin slab whose top and bottom faces are fans of coplanar triangles
+// around a centre vertex, with coordinates that are no short binary
+// fractions (a rim of radius 1e-2, like a CAD part in metres): with every
+// triangle kept, the fan edges are segments that the vertices of the other
+// face encroach upon, and their split points round off the fan's plane.
+Plc slab_of_fans(size_t n, double radius, double thickness) {
+  Plc plc;
+  const double pi = std::acos(-1.0);
+  for (int level = 0; level < 2; ++level) {
+    const double z = level == 0 ? 0.0 : thickness;
+    plc.points.push_back({0.0013, -0.0007, z});  // the fan's centre
+    for (size_t i = 0; i < n; ++i) {
+      const double a = 2 * pi * (static_cast<double>(i) + 0.1 * level) / static_cast<double>(n);
+      plc.points.push_back({radius * std::cos(a), radius * std::sin(a), z});
+    }
+  }
+  const VertexId nb = static_cast<VertexId>(n + 1);  // first vertex of the top
+  auto rim = [n](VertexId base, size_t i) { return base + 1 + static_cast<VertexId>(i % n); };
+  for (size_t i = 0; i < n; ++i) {
+    Facet bottom, top, side1, side2;
+    bottom.loops = {{0, rim(0, i + 1), rim(0, i)}};
+    top.loops = {{nb, rim(nb, i), rim(nb, i + 1)}};
+    side1.loops = {{rim(0, i), rim(0, i + 1), rim(nb, i + 1)}};
+    side2.loops = {{rim(0, i), rim(nb, i + 1), rim(nb, i)}};
+    for (Facet* f : {&bottom, &top, &side1, &side2}) plc.facets.push_back(*f);
+  }
+  return plc;
+}
+
+}  // namespace
+
+TEST_CASE("coplanar fans with their triangles kept: split points stay usable", "[pipeline]") {
+  // Issue 41, point 4: with --keep-triangles, the Steiner points on edges
+  // between coplanar triangles must not make flat tets, crossing faces or a
+  // tet whose four vertices lie in one fan's plane.
+  for (double thickness : {5e-4, 2e-4, 1e-3}) {
+    INFO("thickness " << thickness);
+    const Plc plc = slab_of_fans(24, 0.01, thickness);
+    REQUIRE(check_plc(plc).ok());
+    Options opt;
+    opt.keep_triangles = true;
+    opt.validate = true;
+    const Result r = tetrahedralize(plc, opt);
+    INFO(r.status.error.to_string());
+    REQUIRE(r.status.ok());
+    CHECK(r.stats.steiner_segment > 0);  // the fans' edges were split
+    CHECK(r.stats.flat_tets == 0);
+    // Which fan (0 bottom, 1 top) each output point lies in, by provenance:
+    // input points by their z, split points by their segment's ends.
+    const auto segs = plc_segments(plc);
+    auto level_of_input = [&](uint32_t v) { return plc.points[v].z == 0 ? 0 : 1; };
+    std::vector<int> level(r.mesh.points.size() / 3, -1);
+    for (uint32_t v = 0; v < r.input_points; ++v) level[v] = level_of_input(v);
+    for (size_t i = 0; i < r.steiner_kind.size(); ++i) {
+      if (r.steiner_kind[i] != SteinerKind::Segment) continue;
+      const auto& e = segs.at(static_cast<size_t>(r.steiner_parent[i]));
+      if (level_of_input(e[0]) == level_of_input(e[1])) level[r.input_points + i] = level_of_input(e[0]);
+    }
+    size_t in_one_plane = 0;
+    for (size_t t = 0; t < r.mesh.tets.size(); t += 4) {
+      const int l = level[r.mesh.tets[t]];
+      bool same = l >= 0;
+      for (int k = 1; k < 4; ++k) same = same && level[r.mesh.tets[t + k]] == l;
+      in_one_plane += same;
+    }
+    CHECK(in_one_plane == 0);
+    // The default (the fans merged) needs no point on them at all.
+    const Result merged = tetrahedralize(plc);
+    REQUIRE(merged.status.ok());
+    CHECK(merged.stats.merged_facets == 2);
+    CHECK(validate(plc, merged).ok());
+  }
+}

@@ -237,7 +237,7 @@ bool all_points_on_loops(const Plc& plc) {
 class Pipeline {
  public:
   Pipeline(const Plc& plc, const Options& options, Result& out)
-      : plc_(&plc), opt_(options), out_(out) {}
+      : input_(plc), plc_(&plc), opt_(options), out_(out) {}
 
   void run();
   void finish(const Plc& input);
@@ -293,6 +293,7 @@ class Pipeline {
   };
   std::vector<FacetSplit> facet_splits_;  ///< Steiner points added inside facets, in order
 
+  const Plc& input_;            // what the self-intersection test reads
   const Plc* plc_;              // the input, or merged_ when facets were merged
   Plc merged_;                  // merge_flat_facets of the input (when it joined some)
   std::vector<uint32_t> rep_;   // per facet of merged_: its smallest input facet
@@ -327,6 +328,7 @@ class Pipeline {
   // Where the test and the checks run (schedule_test).
   bool test_beside_ = false, test_after_d0_ = false, checks_beside_ = false;
   bool done_ = false;  // run() got to the end
+  bool error_in_input_ids_ = false;  // the run's error came from the test (input_)
 };
 
 bool Pipeline::begin(Phase phase) {
@@ -411,6 +413,7 @@ void Pipeline::report_input_ids(const Plc& input) {
     if (out_.steiner_kind[i] == SteinerKind::Facet) p = facet(p);
     if (out_.steiner_kind[i] == SteinerKind::Segment) p = segment(p);
   }
+  if (error_in_input_ids_) return;  // the self-intersection test read the input
   Error& e = out_.status.error;
   e.facet = facet(e.facet);
   e.other_facet = facet(e.other_facet);
@@ -602,7 +605,9 @@ Status Pipeline::intersection_verdict(IntersectionTest& test, bool beside) {
   const std::vector<Intersection>& found = test.found();
   if (beside) out_.stats.ms_read += test.ms();
   for (const Intersection& x : found) out_.intersecting_facets.push_back({x.a, x.b});
-  return self_intersection_error(*plc_, found);
+  const Status st = self_intersection_error(input_, found);
+  if (!st.ok()) error_in_input_ids_ = true;
+  return st;
 }
 
 // Waits for the test running beside the steps, if one is; false (with its
@@ -637,11 +642,11 @@ bool Pipeline::read_phase(IntersectionTest& intersections) {
   if (st.ok() && !checks_beside_) st = check_plc(*plc_);
   if (st.ok() && opt_.quality.enabled) st = check_quality_options(opt_.quality);
   if (st.ok() && opt_.check_intersections && !test_beside_) {
-    intersections.start(*plc_, false);
+    intersections.start(input_, false);
     st = intersection_verdict(intersections, false);
   }
   if (st.ok() && opt_.check_intersections && test_beside_ && !test_after_d0_) {
-    intersections.start(*plc_, true, &intersecting_, checks_beside_);
+    intersections.start(input_, true, &intersecting_, checks_beside_);
     pending_test_ = &intersections;
   }
   // The steps mesh the merged PLC; the test above read the input, and its
@@ -677,13 +682,15 @@ bool Pipeline::merge_flat_faces() {
 // the test: step 1 needs the points alone (bunny: ~6% of the run off the
 // main thread). The search for the perturbation order waits for them after
 // D0, and a failed check is the run's error as before (with quality
-// options, whose error comes after check_plc's, all checks stay here). A
-// merged PLC is not the one the test reads, so then it all runs here first.
+// options, whose error comes after check_plc's, all checks stay here). The
+// test reads the input (input_), and its errors name input facets and
+// vertices; the steps of a merged PLC need the checks' verdict before the
+// merge is used, so then the checks stay here.
 void Pipeline::schedule_test(bool merging) {
-  test_beside_ = opt_.threads && !merging && plc_->facets.size() >= kMinFacetsBeside;
+  test_beside_ = opt_.threads && plc_->facets.size() >= kMinFacetsBeside;
   test_after_d0_ = plc_->points.size() >= kMinTwoThreadDelaunayPoints;
   checks_beside_ = opt_.check_intersections && test_beside_ && !test_after_d0_ &&
-                   !opt_.quality.enabled;
+                   !opt_.quality.enabled && !merging;
 }
 
 // The perturbation order that keeps the most segments in D0 (sos_order.hpp).
@@ -733,7 +740,7 @@ bool Pipeline::after_order(IntersectionTest& intersections) {
       d0_ = TetMesh();  // step 1 runs again below and reports why
     ms_d0_ += ms_since(t0);
     if (test_after_d0_) {
-      intersections.start(*plc_, true, &intersecting_);
+      intersections.start(input_, true, &intersecting_);
       pending_test_ = &intersections;
     }
   }
