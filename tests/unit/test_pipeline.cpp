@@ -632,3 +632,39 @@ TEST_CASE("coplanar fans with their triangles kept: split points stay usable", "
     CHECK(validate(plc, merged).ok());
   }
 }
+
+TEST_CASE("a facet standing on an inner edge of a flat face keeps that edge a segment", "[pipeline]") {
+  // A unit cube whose bottom face is a fan of four triangles around its
+  // centre c, and a dangling triangle standing on the fan edge (0, c): the
+  // bottom merges into one facet, but (0, c) has three facets and stays a
+  // segment inside it.
+  Plc plc;
+  plc.points = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}, {0.5, 0.5, 0}};
+  auto tri = [&](VertexId a, VertexId b, VertexId c) {
+    Facet f;
+    f.loops = {{a, b, c}};
+    plc.facets.push_back(f);
+  };
+  for (VertexId i = 0; i < 4; ++i) tri(8, (i + 1) % 4, i);  // the bottom fan
+  tri(4, 5, 6), tri(4, 6, 7);                                // top
+  tri(0, 1, 5), tri(0, 5, 4), tri(1, 2, 6), tri(1, 6, 5);    // sides
+  tri(2, 3, 7), tri(2, 7, 6), tri(3, 0, 4), tri(3, 4, 7);
+  plc.points.push_back({0.4, 0.3, 0.6});
+  tri(0, 8, 9);  // standing on (0, c), up to the extra point
+  REQUIRE(check_plc(plc).ok());
+  Plc merged;
+  std::vector<uint32_t> into;
+  size_t flat = 0;
+  merge_flat_facets(plc, merged, into, &flat);
+  CHECK(flat == 3 + 5);  // three fan edges on the bottom, one diagonal per other face
+  CHECK(into[0] == into[1]);
+  CHECK(into[0] == into[3]);
+  const auto segs = plc_segments(merged);
+  CHECK(std::binary_search(segs.begin(), segs.end(), std::array<VertexId, 2>{0, 8}));
+  CHECK_FALSE(std::binary_search(segs.begin(), segs.end(), std::array<VertexId, 2>{1, 8}));
+  const Result r = run(plc);
+  CHECK(r.flat_faces_merged);
+  CHECK(r.stats.merged_facets == 6);
+  CHECK(volume(r) == Approx(1));
+}

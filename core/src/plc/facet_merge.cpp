@@ -24,8 +24,10 @@
 #include <numeric>
 #include <vector>
 
+#include "facet_merge.hpp"
 #include "geometry.hpp"
 #include "predicates.hpp"
+#include "radix_sort.hpp"
 
 namespace cdt3d {
 namespace {
@@ -88,9 +90,15 @@ int loop_orientation(const Plc& plc, const std::vector<VertexId>& L, int drop) {
                                   xyz(plc, L[(best + 1) % n]), drop);
 }
 
-bool coplanar(const Plc& plc, const Plane& p, const Facet& g) {
+// g lies in f's plane p: its vertices that are no vertices of f (those lie
+// in it; testing them would take the predicates' slow exact path, as every
+// zero does) are exactly in the plane.
+bool coplanar(const Plc& plc, const Plane& p, const Facet& f, const Facet& g) {
+  const auto& F = f.loops[0];
   for (VertexId v : g.loops[0])
-    if (pred::orient3d(p.a, p.b, p.c, xyz(plc, v)) != 0) return false;
+    if (std::find(F.begin(), F.end(), v) == F.end() &&
+        pred::orient3d(p.a, p.b, p.c, xyz(plc, v)) != 0)
+      return false;
   return true;
 }
 
@@ -162,6 +170,11 @@ void boundary_cycles(std::vector<std::array<VertexId, 2>> edges,
 
 size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged_into,
                          size_t* flat_edges) {
+  return merge_flat_facets(plc, out, merged_into, flat_edges, nullptr);
+}
+
+size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged_into,
+                         size_t* flat_edges, FlatFaceInsides* insides) {
   const uint32_t nf = static_cast<uint32_t>(plc.facets.size());
   std::vector<uint8_t> ok(nf, 0);
   std::vector<Plane> plane(nf);
@@ -179,7 +192,13 @@ size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged
         const VertexId p = L[i], q = L[(i + 1) % L.size()];
         uses.push_back({std::min(p, q), std::max(p, q), f, p < q});
       }
-  std::sort(uses.begin(), uses.end());
+  // By edge, then facet: uses are made in facet order and the radix sort is
+  // stable (std::sort's comparisons were half of the merge's time).
+  const int b = index_bits(plc.points.size() + 1);
+  if (2 * b <= 64)
+    radix_sort_by(uses, [b](const EdgeUse& u) { return (uint64_t(u.lo) << b) | u.hi; }, 0, 2 * b);
+  else
+    std::sort(uses.begin(), uses.end());
   std::vector<std::array<VertexId, 2>> explicit_segs;
   for (const auto& s : plc.segments) explicit_segs.push_back({std::min(s[0], s[1]), std::max(s[0], s[1])});
   std::sort(explicit_segs.begin(), explicit_segs.end());
@@ -195,12 +214,14 @@ size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged
         plc.facets[x.facet].marker == plc.facets[y.facet].marker &&
         !std::binary_search(explicit_segs.begin(), explicit_segs.end(),
                             std::array<VertexId, 2>{x.lo, x.hi}) &&
-        coplanar(plc, plane[x.facet], plc.facets[y.facet])) {
+        coplanar(plc, plane[x.facet], plc.facets[x.facet], plc.facets[y.facet])) {
       // Same projection for both (one plane). The interior of a loop lies
       // left of its edges when it turns counterclockwise: the facets are on
       // opposite sides of lo -> hi when those sides differ.
       const int drop = plane[x.facet].drop;
-      const int sy = loop_orientation(plc, plc.facets[y.facet].loops[0], drop);
+      const int sy = plane[y.facet].drop == drop
+                         ? orient[y.facet]
+                         : loop_orientation(plc, plc.facets[y.facet].loops[0], drop);
       const int side_x = orient[x.facet] * (x.forward ? 1 : -1);
       const int side_y = sy * (y.forward ? 1 : -1);
       if (sy != 0 && side_x != side_y) {
@@ -215,6 +236,13 @@ size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged
 
   std::vector<uint32_t> root(nf), size(nf, 0);
   for (uint32_t f = 0; f < nf; ++f) ++size[root[f] = find_root(parent, f)];
+  std::vector<std::vector<uint32_t>> members(insides ? nf : 0);  // per group root
+  if (insides) {
+    insides->vertices.clear();
+    insides->segments = 0;
+    for (uint32_t f = 0; f < nf; ++f)
+      if (size[root[f]] > 1) members[root[f]].push_back(f);
+  }
   // Per group: its boundary edges, directed as its facets' loops run them
   // (the edges used an odd number of times by its facets).
   std::vector<std::vector<std::array<VertexId, 2>>> boundary(nf);
@@ -233,6 +261,12 @@ size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged
         boundary[r].push_back(u.forward ? std::array<VertexId, 2>{u.lo, u.hi}
                                         : std::array<VertexId, 2>{u.hi, u.lo});
       }
+      // An inner edge of the group that another facet or an explicit
+      // segment also uses stays a segment inside the merged facet.
+      if (insides && same % 2 == 0 && first &&
+          (same < j - i || std::binary_search(explicit_segs.begin(), explicit_segs.end(),
+                                              std::array<VertexId, 2>{uses[k].lo, uses[k].hi})))
+        ++insides->segments;
     }
     i = j;
   }
@@ -274,11 +308,25 @@ size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged
     std::swap(cycles[0], cycles[outer]);
     if (loop_orientation(plc, cycles[0], drop) != orient[f])
       std::reverse(cycles[0].begin(), cycles[0].end());
+    if (insides) {
+      // The group's vertices on none of its loops.
+      std::vector<VertexId> on_loops, inner;
+      for (const auto& c : cycles) on_loops.insert(on_loops.end(), c.begin(), c.end());
+      std::sort(on_loops.begin(), on_loops.end());
+      for (uint32_t g : members[f])
+        for (VertexId v : plc.facets[g].loops[0])
+          if (!std::binary_search(on_loops.begin(), on_loops.end(), v)) inner.push_back(v);
+      std::sort(inner.begin(), inner.end());
+      inner.erase(std::unique(inner.begin(), inner.end()), inner.end());
+      insides->vertices.resize(out.facets.size() + 1);
+      insides->vertices.back() = std::move(inner);
+    }
     Facet m = plc.facets[f];
     m.loops = cycles;
     m.even_odd = true;
     out.facets.push_back(std::move(m));
   }
+  if (insides) insides->vertices.resize(out.facets.size());
   return groups;
 }
 

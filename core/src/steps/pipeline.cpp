@@ -28,6 +28,7 @@
 #include "carve.hpp"
 #include "degeneracy.hpp"
 #include "delaunay.hpp"
+#include "facet_merge.hpp"
 #include "facet_recovery.hpp"
 #include "flat_flips.hpp"
 #include "geometry.hpp"
@@ -296,6 +297,7 @@ class Pipeline {
   const Plc& input_;            // what the self-intersection test reads
   const Plc* plc_;              // the input, or merged_ when facets were merged
   Plc merged_;                  // merge_flat_facets of the input (when it joined some)
+  FlatFaceInsides insides_;     // what lies inside merged_'s facets (point ids of plc_)
   std::vector<uint32_t> rep_;   // per facet of merged_: its smallest input facet
   Plc permuted_;                // *plc_ with its points in order_ (sos_order.hpp)
   std::vector<VertexId> order_; // point k of permuted_ is input point order_[k]; empty: none
@@ -513,6 +515,8 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
   }
   s.input_segments = segs_.input.size();
   facet_interior_.assign(plc_->facets.size(), {});
+  for (size_t f = 0; f < insides_.vertices.size() && f < facet_interior_.size(); ++f)
+    facet_interior_[f] = insides_.vertices[f];  // input vertices inside flat faces
   if (st.ok()) st = insert_facet_splits();
   if (!end(Phase::Delaunay, st, &s.ms_delaunay)) return false;
   s.ms_delaunay += ms_d0_;
@@ -663,9 +667,10 @@ bool Pipeline::merge_flat_faces() {
   if (opt_.keep_triangles) return false;
   Statistics& s = out_.stats;
   std::vector<uint32_t> into;
-  s.merged_facets = merge_flat_facets(*plc_, merged_, into, &s.flat_edges);
+  s.merged_facets = merge_flat_facets(*plc_, merged_, into, &s.flat_edges, &insides_);
   if (s.merged_facets == 0) {
     merged_ = Plc();
+    insides_ = FlatFaceInsides();
     return false;
   }
   rep_.assign(merged_.facets.size(), kNone);
@@ -710,6 +715,10 @@ void Pipeline::choose_order(IntersectionTest& intersections) {
     input_segments_.clear();  // numbered for the points before the order
     permute_plc(*plc_, order_, permuted_);
     plc_ = &permuted_;
+    std::vector<VertexId> id_of(order_.size());
+    for (size_t k = 0; k < order_.size(); ++k) id_of[order_[k]] = static_cast<VertexId>(k);
+    for (auto& inner : insides_.vertices)
+      for (VertexId& v : inner) v = id_of[v];
   }
   ms_d0_ = d0_.live_tets > 0 ? os.ms_d0 : 0;
   ms_order_ = ms_since(t0) - ms_d0_;
@@ -728,9 +737,12 @@ bool Pipeline::after_order(IntersectionTest& intersections) {
     }
     if (order_.empty()) initial_segments_ = intersections.take_segment_set();
   }
-  // A merged facet may hold segments (an edge where a third facet stands).
-  nothing_embedded_ = opt_.check_intersections && rep_.empty() &&
-                      plc_->segments.empty() && all_points_on_loops(*plc_);
+  // Of a merged PLC the input tells: its inner vertices are the merged
+  // facets' insides (seeded in mesh_steps), unless a segment lies inside a
+  // merged facet (an edge where a third facet stands).
+  const Plc& loops_of = rep_.empty() ? *plc_ : input_;
+  nothing_embedded_ = opt_.check_intersections && insides_.segments == 0 &&
+                      loops_of.segments.empty() && all_points_on_loops(loops_of);
   if (opt_.check_intersections && test_beside_) {
     const auto t0 = Clock::now();
     if (d0_.live_tets == 0 &&
