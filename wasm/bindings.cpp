@@ -345,6 +345,8 @@ val result_js(const cdt3d::Result& r) {
   o.set("steinerKinds", to_js(kinds));
   o.set("steinerParents", to_js(parents));
   o.set("delaunay", val(r.delaunay));
+  o.set("flatFacesMerged", val(r.flat_faces_merged));
+  o.set("flatFaceOf", to_js(r.flat_face_of));
   o.set("stats", stats_js(r.stats));
   return o;
 }
@@ -488,6 +490,9 @@ void result_from_js(const val& res, cdt3d::Result& r) {
   // Results from before the improvement pass existed have no flag: Delaunay.
   const val delaunay = res["delaunay"];
   r.delaunay = delaunay.isUndefined() || delaunay.as<bool>();
+  // Results from before flat faces were merged have no flag: triangles kept.
+  const val merged = res["flatFacesMerged"];
+  r.flat_faces_merged = !merged.isUndefined() && merged.as<bool>();
 }
 
 val validate_js(val input, val result) {

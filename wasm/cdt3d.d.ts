@@ -409,7 +409,7 @@ export interface MeshResult {
   tets: Uint32Array;
   /** 3 point ids per constrained face (the input facets, subdivided). */
   faces: Uint32Array;
-  /** Input facet per face. */
+  /** Input facet per face (with flat faces merged: the smallest input facet of its flat face). */
   faceFacets: Uint32Array;
   /** Input facet marker per face. */
   faceMarkers: Int32Array;
@@ -430,6 +430,17 @@ export interface MeshResult {
    * covered, but faces need not be locally Delaunay, and validate() does not check that.
    */
   delaunay: boolean;
+  /**
+   * True when flat faces were merged (the default; false with `keepTriangles`): the mesh is a
+   * CDT of the merged PLC, `faceFacets` name the smallest input facet of each flat face, and
+   * validate() merges as the run did.
+   */
+  flatFacesMerged: boolean;
+  /**
+   * Per input facet (with flat faces merged): the smallest input facet of its flat face, the id
+   * `faceFacets` uses; empty with `keepTriangles`.
+   */
+  flatFaceOf: Uint32Array;
   stats: MeshStatistics;
   /** {ok: true} when options.validate was set (a failed validation throws), else null. */
   validation: ValidationResult | null;

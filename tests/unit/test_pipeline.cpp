@@ -444,6 +444,13 @@ TEST_CASE("merge_flat_facets joins the two triangles of each cube face", "[pipel
   CHECK(joined.stats.input_segments == 12);
   CHECK(joined.stats.input_segments < kept.stats.input_segments);
   for (uint32_t f : joined.face_facet) CHECK(f < plc.facets.size());
+  // Faces name the smallest input facet of their flat face; flat_face_of
+  // maps every input facet to it (the two triangles of each cube face).
+  REQUIRE(joined.flat_face_of.size() == plc.facets.size());
+  for (uint32_t f : joined.face_facet) CHECK(joined.flat_face_of[f] == f);
+  for (uint32_t f = 0; f < plc.facets.size(); ++f) CHECK(into[joined.flat_face_of[f]] == into[f]);
+  CHECK(std::set<uint32_t>(joined.flat_face_of.begin(), joined.flat_face_of.end()).size() == 6);
+  CHECK(kept.flat_face_of.empty());
   CHECK(volume(joined) == Approx(1));
   CHECK(validate(plc, joined).ok());
   CHECK(validate(plc, kept).ok());

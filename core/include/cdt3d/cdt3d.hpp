@@ -385,6 +385,11 @@ struct Result {
   /// mesh is a CDT of merge_flat_facets() of the input, face_facet names
   /// the smallest input facet of each flat face, and validate() merges too.
   bool flat_faces_merged = false;
+  /// Per input facet, when flat faces were merged: the smallest input facet
+  /// of its flat face (itself when it joined none), the id face_facet uses;
+  /// the input facets of a face's flat face are those with the same entry.
+  /// Empty with Options::keep_triangles and after map_to_input_facets().
+  std::vector<uint32_t> flat_face_of;
   Statistics stats;
   /// Pairs of input facets that intersect improperly (filled when the status
   /// is SelfIntersection; all pairs found, for highlighting).

@@ -90,6 +90,18 @@ int loop_orientation(const Plc& plc, const std::vector<VertexId>& L, int drop) {
                                   xyz(plc, L[(best + 1) % n]), drop);
 }
 
+// Quick rejection: a vertex of g off the plane of f's first three vertices
+// (a curved surface's neighbours fail here at once, by the predicate's
+// filter). True also when those three are collinear; coplanar() decides.
+bool maybe_coplanar(const Plc& plc, const Facet& f, const Facet& g) {
+  const auto& F = f.loops[0];
+  const double *a = xyz(plc, F[0]), *b = xyz(plc, F[1]), *c = xyz(plc, F[2]);
+  for (VertexId v : g.loops[0])
+    if (std::find(F.begin(), F.end(), v) == F.end() && pred::orient3d(a, b, c, xyz(plc, v)) != 0)
+      return false;
+  return true;
+}
+
 // g lies in f's plane p: its vertices that are no vertices of f (those lie
 // in it; testing them would take the predicates' slow exact path, as every
 // zero does) are exactly in the plane.
@@ -176,15 +188,23 @@ size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged
 size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged_into,
                          size_t* flat_edges, FlatFaceInsides* insides) {
   const uint32_t nf = static_cast<uint32_t>(plc.facets.size());
+  // Per facet: 1 mergeable, 0 not; planes and orientations are made on the
+  // first coplanar neighbour (most edges of a curved surface fail the quick
+  // test below first): 2 once made, 0 when the loop turned out degenerate.
   std::vector<uint8_t> ok(nf, 0);
   std::vector<Plane> plane(nf);
   std::vector<int> orient(nf, 0);
-  for (uint32_t f = 0; f < nf; ++f) {
-    const Facet& F = plc.facets[f];
-    if (!mergeable(plc, F) || !facet_plane(plc, F, plane[f])) continue;
-    orient[f] = loop_orientation(plc, F.loops[0], plane[f].drop);
-    ok[f] = orient[f] != 0;
-  }
+  for (uint32_t f = 0; f < nf; ++f) ok[f] = mergeable(plc, plc.facets[f]);
+  auto with_plane = [&](uint32_t f) {
+    if (ok[f] == 1) {
+      ok[f] = 0;
+      if (facet_plane(plc, plc.facets[f], plane[f])) {
+        orient[f] = loop_orientation(plc, plc.facets[f].loops[0], plane[f].drop);
+        if (orient[f] != 0) ok[f] = 2;
+      }
+    }
+    return ok[f] == 2;
+  };
   std::vector<EdgeUse> uses;
   for (uint32_t f = 0; f < nf; ++f)
     for (const auto& L : plc.facets[f].loops)
@@ -214,6 +234,8 @@ size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged
         plc.facets[x.facet].marker == plc.facets[y.facet].marker &&
         !std::binary_search(explicit_segs.begin(), explicit_segs.end(),
                             std::array<VertexId, 2>{x.lo, x.hi}) &&
+        maybe_coplanar(plc, plc.facets[x.facet], plc.facets[y.facet]) && with_plane(x.facet) &&
+        with_plane(y.facet) &&
         coplanar(plc, plane[x.facet], plc.facets[x.facet], plc.facets[y.facet])) {
       // Same projection for both (one plane). The interior of a loop lies
       // left of its edges when it turns counterclockwise: the facets are on

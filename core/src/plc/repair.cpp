@@ -167,6 +167,7 @@ void map_to_input_facets(const RepairReport& report, Result& result) {
   };
   for (uint32_t& f : result.face_facet)
     if (f < src.size()) f = src[f];
+  result.flat_face_of.clear();  // indexed by repaired facets, which input facets do not name
   for (size_t i = 0; i < result.steiner_kind.size() && i < result.steiner_parent.size(); ++i)
     if (result.steiner_kind[i] == SteinerKind::Facet) map(result.steiner_parent[i]);
   map(result.status.error.facet);

@@ -671,11 +671,15 @@ bool Pipeline::merge_flat_faces() {
   if (s.merged_facets == 0) {
     merged_ = Plc();
     insides_ = FlatFaceInsides();
+    out_.flat_face_of.resize(into.size());
+    for (uint32_t f = 0; f < into.size(); ++f) out_.flat_face_of[f] = f;
     return false;
   }
   rep_.assign(merged_.facets.size(), kNone);
   for (uint32_t f = 0; f < into.size(); ++f)
     if (rep_[into[f]] == kNone) rep_[into[f]] = f;
+  out_.flat_face_of.resize(into.size());
+  for (uint32_t f = 0; f < into.size(); ++f) out_.flat_face_of[f] = rep_[into[f]];
   return true;
 }
 
