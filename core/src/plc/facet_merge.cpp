@@ -255,6 +255,15 @@ size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged
     i = j;
   }
   if (flat_edges) *flat_edges = nflat;
+  if (nflat == 0 && insides) {
+    // Nothing to merge: the pipeline goes on with the input itself (most
+    // curved models), so no copy of it is made.
+    out = Plc();
+    merged_into.resize(nf);
+    std::iota(merged_into.begin(), merged_into.end(), 0u);
+    *insides = FlatFaceInsides();
+    return 0;
+  }
 
   std::vector<uint32_t> root(nf), size(nf, 0);
   for (uint32_t f = 0; f < nf; ++f) ++size[root[f] = find_root(parent, f)];

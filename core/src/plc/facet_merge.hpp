@@ -19,7 +19,8 @@ struct FlatFaceInsides {
 };
 
 /// merge_flat_facets(), and the insides of the merged facets when `insides`
-/// is given.
+/// is given; then, when no edge is flat, `out` is left empty (the input is
+/// its own merge) and merged_into is the identity.
 size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged_into,
                          size_t* flat_edges, FlatFaceInsides* insides);
 
