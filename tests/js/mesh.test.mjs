@@ -36,7 +36,7 @@ const COUNTS = ['inputPoints', 'inputFacets', 'inputSegments', 'points', 'tets',
   'steinerSegment', 'steinerFacet', 'steinerVolume', 'rule1', 'rule2', 'rule3', 'acuteBoth',
   'splitProjection', 'splitShell', 'splitRemoved',
   'perturbations', 'breakPoints', 'protectSegment', 'protectFacet', 'missingSubfaces', 'regions',
-  'missingSegments', 'facetSplits', 'flatFlips', 'flatTets'];
+  'missingSegments', 'facetSplits', 'flatFlips', 'flatTets', 'flatEdges', 'mergedFacets'];
 
 describe('every valid model: WASM equals native, and validates', { skip: skipNative && 'CDT3D_SKIP_NATIVE=1' }, () => {
   for (const file of valid) {
@@ -188,6 +188,31 @@ describe('options', () => {
     const n = nativeMesh(file, ['--paper-degeneracy']);
     assert.equal(n.status, 0);
     for (const k of COUNTS) assert.equal(paper.stats[k], n.json[k], `${file} --paper-degeneracy: ${k}`);
+  });
+
+  test('flat faces are merged by default; keepTriangles keeps every triangle, like the native --keep-triangles', { skip: skipNative && 'CDT3D_SKIP_NATIVE=1' }, () => {
+    const file = 'xyz_cube_20mm_binary.stl';
+    const bytes = () => ({ bytes: bytesOf(file), fileName: file });
+    const merged = cdt.tetrahedralize(bytes(), { validate: true });
+    assert.equal(merged.flatFacesMerged, true);
+    assert.ok(merged.stats.flatEdges > 0 && merged.stats.mergedFacets > 0);
+    assert.equal(merged.flatFaceOf.length, merged.stats.inputFacets);
+    // Faces name the smallest input facet of their flat face.
+    for (const f of merged.faceFacets) assert.equal(merged.flatFaceOf[f], f);
+    const kept = cdt.tetrahedralize(bytes(), { keepTriangles: true, validate: true });
+    assert.equal(kept.flatFacesMerged, false);
+    assert.equal(kept.stats.flatEdges, 0);
+    assert.equal(kept.flatFaceOf.length, 0);
+    assert.ok(kept.stats.inputSegments > merged.stats.inputSegments);
+    assert.ok(kept.stats.steinerSegment > merged.stats.steinerSegment);
+    // validate() merges as the run did: each result checks against the same input.
+    assert.equal(cdt.validate(bytes(), merged).ok, true);
+    assert.equal(cdt.validate(bytes(), kept).ok, true);
+    // The old option name: mergeCoplanarFacets: false keeps the triangles.
+    assert.equal(cdt.tetrahedralize(bytes(), { mergeCoplanarFacets: false }).stats.flatEdges, 0);
+    const n = nativeMesh(file, ['--keep-triangles']);
+    assert.equal(n.status, 0);
+    for (const k of COUNTS) assert.equal(kept.stats[k], n.json[k], `${file} --keep-triangles: ${k}`);
   });
 
   test('stopAfter returns the intermediate mesh with its subsegments', () => {

@@ -140,10 +140,10 @@ async function openFile(rel, timeout = 60_000) {
   return waitForState(FINAL, timeout);
 }
 
-function nodeMesh(rel) {
+function nodeMesh(rel, extra = {}) {
   const bytes = readFileSync(path.join(repoRoot, rel));
   try {
-    return { result: cdt.tetrahedralize({ bytes, fileName: path.basename(rel) }, PAGE_OPTIONS) };
+    return { result: cdt.tetrahedralize({ bytes, fileName: path.basename(rel) }, { ...PAGE_OPTIONS, ...extra }) };
   } catch (e) {
     assert.ok(e instanceof Cdt3dError, `unexpected error from the Node API: ${e?.stack ?? e}`);
     return { error: e };
@@ -292,6 +292,25 @@ test('the page opens and meshes its default sample', { skip, timeout: 90_000 }, 
   await shot('default');
 });
 
+test('"keep input triangles": the flat faces of a CAD part stay triangles, as keepTriangles in the Node API', { skip, timeout: 90_000 }, async () => {
+  const rel = SMALL;
+  const merged = await openFile(rel);
+  assert.equal(merged, 'done', `${rel}: ${await page.textContent('#error')}`);
+  assert.ok((await pageStats()).flatEdges > 0);
+  await page.check('#opt-keep-triangles');
+  try {
+    const state = await openFile(rel);
+    assert.equal(state, 'done', `${rel}: ${await page.textContent('#error')}`);
+    const { result } = nodeMesh(rel, { keepTriangles: true });
+    const shown = await pageStats();
+    assert.deepEqual(comparable(shown), comparable(result.stats), rel);
+    assert.equal(shown.flatEdges, 0);
+    assert.equal(await page.textContent('#stat-flatEdges'), '0');
+  } finally {
+    await page.uncheck('#opt-keep-triangles');
+  }
+});
+
 test('a model from the file input: the stats shown equal the Node API', { skip, timeout: 90_000 }, async () => {
   for (const rel of [MEDIUM, REGIONS]) {
     const state = await openFile(rel);
@@ -310,6 +329,7 @@ test('a model from the file input: the stats shown equal the Node API', { skip, 
     const steiner = ['steinerSegment', 'steinerFacet', 'facetSplits', 'steinerVolume', 'flatTets',
       'splitProjection', 'splitShell', 'splitRemoved'];
     for (const k of steiner) assert.equal(await text(k), en.format(result.stats[k]), k);
+    for (const k of ['flatEdges', 'mergedFacets']) assert.equal(await text(k), en.format(result.stats[k]), k);
     const rules = result.stats.rule1 + result.stats.rule2 + result.stats.rule3 + result.stats.acuteBoth;
     assert.equal(await text('splitRules'), en.format(rules));
     assert.equal(await page.textContent('#stat-validation'), result.validation?.ok ? 'passed' : result.validation ? 'FAILED' : 'not run');
