@@ -402,9 +402,14 @@ std::map<std::string, std::string> vtu_arrays(const std::string& text) {
   REQUIRE(start != std::string::npos);
   const size_t data = start + std::strlen("<AppendedData encoding=\"raw\">\n_");
   std::map<std::string, std::string> out;
+  size_t previous = std::string::npos;
   const std::regex array("<DataArray type=\"(\\w+)\" Name=\"(\\w+)\"[^>]* offset=\"(\\d+)\"/>");
   for (std::sregex_iterator it(text.begin(), text.begin() + start, array), end; it != end; ++it) {
-    const size_t at = data + std::stoull((*it)[3]);
+    // Offsets decrease in file order (meshio 5 needs that; see write_vtu).
+    const size_t offset = std::stoull((*it)[3]);
+    CHECK((previous == std::string::npos || offset < previous));
+    previous = offset;
+    const size_t at = data + offset;
     uint64_t count = 0;
     REQUIRE(at + 8 <= text.size());
     std::memcpy(&count, text.data() + at, 8);

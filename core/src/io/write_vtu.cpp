@@ -62,29 +62,37 @@ std::string write_vtu(const Result& r) {
   const size_t np = n_points(m), nt = n_tets(m);
   Appended a(64 + np * 25 + nt * 57);
 
-  const std::string steiner = a.array<uint8_t>("UInt8", "steiner_kind", 1, np, [&](size_t p) {
-    if (p < r.input_points) return uint8_t{0};
-    const size_t s = p - r.input_points;
-    return s < r.steiner_kind.size() ? static_cast<uint8_t>(r.steiner_kind[s])
-                                     : static_cast<uint8_t>(SteinerKind::Volume);
-  });
-  std::string cell_data;
-  if (io::has_attributes(m))
-    cell_data +=
-        a.array<double>("Float64", "region", 1, nt, [&](size_t t) { return m.tet_attributes[t]; });
-  cell_data += a.array<double>("Float64", "min_dihedral", 1, nt, [&](size_t t) {
+  // The data go in the reverse order of their <DataArray> elements. meshio 5
+  // reads raw appended data by rewriting each element's offset in turn and
+  // looking the next one up by value; in file order a rewritten offset can
+  // equal a later raw one and the lookup takes the wrong element (a one-tet
+  // mesh's connectivity got the types' bytes). In reverse order the element
+  // looked up always comes before the rewritten ones. VTK reads either.
+  const std::string types =
+      a.array<uint8_t>("UInt8", "types", 1, nt, [](size_t) { return kVtkTetra; });
+  const std::string offsets =
+      a.array<int64_t>("Int64", "offsets", 1, nt, [](size_t t) { return 4 * (t + 1); });
+  auto corner = [&](size_t i) { return m.tets[i - i % 4 + io::kRightHandedTet[i % 4]]; };
+  const std::string connectivity = a.array<int64_t>("Int64", "connectivity", 1, 4 * nt, corner);
+  const std::string points =
+      a.array<double>("Float64", "Points", 3, 3 * np, [&](size_t i) { return m.points[i]; });
+  const std::string dihedral = a.array<double>("Float64", "min_dihedral", 1, nt, [&](size_t t) {
     Vec3 p[4];
     for (int k = 0; k < 4; ++k) p[k] = to_vec(&m.points[3 * size_t{m.tets[4 * t + k]}]);
     double lo, hi;
     dihedral_range(p, lo, hi);
     return lo;
   });
-  const std::string points =
-      a.array<double>("Float64", "Points", 3, 3 * np, [&](size_t i) { return m.points[i]; });
-  auto corner = [&](size_t i) { return m.tets[i - i % 4 + io::kRightHandedTet[i % 4]]; };
-  std::string cells = a.array<int64_t>("Int64", "connectivity", 1, 4 * nt, corner);
-  cells += a.array<int64_t>("Int64", "offsets", 1, nt, [](size_t t) { return 4 * (t + 1); });
-  cells += a.array<uint8_t>("UInt8", "types", 1, nt, [](size_t) { return kVtkTetra; });
+  std::string region;
+  if (io::has_attributes(m))
+    region =
+        a.array<double>("Float64", "region", 1, nt, [&](size_t t) { return m.tet_attributes[t]; });
+  const std::string steiner = a.array<uint8_t>("UInt8", "steiner_kind", 1, np, [&](size_t p) {
+    if (p < r.input_points) return uint8_t{0};
+    const size_t s = p - r.input_points;
+    return s < r.steiner_kind.size() ? static_cast<uint8_t>(r.steiner_kind[s])
+                                     : static_cast<uint8_t>(SteinerKind::Volume);
+  });
   const std::string data = a.take();
 
   Out o(1024 + data.size());
@@ -97,10 +105,11 @@ std::string write_vtu(const Result& r) {
   o.str("<PointData Scalars=\"steiner_kind\">\n").str(steiner).str("</PointData>\n");
   o.str(io::has_attributes(m) ? "<CellData Scalars=\"region\">\n"
                               : "<CellData Scalars=\"min_dihedral\">\n")
-      .str(cell_data)
+      .str(region)
+      .str(dihedral)
       .str("</CellData>\n");
   o.str("<Points>\n").str(points).str("</Points>\n");
-  o.str("<Cells>\n").str(cells).str("</Cells>\n");
+  o.str("<Cells>\n").str(connectivity).str(offsets).str(types).str("</Cells>\n");
   o.str("</Piece>\n</UnstructuredGrid>\n");
   o.str("<AppendedData encoding=\"raw\">\n_").str(data).str("\n</AppendedData>\n</VTKFile>\n");
   return o.take();
