@@ -78,7 +78,7 @@ function describe(value) {
 }
 
 
-const WRITE_FORMATS = ['node', 'ele', 'face', 'vtk', 'mesh'];
+const WRITE_FORMATS = ['node', 'ele', 'face', 'vtk', 'mesh', 'msh', 'msh-binary', 'vtu'];
 const DEGENERACY_MODES = ['symbolic', 'paper'];
 const PHASES = ['read', 'delaunay', 'segments', 'degeneracy', 'facets', 'carve', 'refine', 'done'];
 const OPTION_TYPES = {
@@ -463,7 +463,8 @@ function wrap(mod, abortReason) {
       }
       const raw = call(() => mod._write(format, result));
       if (!raw.ok) throw errorFromRaw(raw);
-      return raw.text;
+      // Gmsh and VTU files come back as bytes (msh-binary and vtu hold binary data).
+      return raw.bytes ?? raw.text;
     },
 
     readSurface(bytes, fileName) {

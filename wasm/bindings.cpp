@@ -512,15 +512,26 @@ val write_js(std::string format, val result) {
   cdt3d::Result r;
   result_from_js(result, r);
   std::string text;
+  // The binary formats come back as bytes (a string would be UTF-8 decoded).
+  bool bytes = true;
+  if (format == "msh") text = cdt3d::write_msh(r.mesh, false);
+  else if (format == "msh-binary") text = cdt3d::write_msh(r.mesh, true);
+  else if (format == "vtu") text = cdt3d::write_vtu(r);
+  else bytes = false;
   if (format == "node") text = cdt3d::write_node(r.mesh);
   else if (format == "ele") text = cdt3d::write_ele(r.mesh);
   else if (format == "face") text = cdt3d::write_face(r.mesh);
   else if (format == "vtk") text = cdt3d::write_vtk(r.mesh);
   else if (format == "mesh") text = cdt3d::write_medit(r.mesh);
-  else return failure(invalid("Unknown format '" + format + "' (node, ele, face, vtk, mesh).").error);
+  else if (!bytes)
+    return failure(invalid("Unknown format '" + format +
+                           "' (node, ele, face, vtk, mesh, msh, msh-binary, vtu).").error);
   val out = val::object();
   out.set("ok", val(true));
-  out.set("text", val(text));
+  if (bytes)
+    out.set("bytes", to_js(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
+  else
+    out.set("text", val(text));
   return out;
 }
 

@@ -161,6 +161,12 @@ export interface Cdt3d {
   /** A result as a text file: TetGen .node/.ele/.face (numbered from 0), legacy VTK, or Medit .mesh. */
   write(result: MeshResult, format: 'node' | 'ele' | 'face' | 'vtk' | 'mesh'): string;
   /**
+   * A result as the bytes of a file: Gmsh MSH 4.1 ('msh' ASCII, 'msh-binary'; regions
+   * and facet markers as physical groups) or VTK XML .vtu ('vtu': cell data region and
+   * min_dihedral, point data steiner_kind), the same bytes as the native CLI's.
+   */
+  write(result: MeshResult, format: 'msh' | 'msh-binary' | 'vtu'): Uint8Array;
+  /**
    * The input surface as triangles, for display. Files that fail their checks
    * still give what could be read, with the error in `error`.
    */

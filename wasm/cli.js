@@ -1,5 +1,5 @@
 #!/usr/bin/env node
-// `npx cdt3d mesh MODEL [-o PREFIX] [--format node|vtk|mesh] [--keep-hull]
+// `npx cdt3d mesh MODEL [-o PREFIX] [--format node|vtk|vtu|mesh|msh|msh-binary] [--keep-hull]
 //  [--validate] [--stats] [--json] [-q] [--quality [RATIO]] [--max-volume V]
 //  [--min-dihedral D] [--max-points N]` and `npx cdt3d info MODEL [--json]`:
 // the native CLI's commands, switches and exit codes (0 success, 1 input or
@@ -16,8 +16,8 @@ const USAGE = `usage: cdt3d <command> [arguments]
 
 commands:
   info MODEL [--json]      read a PLC and print its summary
-  mesh MODEL [-o PREFIX] [--format node|vtk|mesh] [--keep-hull] [--validate]
-             [--stats] [--json] [-q] [--merge] [--paper-degeneracy] [--no-intersection-check]
+  mesh MODEL [-o PREFIX] [--format node|vtk|vtu|mesh|msh|msh-binary] [--keep-hull]
+             [--validate] [--stats] [--json] [-q] [--merge] [--paper-degeneracy] [--no-intersection-check]
              [--stop-after PHASE] [--quality [RATIO]] [--max-volume V] [--min-dihedral D]
              [--max-points N] [--one-thread]
                            constrained Delaunay tetrahedralization of MODEL;
@@ -74,7 +74,7 @@ function parse(args) {
     else return { error: `unexpected argument '${a}'` };
   }
   if (opts.input === null) return { error: 'no MODEL given' };
-  if (!['node', 'vtk', 'mesh'].includes(opts.format)) return { error: `unknown format '${opts.format}'` };
+  if (!['node', 'vtk', 'vtu', 'mesh', 'msh', 'msh-binary'].includes(opts.format)) return { error: `unknown format '${opts.format}'` };
   if (opts.tet.stopAfter !== undefined && !['delaunay', 'segments', 'degeneracy', 'facets'].includes(opts.tet.stopAfter)) {
     return { error: `--stop-after takes delaunay, segments, degeneracy or facets, not '${opts.tet.stopAfter}'` };
   }
@@ -174,8 +174,9 @@ async function main(argv) {
     }
     const r = cdt.tetrahedralize({ bytes, fileName: opts.input }, opts.tet);
     if (opts.prefix !== null) {
-      const exts = opts.format === 'node' ? (opts.tet.stopAfter ? ['node', 'ele'] : ['node', 'ele', 'face']) : [opts.format];
-      for (const ext of exts) writeFileSync(`${opts.prefix}.${ext}`, cdt.write(r, ext));
+      const formats = opts.format === 'node' ? (opts.tet.stopAfter ? ['node', 'ele'] : ['node', 'ele', 'face']) : [opts.format];
+      // msh-binary is a .msh file too (Gmsh tells the two apart by their header).
+      for (const f of formats) writeFileSync(`${opts.prefix}.${f === 'msh-binary' ? 'msh' : f}`, cdt.write(r, f));
     }
     if (opts.json) process.stdout.write(`${JSON.stringify({ ok: true, phase: opts.tet.stopAfter ?? 'done', ...r.stats, valid: opts.tet.validate ? true : null })}\n`);
     else if (!opts.quiet) process.stdout.write(table(opts.input, r.stats, opts.tet.validate, !!opts.tet.quality, opts.stats));

@@ -11,6 +11,7 @@
 //        {id, type: 'result', result}            (typed-array buffers transferred)
 //      | {id, type: 'error', error, surface?}   (error: Cdt3dError.toJSON() + facets)
 //   {id, type: 'write', result, format} -> {id, type: 'written', text} | error
+//      (text: a string, or a Uint8Array with its buffer transferred for msh, msh-binary, vtu)
 //   {id, type: 'readSurface', bytes, fileName} -> {id, type: 'surface', surface} | error
 import { Cdt3dError, createCdt3d as createForBrowser } from './index.js';
 
@@ -42,7 +43,8 @@ function serve(createCdt3d, post, listen) {
         fileName = String(msg.fileName ?? '');
       }
       if (msg.type === 'write') {
-        post({ id, type: 'written', text: cdt.write(msg.result, msg.format) });
+        const text = cdt.write(msg.result, msg.format);
+        post({ id, type: 'written', text }, typeof text === 'string' ? [] : [text.buffer]);
         return;
       }
       if (msg.type === 'readSurface') {

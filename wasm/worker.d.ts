@@ -37,6 +37,7 @@ export interface MeshWorker {
   mesh(file: WorkerInput, options?: Omit<TetrahedralizeOptions, 'onProgress' | 'signal'>, extra?: WorkerJobOptions): Promise<MeshResult>;
   readSurface(file: WorkerInput, extra?: { fileName?: string; signal?: AbortSignalLike }): Promise<InputSurface>;
   write(result: MeshResult, format: 'node' | 'ele' | 'face' | 'vtk' | 'mesh', extra?: { signal?: AbortSignalLike }): Promise<string>;
+  write(result: MeshResult, format: 'msh' | 'msh-binary' | 'vtu', extra?: { signal?: AbortSignalLike }): Promise<Uint8Array>;
   /** True while a job runs. */
   readonly busy: boolean;
   /** Stops the worker; pending jobs reject with "cancelled". */

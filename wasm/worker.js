@@ -282,7 +282,10 @@ export function createMeshWorker() {
       return submit('readSurface', name, (id) => bytesMessage(id, 'readSurface', file, name, false, {}), { signal });
     },
 
-    /** cdt.write(result, format) in the worker ('vtk', 'mesh', 'node', 'ele', 'face'); the result is copied. */
+    /**
+     * cdt.write(result, format) in the worker: a string for 'node', 'ele', 'face', 'vtk', 'mesh',
+     * a Uint8Array for 'msh', 'msh-binary', 'vtu'; the result is copied.
+     */
     write(result, format, { signal } = {}) {
       return submit('write', '', (id) => ({ message: { id, type: 'write', result, format }, transfer: [] }), { signal });
     },

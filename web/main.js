@@ -811,12 +811,14 @@ for (const b of $('downloads').querySelectorAll('button[data-format]')) {
     const format = b.dataset.format;
     b.disabled = true;
     try {
-      const text = await mesher.write(current.result, format);
+      // A string for the text formats, bytes for msh, msh-binary and vtu.
+      const data = await mesher.write(current.result, format);
       const base = current.name.replace(/\.[^.]*$/, '') || 'mesh';
-      const url = URL.createObjectURL(new Blob([text], { type: 'text/plain' }));
+      const type = typeof data === 'string' ? 'text/plain' : 'application/octet-stream';
+      const url = URL.createObjectURL(new Blob([data], { type }));
       const a = document.createElement('a');
       a.href = url;
-      a.download = `${base}.${format}`;
+      a.download = `${base}.${format === 'msh-binary' ? 'msh' : format}`;
       document.body.append(a);
       a.click();
       a.remove();

@@ -7,6 +7,7 @@
 // so anyone can inspect an intermediate result in ParaView or another tool.
 #include <cdt3d/cdt3d.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <chrono>
@@ -14,6 +15,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
@@ -30,17 +32,20 @@ namespace {
 void usage(std::FILE* out) {
   std::fprintf(
       out,
-      "usage: cdt3d mesh MODEL [-o PREFIX] [--format node|vtk|mesh] [--keep-hull]\n"
-      "                        [--validate] [--stats] [--json] [-q] [--keep-triangles]\n"
-      "                        [--paper-degeneracy] [--no-intersection-check] [--one-thread]\n"
+      "usage: cdt3d mesh MODEL [-o PREFIX] [--format node|vtk|vtu|mesh|msh|msh-binary]\n"
+      "                        [--keep-hull] [--validate] [--stats] [--json] [-q]\n"
+      "                        [--keep-triangles] [--paper-degeneracy]\n"
+      "                        [--no-intersection-check] [--one-thread]\n"
       "                        [--stop-after PHASE]\n"
       "                        [--repair] [--quality [RATIO]] [--max-volume V] [--min-dihedral D]\n"
       "                        [--max-points N]\n"
       "\n"
       "Constrained Delaunay tetrahedralization of MODEL (.stl .off .obj .ply .poly .smesh).\n"
       "  -o PREFIX         write the mesh: PREFIX.node/.ele/.face (default format),\n"
-      "                    PREFIX.vtk or PREFIX.mesh\n"
-      "  --format F        node (TetGen, numbered from 1), vtk (legacy VTK), mesh (Medit)\n"
+      "                    PREFIX.vtk, PREFIX.vtu, PREFIX.mesh or PREFIX.msh\n"
+      "  --format F        node (TetGen, numbered from 0), vtk (legacy VTK), vtu (VTK XML,\n"
+      "                    binary), mesh (Medit), msh or msh-binary (Gmsh 4.1: regions and\n"
+      "                    facet markers as physical groups)\n"
       "  --keep-hull       keep the tets between the PLC and its convex hull (tetgen -c)\n"
       "  --validate        check the result: valid, facets recovered, constrained Delaunay\n"
       "  --stats           print quality statistics (dihedral angles, radius-edge ratios;\n"
@@ -105,6 +110,9 @@ Status write_result(const Result& r, const std::string& prefix, const std::strin
                     bool intermediate) {
   if (format == "vtk") return write_text(prefix + ".vtk", write_vtk(r.mesh));
   if (format == "mesh") return write_text(prefix + ".mesh", write_medit(r.mesh));
+  if (format == "vtu") return write_text(prefix + ".vtu", write_vtu(r));
+  if (format == "msh" || format == "msh-binary")
+    return write_text(prefix + ".msh", write_msh(r.mesh, format == "msh-binary"));
   Status st = write_text(prefix + ".node", write_node(r.mesh));
   if (st.ok()) st = write_text(prefix + ".ele", write_ele(r.mesh));
   if (st.ok() && !intermediate) st = write_text(prefix + ".face", write_face(r.mesh));
@@ -359,7 +367,10 @@ int check_mesh_args(MeshArgs& m) {
                  stop_name.c_str());
     return kExitUsage;
   }
-  if (input.empty() || (format != "node" && format != "vtk" && format != "mesh")) {
+  static const char* const kFormats[] = {"node", "vtk", "vtu", "mesh", "msh", "msh-binary"};
+  const bool known = std::any_of(std::begin(kFormats), std::end(kFormats),
+                                 [&](const char* f) { return format == f; });
+  if (input.empty() || !known) {
     if (!input.empty()) std::fprintf(stderr, "cdt3d mesh: unknown format '%s'\n", format.c_str());
     usage(stderr);
     return kExitUsage;

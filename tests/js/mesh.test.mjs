@@ -263,7 +263,7 @@ describe('options', () => {
 });
 
 describe('writers', { skip: skipNative && 'CDT3D_SKIP_NATIVE=1' }, () => {
-  test('vtk, mesh and node/ele/face text equals the native CLI output', () => {
+  test('vtk, mesh and node/ele/face text, msh, msh-binary and vtu bytes equal the native CLI output', () => {
     const file = 'cube_internal_facet.poly';
     const r = cdt.tetrahedralize({ bytes: bytesOf(file), fileName: file });
     const dir = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-w-'));
@@ -273,6 +273,14 @@ describe('writers', { skip: skipNative && 'CDT3D_SKIP_NATIVE=1' }, () => {
         const out = spawnSync(requireNativeCli(), ['mesh', path.join(dataDir, file), '-q', '-o', prefix, '--format', format]);
         assert.equal(out.status, 0);
         for (const ext of exts) assert.equal(cdt.write(r, ext), readFileSync(`${prefix}.${ext}`, 'utf8'), ext);
+      }
+      for (const [format, ext] of [['msh', 'msh'], ['msh-binary', 'msh'], ['vtu', 'vtu']]) {
+        const prefix = path.join(dir, format);
+        const out = spawnSync(requireNativeCli(), ['mesh', path.join(dataDir, file), '-q', '-o', prefix, '--format', format]);
+        assert.equal(out.status, 0);
+        const bytes = cdt.write(r, format);
+        assert.ok(bytes instanceof Uint8Array, format);
+        assert.ok(Buffer.from(bytes).equals(readFileSync(`${prefix}.${ext}`)), format);
       }
     } finally {
       rmSync(dir, { recursive: true, force: true });

@@ -109,10 +109,14 @@ new Cdt3dError('internal', 'outer', { line: 3, cause: new Error('inner') });
   const v: ValidationResult = cdt.validate({ bytes, fileName: 'a.off' }, fromInfo);
   const ok: boolean = v.ok;
   const text: string = cdt.write(fromTriangles, 'vtk');
+  const msh: Uint8Array = cdt.write(fromTriangles, 'msh-binary');
+  const vtu: Uint8Array = cdt.write(fromTriangles, 'vtu');
+  // @ts-expect-error the Gmsh file is bytes
+  const mshText: string = cdt.write(fromTriangles, 'msh');
   const surface: InputSurface = cdt.readSurface(bytes, 'a.off');
   const tris: Uint32Array = surface.triangles;
   const err: Cdt3dError | null = surface.error;
-  void [pts, tets, kinds, parents, n, fromFacets, ok, text, tris, err, r.validation];
+  void [pts, tets, kinds, parents, n, fromFacets, ok, text, msh, vtu, mshText, tris, err, r.validation];
   // @ts-expect-error unknown format
   cdt.write(r, 'stl');
   // @ts-expect-error stopAfter is a phase
@@ -129,9 +133,10 @@ new Cdt3dError('internal', 'outer', { line: 3, cause: new Error('inner') });
   });
   const once: Promise<MeshResult> = meshInWorker({ points: new Float64Array(12), triangles: new Uint32Array(12) });
   const text: Promise<string> = w.write(await job, 'mesh');
+  const vtu: Promise<Uint8Array> = w.write(await job, 'vtu');
   const busy: boolean = w.busy;
   w.terminate();
-  void [once, text, busy];
+  void [once, text, vtu, busy];
 }
 
 // Misuse the declarations must reject.

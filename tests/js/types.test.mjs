@@ -12,12 +12,13 @@ import { ERROR_FIELDS, importPackage, INFO_FIELDS, packageFile, repoRoot } from 
 
 const dts = packageFile('cdt3d.d.ts').toString('utf8');
 
-// Member names declared in `interface <name> ... { ... }` (one level of braces).
+// Member names declared in `interface <name> ... { ... }` (one level of
+// braces), each once: an overloaded method (write) has several signatures.
 function interfaceMembers(name) {
   const m = new RegExp(`interface ${name}\\b[^{]*\\{([\\s\\S]*?)\\n\\}`).exec(dts);
   assert.ok(m, `interface ${name} in cdt3d.d.ts`);
   const body = m[1].replace(/\/\*\*[\s\S]*?\*\//g, '').replace(/\/\/.*$/gm, '');
-  return [...body.matchAll(/^\s*(?:readonly\s+)?([A-Za-z_$][\w$]*)\??\s*[:(]/gm)].map((x) => x[1]);
+  return [...new Set([...body.matchAll(/^\s*(?:readonly\s+)?([A-Za-z_$][\w$]*)\??\s*[:(]/gm)].map((x) => x[1]))];
 }
 
 let cdt3d;

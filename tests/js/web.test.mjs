@@ -264,6 +264,10 @@ test('cdt3d/worker in Node: errors, cancel, reuse and write', { skip: workerSkip
     assert.equal(small.byteLength > 0, true, 'transfer: false copies');
     assert.deepEqual(result.tets, again.tets);
     assert.equal(await w.write(result, 'vtk'), local.write(again, 'vtk'));
+    // Binary formats come back as bytes (their buffer transferred).
+    const msh = await w.write(result, 'msh-binary');
+    assert.ok(msh instanceof Uint8Array);
+    assert.deepEqual(msh, local.write(again, 'msh-binary'));
     // A signal that is already aborted rejects without starting.
     const pre = await w
       .mesh(small, {}, { fileName: 'x.off', signal: AbortSignal.abort() })
@@ -339,13 +343,16 @@ test('a model from the file input: the stats shown equal the Node API', { skip, 
     await shot(path.basename(rel).replace(/\W+/g, '_'));
     // Downloads: what the API writes for the same result.
     if (rel === REGIONS) {
-      for (const format of ['vtk', 'ele']) {
+      for (const format of ['vtk', 'ele', 'msh', 'msh-binary', 'vtu']) {
         const [download] = await Promise.all([
           page.waitForEvent('download'),
           page.click(`#downloads button[data-format="${format}"]`),
         ]);
-        assert.equal(download.suggestedFilename(), `cube_internal_facet.${format}`);
-        assert.equal(readFileSync(await download.path(), 'utf8'), cdt.write(result, format), format);
+        const ext = format === 'msh-binary' ? 'msh' : format;
+        assert.equal(download.suggestedFilename(), `cube_internal_facet.${ext}`);
+        const written = cdt.write(result, format);
+        if (typeof written === 'string') assert.equal(readFileSync(await download.path(), 'utf8'), written, format);
+        else assert.ok(readFileSync(await download.path()).equals(Buffer.from(written)), format);
       }
     }
   }

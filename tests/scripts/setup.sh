@@ -6,7 +6,10 @@ cd "$(dirname "$0")/../.."
 
 need=()
 have_pkg() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
-for pkg in cmake g++ make catch2 libgmp-dev emscripten time chromium clang-14 libclang-rt-14-dev llvm-14 ${CDT3D_EXTRA_APT:-}; do
+# gmsh, python3-meshio and python3-vtk9 read the Gmsh and VTU output back
+# in the tests (tests/formats/check_formats.py).
+for pkg in cmake g++ make catch2 libgmp-dev emscripten time chromium clang-14 libclang-rt-14-dev llvm-14 \
+    gmsh python3-meshio python3-vtk9 ${CDT3D_EXTRA_APT:-}; do
   have_pkg "$pkg" || need+=("$pkg")
 done
 if [ ${#need[@]} -gt 0 ]; then

@@ -3,7 +3,11 @@
 #include <catch2/catch.hpp>
 #include <cdt3d/cdt3d.hpp>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
+#include <map>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -203,4 +207,268 @@ TEST_CASE("A .node written by write_node reads back through read_plc", "[writers
     CHECK(plc.points[p].y == m.points[3 * p + 1]);
     CHECK(plc.points[p].z == m.points[3 * p + 2]);
   }
+}
+
+// --- Gmsh MSH 4.1 and VTK XML (.vtu) ---
+
+namespace {
+
+// The lines between "$Name" and "$EndName" (exclusive).
+std::string section(const std::string& text, const std::string& name) {
+  const size_t begin = text.find("$" + name + "\n");
+  const size_t end = text.find("$End" + name + "\n");
+  REQUIRE(begin != std::string::npos);
+  REQUIRE(end != std::string::npos);
+  const size_t from = begin + name.size() + 2;
+  return text.substr(from, end - from);
+}
+
+std::vector<std::string> flat(const std::vector<std::vector<std::string>>& lines) {
+  std::vector<std::string> out;
+  for (const auto& l : lines) out.insert(out.end(), l.begin(), l.end());
+  return out;
+}
+
+// Decodes the binary form of $Entities, $Nodes and $Elements as the MSH 4.1
+// description lays them out (size_t counts and tags, int entity tags and
+// types, double coordinates) into the numbers the ASCII form prints.
+class MshBinary {
+ public:
+  explicit MshBinary(const std::string& bytes) : s_(bytes) {}
+  std::vector<double> entities() {
+    std::vector<double> v;
+    size_t n[4];
+    for (size_t& c : n) v.push_back(static_cast<double>(c = size()));
+    for (int dim = 0; dim < 4; ++dim)
+      for (size_t e = 0; e < n[dim]; ++e) {
+        v.push_back(tag());
+        for (int k = 0; k < 6; ++k) v.push_back(real());
+        for (int list = 0; list < 2; ++list) {
+          const size_t count = size();
+          v.push_back(static_cast<double>(count));
+          for (size_t i = 0; i < count; ++i) v.push_back(tag());
+        }
+      }
+    return done(v);
+  }
+  std::vector<double> nodes() {
+    std::vector<double> v;
+    const size_t blocks = counts(v);
+    for (size_t b = 0; b < blocks; ++b) {
+      for (int k = 0; k < 3; ++k) v.push_back(tag());
+      const size_t n = size();
+      v.push_back(static_cast<double>(n));
+      for (size_t i = 0; i < n; ++i) v.push_back(static_cast<double>(size()));
+      for (size_t i = 0; i < 3 * n; ++i) v.push_back(real());
+    }
+    return done(v);
+  }
+  std::vector<double> elements() {
+    std::vector<double> v;
+    const size_t blocks = counts(v);
+    for (size_t b = 0; b < blocks; ++b) {
+      v.push_back(tag());
+      v.push_back(tag());
+      const int type = tag();
+      v.push_back(type);
+      REQUIRE((type == 2 || type == 4));
+      const size_t n = size();
+      v.push_back(static_cast<double>(n));
+      for (size_t i = 0; i < n * (type == 4 ? 5 : 4); ++i) v.push_back(static_cast<double>(size()));
+    }
+    return done(v);
+  }
+
+ private:
+  template <typename T>
+  T get() {
+    REQUIRE(at_ + sizeof(T) <= s_.size());
+    T v;
+    std::memcpy(&v, s_.data() + at_, sizeof(T));
+    at_ += sizeof(T);
+    return v;
+  }
+  size_t size() { return static_cast<size_t>(get<uint64_t>()); }
+  // The first line of $Nodes and $Elements: blocks, count, smallest and
+  // largest tag; returns the number of blocks.
+  size_t counts(std::vector<double>& v) {
+    for (int k = 0; k < 4; ++k) v.push_back(static_cast<double>(size()));
+    return static_cast<size_t>(v[v.size() - 4]);
+  }
+  int tag() { return get<int32_t>(); }
+  double real() { return get<double>(); }
+  // Binary data ends with the line break before $End.
+  std::vector<double> done(std::vector<double> v) {
+    CHECK(at_ + 1 == s_.size());
+    CHECK(s_.back() == '\n');
+    return v;
+  }
+  const std::string& s_;
+  size_t at_ = 0;
+};
+
+// An ASCII section's words as numbers.
+std::vector<double> numbers(const std::string& body) {
+  std::vector<double> v;
+  for (const std::string& w : flat(words(body))) v.push_back(num(w));
+  return v;
+}
+
+}  // namespace
+
+TEST_CASE("write_msh ASCII: physical groups, entities, nodes and elements", "[writers][msh]") {
+  const TetMeshData m = sample_mesh(true);  // regions 1, 2; markers 7, -3, 0
+  const std::string text = write_msh(m, false);
+  CHECK(text.rfind("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n", 0) == 0);
+  // Markers > 0 keep their number; -3 and 0 follow the largest, in order.
+  CHECK(words(section(text, "PhysicalNames")) ==
+        std::vector<std::vector<std::string>>{{"5"},
+                                              {"2", "8", "\"marker", "-3\""},
+                                              {"2", "9", "\"marker", "0\""},
+                                              {"2", "7", "\"marker", "7\""},
+                                              {"3", "1", "\"region", "1\""},
+                                              {"3", "2", "\"region", "2\""}});
+  const auto ent = words(section(text, "Entities"));
+  REQUIRE(ent.size() == 6);
+  CHECK(ent[0] == std::vector<std::string>{"0", "0", "3", "2"});
+  for (size_t e = 1; e < ent.size(); ++e) {
+    REQUIRE(ent[e].size() == 10);
+    CHECK(ent[e][7] == "1");        // one physical tag
+    CHECK(ent[e][8] == ent[e][0]);  // equal to the entity tag
+    CHECK(ent[e][9] == "0");        // no bounding entities
+  }
+  const auto nodes = words(section(text, "Nodes"));
+  REQUIRE(nodes.size() == 2 + 5 + 5);
+  CHECK(nodes[0] == std::vector<std::string>{"1", "5", "1", "5"});
+  CHECK(nodes[1] == std::vector<std::string>{"3", "1", "0", "5"});
+  for (size_t p = 0; p < 5; ++p) {
+    CHECK(integer(nodes[2 + p][0]) == static_cast<long long>(p + 1));
+    for (int k = 0; k < 3; ++k) CHECK(same_bits(num(nodes[7 + p][k]), m.points[3 * p + k]));
+  }
+  // Tets keep their numbers (t + 1), written right-handed (0, 2, 1, 3);
+  // faces follow (nt + f + 1), each in its marker's surface.
+  CHECK(words(section(text, "Elements")) ==
+        std::vector<std::vector<std::string>>{{"5", "5", "1", "5"},
+                                              {"3", "1", "4", "1"},
+                                              {"1", "1", "3", "2", "4"},
+                                              {"3", "2", "4", "1"},
+                                              {"2", "2", "4", "3", "5"},
+                                              {"2", "8", "2", "1"},
+                                              {"4", "2", "3", "5"},
+                                              {"2", "9", "2", "1"},
+                                              {"5", "4", "3", "2"},
+                                              {"2", "7", "2", "1"},
+                                              {"3", "1", "2", "3"}});
+}
+
+TEST_CASE("write_msh tags: non-integer attributes, no attributes, no markers", "[writers][msh]") {
+  TetMeshData m = sample_mesh(true);
+  m.tet_attributes = {2.5, -1};
+  std::string text = write_msh(m, false);
+  const auto names = words(section(text, "PhysicalNames"));
+  CHECK(names[4] == std::vector<std::string>{"3", "1", "\"region", "-1\""});
+  CHECK(names[5] == std::vector<std::string>{"3", "2", "\"region", "2.5\""});
+  m = sample_mesh(false);
+  text = write_msh(m, false);
+  CHECK(words(section(text, "PhysicalNames")) ==
+        std::vector<std::vector<std::string>>{
+            {"2"}, {"2", "1", "\"boundary\""}, {"3", "1", "\"domain\""}});
+  const auto elements = words(section(text, "Elements"));
+  CHECK(elements[0] == std::vector<std::string>{"2", "5", "1", "5"});
+}
+
+TEST_CASE("write_msh binary holds the ASCII file's values", "[writers][msh]") {
+  for (bool with_data : {true, false}) {
+    const TetMeshData m = sample_mesh(with_data);
+    const std::string ascii = write_msh(m, false), binary = write_msh(m, true);
+    const std::string head = "$MeshFormat\n4.1 1 8\n";
+    REQUIRE(binary.rfind(head, 0) == 0);
+    int32_t one = 0;
+    std::memcpy(&one, binary.data() + head.size(), 4);
+    CHECK(one == 1);
+    CHECK(binary.compare(head.size() + 4, 16, "\n$EndMeshFormat\n") == 0);
+    CHECK(section(binary, "PhysicalNames") == section(ascii, "PhysicalNames"));
+    CHECK(MshBinary(section(binary, "Entities")).entities() == numbers(section(ascii, "Entities")));
+    CHECK(MshBinary(section(binary, "Nodes")).nodes() == numbers(section(ascii, "Nodes")));
+    CHECK(MshBinary(section(binary, "Elements")).elements() == numbers(section(ascii, "Elements")));
+  }
+}
+
+namespace {
+
+// The appended arrays of a .vtu by name: the bytes after each UInt64 count.
+std::map<std::string, std::string> vtu_arrays(const std::string& text) {
+  const size_t start = text.find("<AppendedData encoding=\"raw\">\n_");
+  REQUIRE(start != std::string::npos);
+  const size_t data = start + std::strlen("<AppendedData encoding=\"raw\">\n_");
+  std::map<std::string, std::string> out;
+  size_t previous = std::string::npos;
+  const std::regex array("<DataArray type=\"(\\w+)\" Name=\"(\\w+)\"[^>]* offset=\"(\\d+)\"/>");
+  for (std::sregex_iterator it(text.begin(), text.begin() + start, array), end; it != end; ++it) {
+    // Offsets decrease in file order (meshio 5 needs that; see write_vtu).
+    const size_t offset = std::stoull((*it)[3]);
+    CHECK((previous == std::string::npos || offset < previous));
+    previous = offset;
+    const size_t at = data + offset;
+    uint64_t count = 0;
+    REQUIRE(at + 8 <= text.size());
+    std::memcpy(&count, text.data() + at, 8);
+    REQUIRE(at + 8 + count <= text.size());
+    out[(*it)[2]] = text.substr(at + 8, count);
+  }
+  return out;
+}
+
+template <typename T>
+std::vector<T> values(const std::string& bytes) {
+  REQUIRE(bytes.size() % sizeof(T) == 0);
+  std::vector<T> v(bytes.size() / sizeof(T));
+  if (!v.empty()) std::memcpy(v.data(), bytes.data(), bytes.size());
+  return v;
+}
+
+}  // namespace
+
+TEST_CASE("write_vtu: appended arrays, right-handed tets, per-tet and per-point data",
+          "[writers][vtu]") {
+  Result r;
+  r.mesh.points = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0.25, 0.25, 0.25};
+  r.mesh.tets = {0, 3, 2, 1, 4, 3, 2, 1};  // positive for orient3d
+  r.mesh.tet_attributes = {1.5, -2};
+  r.input_points = 3;
+  r.steiner_kind = {SteinerKind::Segment, SteinerKind::Volume};
+  std::string text = write_vtu(r);
+  CHECK(text.rfind("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+                   "byte_order=\"LittleEndian\" header_type=\"UInt64\">",
+                   0) == 0);
+  CHECK(text.find("<Piece NumberOfPoints=\"5\" NumberOfCells=\"2\">") != std::string::npos);
+  auto a = vtu_arrays(text);
+  CHECK(values<double>(a["Points"]) == r.mesh.points);
+  CHECK(values<int64_t>(a["connectivity"]) == std::vector<int64_t>{0, 2, 3, 1, 4, 2, 3, 1});
+  CHECK(values<int64_t>(a["offsets"]) == std::vector<int64_t>{4, 8});
+  CHECK(values<uint8_t>(a["types"]) == std::vector<uint8_t>{10, 10});
+  CHECK(values<double>(a["region"]) == r.mesh.tet_attributes);
+  CHECK(values<uint8_t>(a["steiner_kind"]) == std::vector<uint8_t>{0, 0, 0, 1, 3});
+  const auto dihedral = values<double>(a["min_dihedral"]);
+  REQUIRE(dihedral.size() == 2);
+  // The corner tet: its slanted face meets the coordinate planes at acos(1/sqrt 3).
+  CHECK(dihedral[0] ==
+        Approx(std::acos(1 / std::sqrt(3.0)) * 180 / 3.14159265358979323846).epsilon(1e-12));
+  // No attributes, no region array (as in write_vtk).
+  r.mesh.tet_attributes.clear();
+  text = write_vtu(r);
+  a = vtu_arrays(text);
+  CHECK(a.count("region") == 0);
+  CHECK(a.size() == 6);
+}
+
+TEST_CASE("write_msh and write_vtu on an empty mesh", "[writers][msh][vtu]") {
+  const TetMeshData m;
+  CHECK(words(section(write_msh(m, false), "Nodes")) ==
+        std::vector<std::vector<std::string>>{{"0", "0", "0", "0"}});
+  CHECK(MshBinary(section(write_msh(m, true), "Elements")).elements() ==
+        std::vector<double>{0, 0, 0, 0});
+  const auto a = vtu_arrays(write_vtu(Result{}));
+  CHECK(a.size() == 6);
+  for (const auto& [name, bytes] : a) CHECK(bytes.empty());
 }

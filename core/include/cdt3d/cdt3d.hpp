@@ -197,6 +197,21 @@ std::string write_face(const TetMeshData& m);
 std::string write_vtk(const TetMeshData& m);
 /// Medit .mesh (MeshVersionFormatted 2).
 std::string write_medit(const TetMeshData& m);
+/// Gmsh MSH 4.1, ASCII or binary (binary bytes in the string, machine byte
+/// order as the format allows). Nodes are numbered from 1 (point i is node
+/// i + 1); tet t is element t + 1 (type 4) and face f element nt + f + 1
+/// (type 2, the constrained faces). Volume physical groups: one per distinct
+/// region attribute, named "region A"; its tag is A when every attribute is
+/// a positive integer, else 1, 2, ... in increasing attribute order; without
+/// attributes one group 1, "domain". Surface physical groups: one per
+/// distinct facet marker, named "marker M", tag M when M > 0, else the tags
+/// after the largest positive marker in increasing marker order; without
+/// markers one group 1, "boundary". Each group has one entity with the same
+/// tag (volumes and surfaces, no points or curves); all nodes are listed on
+/// the first volume entity. Tets are written with positive volume in Gmsh's
+/// convention (two vertices swapped: write_msh and write_vtu list a tet as
+/// points 0, 2, 1, 3 of `tets`).
+std::string write_msh(const TetMeshData& m, bool binary);
 
 // ---------------------------------------------------------------------------
 // Constrained Delaunay tetrahedralization
@@ -483,6 +498,14 @@ void map_to_input_facets(const RepairReport& report, Result& result);
 /// which reads back exactly): points, facets with their polygons, facet holes
 /// and markers, explicit segments as 2-vertex polygons, volume holes, regions.
 std::string write_poly(const Plc& plc);
+
+/// VTK XML unstructured grid (.vtu) of the tets, every array raw binary in
+/// one appended block (UInt64 headers, machine byte order, named in the
+/// file). Cell data: "region" (Float64 region attribute, only when the
+/// result has attributes) and "min_dihedral" (Float64, the tet's smallest
+/// dihedral angle in degrees); point data: "steiner_kind" (UInt8: 0 input
+/// point, else SteinerKind). Points Float64, connectivity and offsets Int64.
+std::string write_vtu(const Result& r);
 
 /// Checks a result against its PLC with exact predicates: valid
 /// tetrahedralization (positive tets, face-adjacency consistent, no gaps

@@ -4,70 +4,21 @@
 // multiple of 3 or 4) are ignored; per-element arrays are used only when their
 // size matches the element count.
 #include <cdt3d/cdt3d.hpp>
-#include <charconv>
+
 #include <cmath>
-#include <cstdio>
 #include <string>
+
+#include "write_common.hpp"
 
 namespace cdt3d {
 namespace {
 
-class Out {
- public:
-  explicit Out(size_t reserve) { s_.reserve(reserve); }
-
-  Out& str(const char* t) {
-    s_ += t;
-    return *this;
-  }
-  // Numbers through std::to_chars, which skips printf's format parsing and
-  // locale (writing the mesh took a tenth of a refined bunny's run).
-  Out& u(uint64_t v) {
-    char buf[24];
-    s_.append(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
-    return *this;
-  }
-  Out& i(int64_t v) {
-    char buf[24];
-    s_.append(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);
-    return *this;
-  }
-  Out& d(double v) {
-    char buf[32];
-#if defined(__cpp_lib_to_chars) && __cpp_lib_to_chars >= 201611L
-    // The same text as %.17g: the standard defines to_chars with a format
-    // and a precision as printf with the matching conversion.
-    s_.append(buf, std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 17).ptr);
-#else
-    // Standard libraries without floating-point to_chars (Emscripten's).
-    const int n = std::snprintf(buf, sizeof buf, "%.17g", v);
-    s_.append(buf, static_cast<size_t>(n));
-#endif
-    return *this;
-  }
-  Out& sp() {
-    s_ += ' ';
-    return *this;
-  }
-  Out& nl() {
-    s_ += '\n';
-    return *this;
-  }
-  std::string take() { return std::move(s_); }
-
- private:
-  std::string s_;
-};
-
-size_t n_points(const TetMeshData& m) { return m.points.size() / 3; }
-size_t n_tets(const TetMeshData& m) { return m.tets.size() / 4; }
-size_t n_faces(const TetMeshData& m) { return m.faces.size() / 3; }
-bool has_attributes(const TetMeshData& m) {
-  return n_tets(m) > 0 && m.tet_attributes.size() == n_tets(m);
-}
-bool has_markers(const TetMeshData& m) {
-  return n_faces(m) > 0 && m.face_markers.size() == n_faces(m);
-}
+using io::has_attributes;
+using io::has_markers;
+using io::n_faces;
+using io::n_points;
+using io::n_tets;
+using io::Out;
 
 // Medit references are integers: the region attribute rounded to the nearest
 // one (region attributes are normally small integers already).
