@@ -90,26 +90,14 @@ int loop_orientation(const Plc& plc, const std::vector<VertexId>& L, int drop) {
                                   xyz(plc, L[(best + 1) % n]), drop);
 }
 
-// Quick rejection: a vertex of g off the plane of f's first three vertices
-// (a curved surface's neighbours fail here at once, by the predicate's
-// filter). True also when those three are collinear; coplanar() decides.
-bool maybe_coplanar(const Plc& plc, const Facet& f, const Facet& g) {
+// g lies in the plane through a, b, c (three vertices of f): its vertices
+// that are no vertices of f (those lie in it; testing them would take the
+// predicates' slow exact path, as every zero does) are exactly in it.
+bool in_plane(const Plc& plc, const double* a, const double* b, const double* c,
+              const Facet& f, const Facet& g) {
   const auto& F = f.loops[0];
-  const double *a = xyz(plc, F[0]), *b = xyz(plc, F[1]), *c = xyz(plc, F[2]);
   for (VertexId v : g.loops[0])
     if (std::find(F.begin(), F.end(), v) == F.end() && pred::orient3d(a, b, c, xyz(plc, v)) != 0)
-      return false;
-  return true;
-}
-
-// g lies in f's plane p: its vertices that are no vertices of f (those lie
-// in it; testing them would take the predicates' slow exact path, as every
-// zero does) are exactly in the plane.
-bool coplanar(const Plc& plc, const Plane& p, const Facet& f, const Facet& g) {
-  const auto& F = f.loops[0];
-  for (VertexId v : g.loops[0])
-    if (std::find(F.begin(), F.end(), v) == F.end() &&
-        pred::orient3d(p.a, p.b, p.c, xyz(plc, v)) != 0)
       return false;
   return true;
 }
@@ -137,7 +125,6 @@ void boundary_cycles(std::vector<std::array<VertexId, 2>> edges,
   }
   std::sort(out_of.begin(), out_of.end());
   std::vector<uint8_t> used(m, 0);
-  std::vector<size_t> cursor;  // per out_of run start: next unused position
   auto first_at = [&](VertexId v) {
     return std::lower_bound(out_of.begin(), out_of.end(), std::array<VertexId, 2>{v, 0}) -
            out_of.begin();
@@ -205,6 +192,19 @@ size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged
     }
     return ok[f] == 2;
   };
+  // g in f's plane. Its first three vertices decide at once on a curved
+  // surface (the predicate's filter, before any plane is made); only when
+  // they are collinear does the plane's own triple have to decide again.
+  auto coplanar = [&](uint32_t f, uint32_t g) {
+    const Facet &F = plc.facets[f], &G = plc.facets[g];
+    const auto& L = F.loops[0];
+    const double* c = xyz(plc, L[2]);
+    if (!in_plane(plc, xyz(plc, L[0]), xyz(plc, L[1]), c, F, G) || !with_plane(f) ||
+        !with_plane(g))
+      return false;
+    const Plane& p = plane[f];  // p.a, p.b are L[0], L[1]
+    return p.c == c || in_plane(plc, p.a, p.b, p.c, F, G);
+  };
   std::vector<EdgeUse> uses;
   for (uint32_t f = 0; f < nf; ++f)
     for (const auto& L : plc.facets[f].loops)
@@ -234,9 +234,7 @@ size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged
         plc.facets[x.facet].marker == plc.facets[y.facet].marker &&
         !std::binary_search(explicit_segs.begin(), explicit_segs.end(),
                             std::array<VertexId, 2>{x.lo, x.hi}) &&
-        maybe_coplanar(plc, plc.facets[x.facet], plc.facets[y.facet]) && with_plane(x.facet) &&
-        with_plane(y.facet) &&
-        coplanar(plc, plane[x.facet], plc.facets[x.facet], plc.facets[y.facet])) {
+        coplanar(x.facet, y.facet)) {
       // Same projection for both (one plane). The interior of a loop lies
       // left of its edges when it turns counterclockwise: the facets are on
       // opposite sides of lo -> hi when those sides differ.

@@ -151,7 +151,7 @@ class Validator {
   const std::vector<uint32_t>& facets_of(uint32_t v, int slot);
   bool flat_in_facet(size_t i, uint32_t f);
   bool on_segment(uint32_t v, uint32_t s) const;
-  bool along_one_segment(const Tri3& k) const;
+  bool along_one_line(const Tri3& k) const;
   void project(uint32_t v, int drop, double out[2]) const;
   bool beyond_subsegment(const Tri3& k, uint32_t f, int drop) const;
   bool overlaps_facet(const Tri3& k, uint32_t f, int drop) const;
@@ -727,7 +727,7 @@ bool Validator::on_segment(uint32_t v, uint32_t s) const {
 // collinear edges along a merged flat face) make a face that is flat along
 // that line, up to the rounding of Steiner points: it lies in no facet's
 // interior.
-bool Validator::along_one_segment(const Tri3& k) const {
+bool Validator::along_one_line(const Tri3& k) const {
   std::array<uint32_t, 6> ends;  // input points spanning the line
   size_t n = 0;
   for (uint32_t v : k) {
@@ -853,7 +853,7 @@ bool Validator::overlaps_subfaces(const Tri3& k, uint32_t f, int drop) const {
 // facet f, its projection must not overlap the interior of
 // any triangle of f (exact orient2d in f's projection; two triangles'
 // interiors are disjoint iff an edge line of one separates them), but for
-// the rounding cases above (flat_in_facet, along_one_segment,
+// the rounding cases above (flat_in_facet, along_one_line,
 // beyond_subsegment, overlaps_subfaces).
 Status Validator::unconstrained_in_facets() {
   build_membership();
@@ -875,7 +875,7 @@ Status Validator::unconstrained_in_facets() {
     std::set_intersection(ab.begin(), ab.end(), fc.begin(), fc.end(), std::back_inserter(abc));
     for (uint32_t f : abc) {
       const int drop = fdrop_[f];
-      if (overlaps_facet(k, f, drop) && !flat_in_facet(i, f) && !along_one_segment(k) &&
+      if (overlaps_facet(k, f, drop) && !flat_in_facet(i, f) && !along_one_line(k) &&
           !beyond_subsegment(k, f, drop) && overlaps_subfaces(k, f, drop))
         return fail("face " + tri_name(k) + " lies in facet " + std::to_string(f) +
                     " but is not constrained.")

@@ -671,16 +671,14 @@ bool Pipeline::merge_flat_faces() {
   if (s.merged_facets == 0) {
     merged_ = Plc();
     insides_ = FlatFaceInsides();
-    out_.flat_face_of.resize(into.size());
-    for (uint32_t f = 0; f < into.size(); ++f) out_.flat_face_of[f] = f;
-    return false;
+  } else {
+    rep_.assign(merged_.facets.size(), kNone);
+    for (uint32_t f = 0; f < into.size(); ++f)
+      if (rep_[into[f]] == kNone) rep_[into[f]] = f;
   }
-  rep_.assign(merged_.facets.size(), kNone);
-  for (uint32_t f = 0; f < into.size(); ++f)
-    if (rep_[into[f]] == kNone) rep_[into[f]] = f;
   out_.flat_face_of.resize(into.size());
-  for (uint32_t f = 0; f < into.size(); ++f) out_.flat_face_of[f] = rep_[into[f]];
-  return true;
+  for (uint32_t f = 0; f < into.size(); ++f) out_.flat_face_of[f] = rep_.empty() ? f : rep_[into[f]];
+  return !rep_.empty();
 }
 
 // Where the self-intersection test runs. Beside the steps on a large PLC
