@@ -216,6 +216,17 @@ function typed(value, Type, what, fn) {
 // Every accepted input as the one shape bindings.cpp reads (see there):
 // {bytes, fileName}, a readPlc() summary, {points, triangles}, or
 // {points, facets: [{loops, holes?, marker?}], segments?, holes?, regions?}.
+// [{marker, name}] checked, so that the module reads only ints and strings.
+function markerNames(names, fn) {
+  if (!Array.isArray(names)) throw invalidArgument(`${fn}: markerNames must be an array of {marker, name}.`, '');
+  return names.map((n, i) => {
+    if (!n || !Number.isInteger(n.marker) || typeof n.name !== 'string') {
+      throw invalidArgument(`${fn}: markerNames[${i}] must be {marker: integer, name: string}.`, '');
+    }
+    return { marker: n.marker, name: n.name };
+  });
+}
+
 function normalizeInput(input, fn) {
   if (input === null || typeof input !== 'object') {
     throw invalidArgument(`${fn}(input): input must be an object, got ${describe(input)}.`, '');
@@ -269,6 +280,7 @@ function normalizeInput(input, fn) {
   } else {
     throw invalidArgument(`${fn}(input): input.points needs input.triangles or input.facets.`, '');
   }
+  if (input.markerNames !== undefined) out.markerNames = markerNames(input.markerNames, fn);
   if (input.segments !== undefined) out.segments = typed(input.segments, Uint32Array, 'segments', fn);
   if (input.holes !== undefined) out.holes = typed(input.holes, Float64Array, 'holes', fn);
   if (input.regions !== undefined) {
@@ -430,6 +442,7 @@ function wrap(mod, abortReason) {
         segments: raw.segments,
         holes: raw.holes,
         regions,
+        markerNames: raw.markerNames,
         facetSources: raw.facetSources,
         report: raw.report,
         poly: raw.poly,

@@ -168,6 +168,27 @@ val to_js(const std::vector<T>& v) {
   return to_js(v.data(), v.size());
 }
 
+// Marker names as a JS array of {marker, name}.
+val names_js(const std::vector<std::pair<int, std::string>>& names) {
+  val a = val::array();
+  for (const auto& [marker, name] : names) {
+    val o = val::object();
+    o.set("marker", val(marker));
+    o.set("name", val(name));
+    a.call<void>("push", o);
+  }
+  return a;
+}
+
+// Marker names back from such an array (absent: none).
+void names_from_js(const val& a, std::vector<std::pair<int, std::string>>& out) {
+  out.clear();
+  if (a.isUndefined() || a.isNull()) return;
+  const size_t n = a["length"].as<size_t>();
+  for (size_t i = 0; i < n; ++i)
+    out.emplace_back(a[i]["marker"].as<int>(), a[i]["name"].as<std::string>());
+}
+
 cdt3d::Status invalid(const std::string& message) {
   cdt3d::Status st;
   st.error.code = cdt3d::ErrorCode::InvalidArgument;
@@ -209,6 +230,7 @@ cdt3d::Status plc_from_js(const val& input, cdt3d::Plc& plc, double* ms_read = n
   from_js(input["segments"], segments);
   from_js(input["holes"], holes);
   from_js(input["regions"], regions);
+  names_from_js(input["markerNames"], plc.marker_names);
   if (points.size() % 3 || segments.size() % 2 || holes.size() % 3 || regions.size() % 5 ||
       hole_points.size() % 3)
     return invalid("points, holes and facet hole points need 3 numbers each, segments 2, regions 5.");
@@ -334,6 +356,7 @@ val result_js(const cdt3d::Result& r) {
   o.set("faces", to_js(r.mesh.faces));
   o.set("faceFacets", to_js(r.face_facet));
   o.set("faceMarkers", to_js(r.mesh.face_markers));
+  o.set("markerNames", names_js(r.mesh.marker_names));
   o.set("tetAttributes", to_js(r.mesh.tet_attributes));
   o.set("edges", to_js(r.edges));
   o.set("edgeSegments", to_js(r.edge_segment));
@@ -407,6 +430,7 @@ val repair_js(val input) {
   out.set("holeCounts", to_js(hole_counts));
   out.set("holePoints", to_js(hole_points));
   out.set("markers", to_js(markers));
+  out.set("markerNames", names_js(fixed.marker_names));
   out.set("segments", to_js(segments));
   out.set("holes", to_js(holes));
   out.set("regions", to_js(regions));
@@ -479,6 +503,7 @@ void result_from_js(const val& res, cdt3d::Result& r) {
   from_js(res["faces"], r.mesh.faces);
   from_js(res["faceFacets"], r.face_facet);
   from_js(res["faceMarkers"], r.mesh.face_markers);
+  names_from_js(res["markerNames"], r.mesh.marker_names);
   from_js(res["tetAttributes"], r.mesh.tet_attributes);
   r.input_points = res["inputPoints"].as<size_t>();
   std::vector<uint8_t> kinds;

@@ -189,6 +189,12 @@ export interface RegionInput {
   maxVolume?: number;
 }
 
+/** A name the input gives a facet marker (an OBJ group, an ASCII STL solid). */
+export interface MarkerName {
+  marker: number;
+  name: string;
+}
+
 /** What tetrahedralize and validate accept. */
 export type PlcInput =
   | { bytes: Bytes; fileName: string }
@@ -199,6 +205,8 @@ export type PlcInput =
       segments?: Uint32Array | number[];
       holes?: Float64Array | number[];
       regions?: RegionInput[];
+      /** Names of facet markers (Gmsh physical names in 'msh' output). */
+      markerNames?: MarkerName[];
       fileName?: string;
     }
   | {
@@ -207,6 +215,8 @@ export type PlcInput =
       segments?: Uint32Array | number[];
       holes?: Float64Array | number[];
       regions?: RegionInput[];
+      /** Names of facet markers (Gmsh physical names in 'msh' output). */
+      markerNames?: MarkerName[];
       fileName?: string;
     };
 
@@ -419,6 +429,8 @@ export interface MeshResult {
   faceFacets: Uint32Array;
   /** Input facet marker per face. */
   faceMarkers: Int32Array;
+  /** Names of markers from the input (OBJ groups, ASCII STL solids); write(…, 'msh') uses them. */
+  markerNames: MarkerName[];
   /** Region attribute per tet. */
   tetAttributes: Float64Array;
   /** Subsegments of the input segments, 2 point ids each. */
@@ -497,6 +509,7 @@ export interface RepairResult {
   segments: Uint32Array;
   holes: Float64Array;
   regions: RegionInput[];
+  markerNames: MarkerName[];
   /** Per facet of the result: the input facet it comes from. */
   facetSources: Uint32Array;
   report: RepairReport;

@@ -158,7 +158,39 @@ def read_quietly(path):
         return meshio.read(path)
 
 
-def check_meshio_msh(path, points, tets, attrs, faces, markers):
+def input_marker_names(model):
+    """The names the input gives markers, by the rule cdt3d documents
+    (Plc::marker_names), read here on our own: OBJ "g"/"o" lines name
+    markers 1, 2, ... in order of first use; an ASCII STL's named solids
+    name markers 0, 1, ... in order."""
+    names = {}
+    ext = os.path.splitext(model)[1].lower()
+    with open(model, "rb") as f:
+        data = f.read()
+    if ext == ".obj":
+        for line in data.decode("latin-1").splitlines():
+            w = line.split("#")[0].split()
+            if w and w[0] in ("g", "o") and len(w) > 1:
+                name = " ".join(w[1:])[:200]
+                if name not in names.values():
+                    names[len(names) + 1] = name
+    elif ext == ".stl" and data[:5].lower() == b"solid" and b"facet" in data[:1000].lower():
+        solids, next_marker = 0, None
+        for line in data.decode("latin-1").splitlines():
+            w = line.split()
+            if not w or w[0].lower() != "solid":
+                continue
+            solids += 1
+            name = " ".join(w[1:])[:200]
+            if name and name not in names.values():
+                if next_marker is None:
+                    next_marker = 0 if solids == 1 else 1
+                names[next_marker] = name
+                next_marker += 1
+    return names
+
+
+def check_meshio_msh(path, points, tets, attrs, faces, markers, names):
     name = os.path.basename(path)
     m = read_quietly(path)
     check(np.array_equal(m.points, points), f"meshio {name}: points differ")
@@ -178,7 +210,12 @@ def check_meshio_msh(path, points, tets, attrs, faces, markers):
     check(len(got_f) == len(faces), f"meshio {name}: {len(got_f)} triangles != {len(faces)}")
     # Labels through the group names: "region A" and "marker M" as in the input.
     t_labels = [float(n.split()[1]) if n.startswith("region ") else n for _, n in got_t]
-    f_labels = [int(n.split()[1]) if n.startswith("marker ") else n for _, n in got_f]
+    # Markers the input names come back under their names.
+    by_name = {n: m for m, n in names.items()}
+    f_labels = [by_name[n] if n in by_name else int(n.split()[1]) if n.startswith("marker ") else n
+                for _, n in got_f]
+    check(all(n in by_name or n.startswith("marker ") or n == "boundary" for _, n in got_f),
+          f"meshio {name}: a surface group with a name the input does not give")
     want_t = attrs if attrs is not None else ["domain"] * len(tets)
     want_f = markers if markers is not None else ["boundary"] * len(faces)
     check(keyed([c for c, _ in got_t], t_labels) == keyed(tets, want_t),
@@ -276,7 +313,7 @@ def main():
         base = f"{prefix}.{fmt}"
         run([cli, "mesh", model, "-q", "-o", base, "--format", fmt])
         check_gmsh(base + ".msh", len(points), tets, faces, vtags, ftags)
-        check_meshio_msh(base + ".msh", points, tets, attrs, faces, markers)
+        check_meshio_msh(base + ".msh", points, tets, attrs, faces, markers, input_marker_names(model))
     run([cli, "mesh", model, "-q", "-o", prefix, "--format", "vtu"])
     check_vtu(prefix + ".vtu", stats, points, tets, attrs)
     regions = "none" if attrs is None else len(set(attrs))

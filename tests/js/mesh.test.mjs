@@ -287,6 +287,32 @@ describe('writers', { skip: skipNative && 'CDT3D_SKIP_NATIVE=1' }, () => {
     }
     assert.throws(() => cdt.write(r, 'stl'), (e) => e.code === 'invalid-argument');
   });
+
+  test('OBJ group names reach the result and become Gmsh physical names, as natively', () => {
+    const file = 'cube_groups.obj';
+    const r = cdt.tetrahedralize({ bytes: bytesOf(file), fileName: file });
+    assert.deepEqual(r.markerNames.map((n) => n.name), ['cube', 'bottom', 'top', 'sides', 'inlet face']);
+    const text = new TextDecoder().decode(cdt.write(r, 'msh'));
+    assert.match(text, /\n2 5 "inlet face"\n/);
+    const dir = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-w-'));
+    try {
+      const prefix = path.join(dir, 'groups');
+      const out = spawnSync(requireNativeCli(), ['mesh', path.join(dataDir, file), '-q', '-o', prefix, '--format', 'msh']);
+      assert.equal(out.status, 0);
+      assert.equal(text, readFileSync(`${prefix}.msh`, 'utf8'));
+    } finally {
+      rmSync(dir, { recursive: true, force: true });
+    }
+    // Names given with the arrays come back the same way.
+    const plain = cdt.tetrahedralize({
+      points: r.points.subarray(0, 3 * r.inputPoints),
+      triangles: [0, 3, 2, 0, 2, 1, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7],
+      markerNames: [{ marker: 0, name: 'skin' }],
+    });
+    assert.match(new TextDecoder().decode(cdt.write(plain, 'msh')), /"skin"/);
+    assert.throws(() => cdt.tetrahedralize({ points: [0, 0, 0], triangles: [], markerNames: [{ marker: 'a' }] }),
+      (e) => e.code === 'invalid-argument' && /markerNames\[0\]/.test(e.message));
+  });
 });
 
 describe('memory', () => {

@@ -234,14 +234,28 @@ TEST_CASE("STL ASCII: welded corners, several solids, facet lines", "[io][stl]")
   CHECK(plc.welded_vertices == 8);
   CHECK(plc.facets[0].line == 2);
   CHECK(plc.facets[1].line == 9);
+  // The solid's name names marker 0 (a Gmsh physical name).
+  for (const Facet& f : plc.facets) CHECK(f.marker == 0);
+  CHECK(plc.marker_names == std::vector<std::pair<int, std::string>>{{0, "tet"}});
 
   SECTION("two solids in one file, upper-case keywords, no final endsolid") {
     std::string two = text +
-                      "SOLID second\nFACET NORMAL 1 2 3\nOUTER LOOP\nVERTEX 5 5 5\nVERTEX 6 5 5\n"
+                      "SOLID second  part\nFACET NORMAL 1 2 3\nOUTER LOOP\nVERTEX 5 5 5\nVERTEX 6 5 5\n"
                       "VERTEX 5 6 5\nENDLOOP\nENDFACET\n";
     REQUIRE(read_text(two, "t.stl", plc).ok());
     CHECK(plc.facets.size() == 5);
     CHECK(plc.points.size() == 7);
+    // Each solid is a marker of its own, named by its name.
+    CHECK(plc.facets[3].marker == 0);
+    CHECK(plc.facets[4].marker == 1);
+    CHECK(plc.marker_names ==
+          std::vector<std::pair<int, std::string>>{{0, "tet"}, {1, "second part"}});
+  }
+  SECTION("an unnamed solid names nothing") {
+    std::string unnamed = text;
+    unnamed.replace(0, 9, "solid");
+    REQUIRE(read_text(unnamed, "t.stl", plc).ok());
+    CHECK(plc.marker_names.empty());
   }
   SECTION("a UTF-8 byte order mark is skipped") {
     REQUIRE(read_text("\xEF\xBB\xBF" + text, "t.stl", plc).ok());
@@ -317,6 +331,24 @@ TEST_CASE("OBJ: v/f lines, corner forms, negative indices, polylines", "[io][obj
     CHECK(plc.facets[3].loops[0] == std::vector<VertexId>{0, 3, 2});
     CHECK(plc.facets[0].line == 13);
     CHECK(plc.facets[3].line == 16);
+    // "o tet" is marker 1, then "g group" marker 2 for the faces after it.
+    for (const Facet& f : plc.facets) CHECK(f.marker == 2);
+    CHECK(plc.marker_names == std::vector<std::pair<int, std::string>>{{1, "tet"}, {2, "group"}});
+  }
+  SECTION("groups name markers; a group named again takes its marker back") {
+    const std::string text =
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+        "f 1 3 2\n"
+        "g bottom\nf 1 2 4\n"
+        "g side\nf 2 3 4\n"
+        "g bottom\nf 1 4 3\n";
+    REQUIRE(read_text(text, "g.obj", plc).ok());
+    REQUIRE(plc.facets.size() == 4);
+    CHECK(plc.facets[0].marker == 0);
+    CHECK(plc.facets[1].marker == 1);
+    CHECK(plc.facets[2].marker == 2);
+    CHECK(plc.facets[3].marker == 1);
+    CHECK(plc.marker_names == std::vector<std::pair<int, std::string>>{{1, "bottom"}, {2, "side"}});
   }
   SECTION("faces before later vertices, polygons, l and p statements") {
     const std::string text =

@@ -377,6 +377,16 @@ TEST_CASE("write_msh tags: non-integer attributes, no attributes, no markers", "
   CHECK(elements[0] == std::vector<std::string>{"2", "5", "1", "5"});
 }
 
+TEST_CASE("write_msh names surface groups as the input names its markers", "[writers][msh]") {
+  TetMeshData m = sample_mesh(true);  // markers 7, -3, 0
+  m.marker_names = {{0, "lid"}, {7, "wall \"A\""}};
+  const auto names = words(section(write_msh(m, false), "PhysicalNames"));
+  CHECK(names[2] == std::vector<std::string>{"2", "9", "\"lid\""});
+  // A quote inside a name would end the string: it becomes '_'.
+  CHECK(names[3] == std::vector<std::string>{"2", "7", "\"wall", "_A_\""});
+  CHECK(names[1] == std::vector<std::string>{"2", "8", "\"marker", "-3\""});
+}
+
 TEST_CASE("write_msh binary holds the ASCII file's values", "[writers][msh]") {
   for (bool with_data : {true, false}) {
     const TetMeshData m = sample_mesh(with_data);

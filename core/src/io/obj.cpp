@@ -172,8 +172,12 @@ Status read_obj(const uint8_t* data, size_t size, const std::string& file, Plc& 
           b.add_segment(corners[k], corners[k + 1], t.line, -1);
         }
       }
+    } else if (t.is("g") || t.is("o")) {
+      // A group or object names the faces after it (a Gmsh physical name).
+      b.start_named_group(r.rest_of_line(kMaxNameSize), 1);
+      continue;
     }
-    // Everything else (vt, vn, vp, g, o, s, usemtl, mtllib, ...) is ignored.
+    // Everything else (vt, vn, vp, s, usemtl, mtllib, ...) is ignored.
     r.skip_line();
   }
   return b.finish();

@@ -420,6 +420,18 @@ bool TextReader::next_on_line(Token& t) {
   return true;
 }
 
+std::string TextReader::rest_of_line(size_t max_size) {
+  std::string text;
+  Token t;
+  while (next_on_line(t)) {
+    if (!text.empty()) text += ' ';
+    text.append(t.p, t.n);
+  }
+  skip_line();
+  if (text.size() > max_size) text.resize(max_size);
+  return text;
+}
+
 void TextReader::skip_line() {
   if (continuation_) {
     // A statement we ignore may itself continue on the next physical lines.
@@ -688,7 +700,23 @@ Facet& PlcBuilder::add_facet(int64_t line, int64_t record) {
   Facet& f = plc_.facets.back();
   f.line = line;
   f.record = record;
+  f.marker = marker_;
   return f;
+}
+
+void PlcBuilder::start_named_group(const std::string& name, int next_marker) {
+  if (name.empty()) {
+    marker_ = 0;
+    return;
+  }
+  for (const auto& [marker, known] : plc_.marker_names)
+    if (known == name) {
+      marker_ = marker;
+      return;
+    }
+  if (next_marker_ < 0) next_marker_ = next_marker;
+  marker_ = next_marker_++;
+  plc_.marker_names.emplace_back(marker_, name);
 }
 
 void PlcBuilder::add_segment(uint32_t a, uint32_t b, int64_t line, int64_t record) {

@@ -29,6 +29,8 @@ Status read_file(const std::string& path, std::vector<uint8_t>& bytes);
 /// Largest number of distinct points / file vertex records: VertexId is 32-bit
 /// and kNone is reserved.
 inline constexpr uint64_t kMaxItems = 0xfffffffeull;
+/// Longest group or solid name kept (bytes; longer names are cut).
+inline constexpr size_t kMaxNameSize = 200;
 
 // ---------------------------------------------------------------------------
 // Numbers
@@ -130,6 +132,9 @@ class TextReader {
   }
   /// Skips the rest of the current line, including its line feed.
   void skip_line();
+  /// The tokens left on the line joined by single spaces (and the line
+  /// skipped), cut to `max_size` bytes: a name such as an STL solid's.
+  std::string rest_of_line(size_t max_size);
   /// True when no token remains anywhere.
   bool at_end();
   /// OBJ: a backslash that is the last non-blank character of a line joins
@@ -257,8 +262,14 @@ class PlcBuilder {
   /// Index base used in messages (0 or 1), when known only after the header.
   void set_index_base(int64_t base) { base_ = base; }
 
-  /// Appends a facet (loops of file indices to fill in) and returns it.
+  /// Appends a facet (loops of file indices to fill in) and returns it; its
+  /// marker is the one set by start_named_group (0 before any).
   Facet& add_facet(int64_t line, int64_t record);
+  /// The facets added from now on form the group of that name (the rest of
+  /// the statement's line, e.g. an OBJ "g" or an STL "solid"): they take
+  /// the name's marker, a new one (`next_marker`, then counting up) for a
+  /// name not seen before. An empty name returns to marker 0.
+  void start_named_group(const std::string& name, int next_marker);
   /// Appends an explicit segment between two file vertex indices.
   void add_segment(uint32_t a, uint32_t b, int64_t line, int64_t record);
   /// Records a vertex referenced on its own (a one-corner polygon), for the
@@ -289,6 +300,8 @@ class PlcBuilder {
   static constexpr int kRecent = 6;
   uint32_t recent_[kRecent] = {kNone, kNone, kNone, kNone, kNone, kNone};
   int recent_next_ = 0;
+  int marker_ = 0;
+  int next_marker_ = -1;  // -1: no named group yet
 };
 
 // ---------------------------------------------------------------------------

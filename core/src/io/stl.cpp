@@ -110,8 +110,8 @@ Status read_ascii(const uint8_t* data, size_t size, const std::string& file, Plc
   if (!t.is_nocase("solid")) {
     return fail(ErrorCode::Parse, "An ASCII STL must begin with 'solid'.", file, t.line);
   }
-  r.skip_line();  // the solid's name
   PlcBuilder b(out, file, 0);
+  b.start_named_group(r.rest_of_line(kMaxNameSize), 0);
   b.reserve_vertices(size / 64, size / 64, size / 400);
   while (r.next(t)) {
     if (t.is_nocase("endsolid")) {
@@ -125,7 +125,8 @@ Status read_ascii(const uint8_t* data, size_t size, const std::string& file, Plc
         return fail(ErrorCode::Parse, "Expected 'solid' or the end of the file after 'endsolid'.",
                     file, t.line);
       }
-      r.skip_line();  // several solids in one file: read them all
+      // Several solids in one file: read them all, each a marker of its own.
+      b.start_named_group(r.rest_of_line(kMaxNameSize), 1);
       continue;
     }
     if (!t.is_nocase("facet")) {

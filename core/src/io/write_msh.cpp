@@ -116,6 +116,19 @@ std::vector<Group> volume_groups(const TetMeshData& m) {
   return groups;
 }
 
+// The input's name of a marker (its text made safe inside the quotes of
+// $PhysicalNames), else "marker M".
+std::string marker_name(const TetMeshData& m, int marker) {
+  for (const auto& [known, name] : m.marker_names) {
+    if (known != marker || name.empty()) continue;
+    std::string safe = name;
+    for (char& c : safe)
+      if (c == '"' || c == '\\' || static_cast<unsigned char>(c) < 0x20) c = '_';
+    return safe;
+  }
+  return "marker " + std::to_string(marker);
+}
+
 // Surface groups, one per distinct facet marker in increasing order: tag =
 // marker when it is positive; markers <= 0 take the tags after the largest
 // positive marker, in increasing order (marker 0 of an STL surface becomes
@@ -136,7 +149,7 @@ std::vector<Group> surface_groups(const TetMeshData& m) {
   int64_t next = std::max<int64_t>(0, distinct.back()) + 1;
   for (size_t k = 0; k < distinct.size(); ++k) {
     groups[k].tag = distinct[k] > 0 ? distinct[k] : next++;
-    groups[k].name = "marker " + std::to_string(distinct[k]);
+    groups[k].name = marker_name(m, distinct[k]);
   }
   fit_tags(groups);
   for (size_t f = 0; f < nf; ++f) {

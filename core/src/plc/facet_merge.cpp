@@ -304,6 +304,7 @@ size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged
   out.segments = plc.segments;
   out.holes = plc.holes;
   out.regions = plc.regions;
+  out.marker_names = plc.marker_names;
   out.file = plc.file;
   out.file_vertices = plc.file_vertices;
   out.welded_vertices = plc.welded_vertices;

@@ -150,7 +150,6 @@ class Validator {
   void build_membership();
   const std::vector<uint32_t>& facets_of(uint32_t v, int slot);
   bool flat_in_facet(size_t i, uint32_t f);
-  bool on_segment(uint32_t v, uint32_t s) const;
   bool along_one_line(const Tri3& k) const;
   void project(uint32_t v, int drop, double out[2]) const;
   bool beyond_subsegment(const Tri3& k, uint32_t f, int drop) const;
@@ -713,13 +712,6 @@ bool Validator::flat_in_facet(size_t i, uint32_t f) {
     if (numerically_flat(pt(w[0]), pt(w[1]), pt(w[2]), pt(w[3]))) return true;
   }
   return false;
-}
-
-bool Validator::on_segment(uint32_t v, uint32_t s) const {
-  if (v < r_.input_points)
-    return std::find(ms_.segs_at[v].begin(), ms_.segs_at[v].end(), s) != ms_.segs_at[v].end();
-  const size_t i = v - r_.input_points;
-  return r_.steiner_kind[i] == SteinerKind::Segment && steiner_parent_[i] == static_cast<int64_t>(s);
 }
 
 // Three vertices on one line of segments (input points and Steiner points

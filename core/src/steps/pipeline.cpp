@@ -912,6 +912,7 @@ Result tetrahedralize(const Plc& plc, const Options& options) {
   p.finish(plc);
 #endif
   if (!out.status.ok() && out.status.error.file.empty()) out.status.error.file = plc.file;
+  if (out.status.ok()) out.mesh.marker_names = plc.marker_names;
   return out;
 }
 
