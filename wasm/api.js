@@ -97,7 +97,7 @@ const OPTION_TYPES = {
 };
 // The fields of options.quality and their defaults (the core's QualityOptions;
 // maxVolume -1: no bound, maxPoints 0: the core's own limit).
-const QUALITY_DEFAULTS = { radiusEdge: 2, maxVolume: -1, minDihedral: 0, maxPoints: 0 };
+const QUALITY_DEFAULTS = { radiusEdge: 2, maxVolume: -1, minDihedral: 15, maxPoints: 0 };
 // The file a readPlc() summary came from, so that it can be meshed directly.
 const SOURCE = Symbol('cdt3d.source');
 

@@ -244,9 +244,9 @@ export interface QualityOptions {
   /**
    * Afterwards raise the smallest dihedral angle towards this many degrees
    * (0-70) by flips, vertex moves and, where neither helps, a few new points
-   * inside the volume (like tetgen -O). Default 0: no such pass. The result
-   * then covers every facet and segment but is no longer Delaunay
-   * (`MeshResult.delaunay` false).
+   * inside the volume (like tetgen -O). Default 15; 0: no such pass. The
+   * result then covers every facet and segment but is no longer Delaunay
+   * (`MeshResult.delaunay` false); with 0 it stays a CDT.
    */
   minDihedral?: number;
   /** Stop refining after this many added points (stats.refineCapped is then 1). Default 0: the core's limit. */

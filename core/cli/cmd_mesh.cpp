@@ -71,9 +71,10 @@ void usage(std::FILE* out) {
       "  --quality [RATIO] bound on circumradius / shortest edge of the tets, >= 1 (default 2.0;\n"
       "                    like tetgen -q); -q stays \"quiet\"\n"
       "  --max-volume V    largest tet volume, > 0 (like tetgen -a); regions' own bounds apply too\n"
-      "  --min-dihedral D  then raise the smallest dihedral angle towards D degrees (0-70) by\n"
-      "                    flips, vertex moves and a few new points (like tetgen -O); the\n"
-      "                    mesh then covers every facet but is no longer Delaunay\n"
+      "  --min-dihedral D  then raise the smallest dihedral angle towards D degrees (0-70,\n"
+      "                    default 15) by flips, vertex moves and a few new points (like\n"
+      "                    tetgen -O); the mesh then covers every facet but is no longer\n"
+      "                    Delaunay; 0: no such pass, the result stays a CDT\n"
       "  --max-points N    stop refining after N added points (default 0: 100 times the CDT's\n"
       "                    points plus 1e6; the statistics say when it stopped there)\n"
       "exit codes: 0 success, 1 input or meshing error, 2 usage error\n");

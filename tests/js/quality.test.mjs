@@ -25,7 +25,8 @@ const input = (file) => ({ bytes: readFileSync(path.join(dataDir, file)), fileNa
 const NEW_COUNTS = ['refineSegment', 'refineFacet', 'refineVolume', 'refineSkipped', 'refineCapped', 'improveFlips', 'improveSmooths', 'improvePoints'];
 const HISTOGRAMS = ['radiusEdgeHistogram', 'dihedralHistogram', 'radiusEdgeHistogramBefore', 'dihedralHistogramBefore'];
 const sum = (a) => a.reduce((x, y) => x + y, 0);
-const added = (s) => s.refineSegment + s.refineFacet + s.refineVolume;
+// Points added by refinement and by the improvement pass (on by default).
+const added = (s) => s.refineSegment + s.refineFacet + s.refineVolume + s.improvePoints;
 // Statistics without the times, which differ from run to run.
 const comparable = (s) => Object.fromEntries(Object.entries(s).filter(([k]) => !/^ms[A-Z]/.test(k)));
 
@@ -69,7 +70,7 @@ describe('the quality option', () => {
 
   test('true, {} and the defaults written out are one run; false and null are none', () => {
     const byTrue = cdt.tetrahedralize(input(CUBE), { quality: true });
-    for (const quality of [{}, { radiusEdge: 2, maxVolume: -1, minDihedral: 0, maxPoints: 0 }, { radiusEdge: undefined }]) {
+    for (const quality of [{}, { radiusEdge: 2, maxVolume: -1, minDihedral: 15, maxPoints: 0 }, { radiusEdge: undefined }]) {
       const r = cdt.tetrahedralize(input(CUBE), { quality });
       assert.deepEqual(r.tets, byTrue.tets, JSON.stringify(quality));
       assert.deepEqual(comparable(r.stats), comparable(byTrue.stats), JSON.stringify(quality));
@@ -144,8 +145,11 @@ describe('the statistics', () => {
   });
 
   test('minDihedral: the improvement pass raises the smallest angle and gives up the Delaunay property', () => {
-    const plain = cdt.tetrahedralize(input(BUNNY), { quality: { radiusEdge: 1.414 } });
+    const plain = cdt.tetrahedralize(input(BUNNY), { quality: { radiusEdge: 1.414, minDihedral: 0 } });
     const r = cdt.tetrahedralize(input(BUNNY), { quality: { radiusEdge: 1.414, minDihedral: 15 }, validate: true });
+    // 15 is the default: the pass runs unless minDihedral is 0.
+    const byDefault = cdt.tetrahedralize(input(BUNNY), { quality: { radiusEdge: 1.414 } });
+    assert.deepEqual(byDefault.tets, r.tets);
     const s = r.stats;
     assert.equal(plain.delaunay, true);
     assert.equal(r.delaunay, false);

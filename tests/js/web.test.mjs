@@ -467,7 +467,10 @@ test('quality: the controls reach the worker, the panel shows the histograms bef
   await page.check('#opt-quality');
   for (const id of ['#opt-radius-edge', '#opt-max-volume', '#opt-min-dihedral']) assert.equal(await page.isEnabled(id), true, id);
   try {
+    // The improvement pass is on by default (15 degrees), as in the CLI and the package.
+    assert.equal(await page.inputValue('#opt-min-dihedral'), '15');
     await page.fill('#opt-radius-edge', '1.8');
+    await page.fill('#opt-min-dihedral', '0');
     const quality = { radiusEdge: 1.8, minDihedral: 0 }; // the empty volume field: no bound; dihedral 0: no pass
     assert.equal(await openFile(REGIONS), 'done', await page.textContent('#error'));
     assert.deepEqual(await page.evaluate(() => window.cdt3dDemo.quality), quality);

@@ -37,7 +37,9 @@ Result mesh(const std::string& model, const QualityOptions& q) {
   return r;
 }
 
-QualityOptions quality(double radius_edge = 2.0, double max_volume = -1, double min_dihedral = 0,
+// Defaults as the CLI's (the improvement pass on, at QualityOptions' angle).
+QualityOptions quality(double radius_edge = 2.0, double max_volume = -1,
+                       double min_dihedral = QualityOptions{}.min_dihedral,
                        size_t max_points = 0) {
   QualityOptions q;
   q.enabled = true;
@@ -161,7 +163,7 @@ TEST_CASE("cdt3d mesh: every quality option reaches the core as tetrahedralize()
       {{"--quality", "1.2"}, quality(1.2)},
       {{"--max-volume", "0.01"}, quality(2.0, 0.01)},
       {{"--min-dihedral", "0"}, quality(2.0, -1, 0)},
-      {{"--max-volume", "0.002", "--max-points", "40"}, quality(2.0, 0.002, 0, 40)},
+      {{"--max-volume", "0.002", "--max-points", "40"}, quality(2.0, 0.002, 15, 40)},
       {{"--quality", "1.5", "--max-volume", "0.05", "--min-dihedral", "0"}, quality(1.5, 0.05, 0)},
   };
   for (const Case& c : cases) {
@@ -233,6 +235,22 @@ TEST_CASE("cdt3d mesh --min-dihedral runs the improvement pass and reports it", 
   CHECK(run.output.find("Validation:                passed") != std::string::npos);
   // Without a quality option the target alone turns refinement on, like --max-volume.
   CHECK(mesh_json(kCube, {"--min-dihedral", "0"}).find("\"ok\":true") != std::string::npos);
+}
+
+TEST_CASE("--quality alone runs the improvement pass; --min-dihedral 0 keeps a CDT", "[cli][refine]") {
+  // The default, like tetgen -q's optimisation: slivers are removed.
+  const std::string json = mesh_json(kBunny, {"--quality"});
+  CHECK(count(json, "improveFlips") > 0);
+  CHECK(real(json, "minDihedral") >= 5);
+  const Result off = mesh(kBunny, quality(2.0, -1, 0));
+  REQUIRE(off.status.ok());
+  CHECK(off.stats.improve_flips == 0);
+  CHECK(off.stats.improve_smooths == 0);
+  CHECK(off.delaunay);
+  CHECK(off.stats.min_dihedral < real(json, "minDihedral"));
+  Plc plc;
+  REQUIRE(read_plc_file(kBunny, plc).ok());
+  CHECK(validate(plc, off).ok());
 }
 
 TEST_CASE("cdt3d mesh --stats shows the refinement counters and times and the quality before and after", "[cli]") {

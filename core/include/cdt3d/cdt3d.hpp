@@ -270,10 +270,12 @@ struct QualityOptions {
   double max_volume = -1;     ///< largest tet volume, -1: none (tetgen -a); Region::max_volume also applies
   /// Improvement pass after refinement (edge removal, 2-3 flips and moves
   /// of free vertices against slivers, like tetgen -O): raise the smallest
-  /// dihedral angle towards this many degrees; 0 = no pass. At most 70. The
-  /// result is then a constrained tetrahedralization of the refined PLC but
-  /// no longer a Delaunay one (Result::delaunay).
-  double min_dihedral = 0;
+  /// dihedral angle towards this many degrees; 0 = no pass. At most 70.
+  /// On by default, as tetgen -q optimises by default: refinement alone
+  /// leaves slivers, whose radius-edge ratio can be small. The result is then
+  /// a constrained tetrahedralization of the refined PLC but no longer a
+  /// Delaunay one (Result::delaunay); 0 keeps it a CDT.
+  double min_dihedral = 15;
   /// Stop refining after this many added points (0: 100 times the points
   /// of the CDT plus 100000, plus 6 per smallest volume bound's worth of
   /// volume); reported in Statistics::refine_capped.
