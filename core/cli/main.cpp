@@ -34,15 +34,14 @@ void print_usage(std::FILE* out) {
 // The mesher's big arrays (tets, adjacency, per-phase tables) are allocated,
 // freed and allocated again phase after phase. glibc serves blocks above
 // 128 KiB by mmap and trims the heap top past 128 KiB, so each round trip
-// returns the pages to the kernel and faults them in again on first touch;
-// page faults took 10-15% of a CLI run in the profiles (more under a
-// hypervisor). Keeping freed memory in the process avoids that; the peak
-// (what the process touches at once) does not grow. One arena for the two
-// threads of a run (the self-intersection test runs beside steps 1-2): a second
-// arena's pages are fresh, and what the test frees there would never serve
-// the later phases (armadillo: 19.1k page faults with two arenas, 15.3k with
-// one, as on one thread; the test makes few allocations, so the shared lock
-// costs nothing measurable).
+// returns the pages to the kernel and faults them in again on first touch,
+// a large share of a CLI run (more under a hypervisor). Keeping freed
+// memory in the process avoids that; the peak (what the process touches at
+// once) does not grow. One arena for the two threads of a run (the
+// self-intersection test runs beside steps 1-2): a second arena's pages are
+// fresh, and what the test frees there would never serve the later phases;
+// the test makes few allocations, so the shared lock costs next to
+// nothing.
 void keep_freed_memory() {
 #if defined(__GLIBC__)
   mallopt(M_MMAP_THRESHOLD, 1 << 30);
@@ -52,17 +51,15 @@ void keep_freed_memory() {
 }
 
 // Transparent huge pages for the heap of a big run. Under a hypervisor a
-// first touch of a 4 KiB page costs microseconds (about 15 us on the
-// project's 2-core VM), and a run touches its whole peak at least once:
-// armadillo faulted 15k pages. glibc asks for huge pages only under its
+// first touch of a 4 KiB page costs microseconds, and a run touches its
+// whole peak at least once. glibc asks for huge pages only under its
 // start-up tunable (glibc.malloc.hugetlb=1), so the CLI does it itself: it
 // grows the heap by a reserve once (malloc and free; with the thresholds
 // above the top is neither given back nor served by mmap), and marks the
 // reserve MADV_HUGEPAGE, so the later allocations there fault 2 MiB at a
-// time. Untouched, the reserve costs address space only. armadillo: 15k ->
-// 0.4k page faults, 963 -> 799 ms (min of 5). Only for inputs of 2 MiB and
-// more: a huge page rounds the resident memory up by up to 2 MiB a region,
-// which on a small model is most of its peak (bunny 7.7 -> 10 MiB).
+// time. Untouched, the reserve costs address space only. Only for inputs
+// of 2 MiB and more: a huge page rounds the resident memory up by up to
+// 2 MiB a region, which on a small model is most of its peak.
 void huge_pages_for_big_inputs(int argc, char** argv) {
 #if defined(__GLIBC__) && defined(MADV_HUGEPAGE)
   constexpr uint64_t kMinInput = 2u << 20, kHuge = 2u << 20;
@@ -73,8 +70,9 @@ void huge_pages_for_big_inputs(int argc, char** argv) {
       input = std::max<uint64_t>(input, static_cast<uint64_t>(st.st_size));
   }
   if (input < kMinInput) return;
-  // Peak memory was 15-21 times the input file on the classic models; the
-  // reserve stays below the trim threshold (1 GiB), or free() returns it.
+  // Sized from the input file, with room above the peak memory a model of
+  // that size reaches; the reserve stays below the trim threshold (1 GiB),
+  // or free() returns it.
   const uint64_t reserve = std::min<uint64_t>(48 * input, 960u << 20);
   void* block = std::malloc(reserve);
   if (!block) return;

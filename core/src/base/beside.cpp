@@ -17,15 +17,11 @@ namespace cdt3d {
 
 // Left to the scheduler, a thread created by a busy thread is often queued
 // on its creator's core, and the idle core takes it over only at its next
-// load balancing, up to a scheduler tick later. On the project's 2-core VM
-// that happened on 3 starts of 4: the new thread began ~3 ms after its
-// creation (median of 60 fresh processes; 0.03 ms on the other starts), so
-// 2 ms of work beside 2 ms of the creator's took 3.1 ms instead of 2.1
-// (median), and the median run of bunny (four such threads) took 22.6 ms
-// against a fastest of 19.0 (50 runs). Started with an affinity that leaves
-// out the creator's core, the thread runs on the idle core at once (0.05 ms,
-// every start; bunny's median run 19.9 ms); it then widens its affinity back
-// to the creator's, so that the scheduler may move it as before.
+// load balancing, up to a scheduler tick later: milliseconds, as long as
+// the halves of work run_beside is given on a small model. Started with an
+// affinity that leaves out the creator's core, the thread runs on the idle
+// core at once; it then widens its affinity back to the creator's, so that
+// the scheduler may move it as before.
 namespace {
 
 struct Start {

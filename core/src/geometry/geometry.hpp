@@ -188,7 +188,7 @@ inline double volume_ratio(const double* a, const double* b, const double* c, co
 ///
 /// Most tets are far from flat, so a filter decides them first, without the
 /// six edge lengths and the square root of volume_ratio (every tet of a mesh
-/// is tested before carving; under Node the test took ~4% of a run).
+/// is tested before carving).
 /// With m2 the largest squared length of u, v, w (edges at d), every edge is
 /// at most 2 sqrt(m2) long (triangle inequality), so l_max^3 <= 8 m2^1.5, and
 /// 6V^2 > 128 kFlatTetRatio^2 m2^3 gives volume_ratio > 1.41 kFlatTetRatio:

@@ -1,8 +1,8 @@
 // A dynamic octree over points, answering "which points lie in this box".
 // Segment recovery (§5) uses it to find the vertices that encroach upon a
 // missing subsegment: on CAD models the diametral ball of a subsegment meets
-// a hundred or more long thin tets, and walking them cost a third of the
-// whole run, while the ball holds only a few vertices.
+// a hundred or more long thin tets, and walking them is costly, while the
+// ball holds only a few vertices.
 #pragma once
 
 #include <cstddef>
@@ -32,8 +32,8 @@ class PointIndex {
   };
   static constexpr uint32_t kNoBlock = ~0u;
   // A leaf's points live in blocks of one pool, not in a vector per leaf:
-  // allocating and freeing those was ~1% of nefertiti's run under Node
-  // (WebAssembly's malloc takes a lock). One block holds a full leaf (a
+  // allocating and freeing those is slow under WebAssembly, whose malloc
+  // takes a lock. One block holds a full leaf (a
   // leaf splits past kLeafSize points); only leaves that may not split any
   // more chain more blocks, in insertion order.
   static constexpr uint32_t kBlockSize = kLeafSize + 1;

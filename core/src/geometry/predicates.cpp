@@ -15,15 +15,16 @@
 //     power of two of that lowest bit: they are integers below 2^125, and
 //     the difference form of the determinant is evaluated in fixed-width
 //     two's complement integers of one or two 64-bit limbs per difference
-//     (wide_int.hpp), without a memo (insphere: ~50 ns on one limb,
-//     ~400 ns on two, against ~3 us for step 4's raw form).
+//     (wide_int.hpp), without a memo (far cheaper than step 4's raw form,
+//     on one limb most of all).
 //  3. Else, if every coordinate difference against the last point is exact in
 //     double (two-diff tail 0), evaluate the difference form of the
 //     determinant on those doubles: short expansions.
 //  4. Otherwise evaluate the raw homogeneous form (the determinant with a
 //     column of ones, and the lifted column |p|^2 for in-circle/sphere),
 //     whose entries are the coordinates themselves: longer expansions
-//     (several microseconds for insphere on full 53-bit significands).
+//     (the slowest stage, for insphere on full 53-bit significands most of
+//     all).
 // Only products of an expansion by a double are used, so every length has a
 // fixed bound and the buffers live on the stack (about 170 KB at most, in
 // insphere_exact; the wasm build has a 5 MB stack). Intermediate expansions
@@ -72,8 +73,8 @@ int lowest_bit_exponent(double x) {
 }
 
 // frexp's exponent of a nonzero double: the e with 2^(e-1) <= |x| < 2^e,
-// read from the bits (frexp itself was a tenth of the exact stages' load
-// step on CAD models). 0 for inf and NaN, as glibc's frexp sets it.
+// read from the bits (cheaper than a call of frexp, on the load step of
+// every exact stage). 0 for inf and NaN, as glibc's frexp sets it.
 int binary_exponent(double x) {
   uint64_t bits;
   std::memcpy(&bits, &x, sizeof bits);
@@ -289,10 +290,9 @@ int int_insphere(const wide::i128 (*d)[3]) {
 }
 
 // The one-limb forms again, written for the machine's 64 x 64 -> 128-bit
-// multiply: with the generic limb loops above an exact insphere took ~3,000
-// instructions on CAD points (tray_bottom: 20k exact calls in step 1, 45% of
-// its Delaunay phase), with these ~1,900 (callgrind). Entries below 2^62
-// (integer_differences).
+// multiply: the generic limb loops above take many more instructions per
+// exact insphere, and co-spherical CAD points send many calls to this
+// stage. Entries below 2^62 (integer_differences).
 //
 // A signed value below 2^189 in magnitude as hi 2^64 + lo, lo unsigned:
 // what a 3x3 minor of such entries needs (< 2^189, as int_det3<1>).
@@ -573,9 +573,10 @@ class MemoTable {
  private:
   Memo<N, D>* slots_ = nullptr;
 };
-// 16384 slots (2 MiB): on tray_bottom's Delaunay phase 59% of the calls hit
-// (4096 slots: 49%, 65536 slots, 8 MiB: 67%), measured before the integer
-// stage; since then only coordinates spanning more than 125 bits reach it.
+// 16384 slots (2 MiB): a balance between the share of calls that hit and
+// the memory (and first-touch page faults) of a thread's table. Only
+// coordinates spanning more than 125 bits reach it; the integer stage
+// decides the others.
 thread_local MemoTable<5, 3, 16384> t_insphere_memo;
 // The 2D facet triangulations test each edge from both sides, the same four
 // points in another order (half the exact calls there).
@@ -812,8 +813,7 @@ int insphere_exact(const double* a, const double* b, const double* c, const doub
   // Coordinates within 125 bits of each other: the integer form, cheaper
   // than a memo lookup (whose 2 MiB table also costs page faults on first
   // touch). On the coordinates as they are: a power-of-two scale does not
-  // change its sign, and load_scaled was a third of this function's time on
-  // CAD points (thin_plate.off).
+  // change its sign, so load_scaled's pass over the points is skipped.
   load_raw(p, 5, 3, q);
   wide::i128 xd[4][3];
   if (const int limbs = integer_differences(q, 5, 3, xd))

@@ -45,8 +45,8 @@
 // caller, where the compiler keeps the terms in registers and drops the ones
 // a caller does not read. GCC does so on its own; clang (the WebAssembly
 // build) kept insphere_terms out of line, returning all 20 terms through
-// memory on each of the ~40 conflict tests per inserted point (9-12% of a
-// run under Node, profiled with --cpu-prof), and then insphere_in_box.
+// memory on each of the dozens of conflict tests per inserted point, and
+// then insphere_in_box.
 #if defined(__GNUC__) || defined(__clang__)
 #define CDT3D_FILTER_INLINE inline __attribute__((always_inline))
 #else
@@ -180,8 +180,8 @@ int insphere_sos(const double* a, const double* b, const double* c, const double
                  const double* e, uint32_t ia, uint32_t ib, uint32_t ic, uint32_t id, uint32_t ie);
 /// insphere_sos for a caller that already has insphere(a, b, c, d, e) == 0:
 /// the perturbation alone, without evaluating the exact zero a second time
-/// (on co-spherical CAD points that second evaluation was a fifth of the
-/// Delaunay step). With `small_integers` the points must pass
+/// (co-spherical CAD points reach this often, and the exact zero is the
+/// costly part). With `small_integers` the points must pass
 /// small_integer_points, and its orientations are evaluated in doubles
 /// (orient3d_small_integers).
 int insphere_tie(const double* a, const double* b, const double* c, const double* d,
@@ -215,9 +215,9 @@ int incircle_coplanar_sos_on_plane(const double* a, const double* b, const doubl
 /// the ghost tets of every co-spherical cell test) are decided in doubles:
 /// with integer coordinate differences of at most 2^9 the projected
 /// determinant's products and sums are integers below 2^40, so its double
-/// evaluation is exact, zeros included (those co-circular zeros sent
-/// incircle to its exact stage, 11% of the menger sponge's run). Other
-/// planes go to incircle_coplanar.
+/// evaluation is exact, zeros included (those co-circular zeros would
+/// otherwise each go to incircle's exact stage). Other planes go to
+/// incircle_coplanar.
 int incircle_coplanar_small_integers(const double* a, const double* b, const double* c,
                                      const double* d);
 
@@ -226,8 +226,8 @@ int incircle_coplanar_small_integers(const double* a, const double* b, const dou
 /// *_exact counts the calls the filter could not decide (always on).
 /// *_calls counts every call when CDT3D_PREDICATE_CALL_COUNTS is 1, the
 /// default natively; in WebAssembly builds the default is 0 and they stay 0,
-/// because V8 turns the per-call memory increment into ~3-5 ns, as much as
-/// the whole filter. Define CDT3D_PREDICATE_CALL_COUNTS=1 to force them on.
+/// because under V8 the per-call memory increment costs as much as the
+/// whole filter. Define CDT3D_PREDICATE_CALL_COUNTS=1 to force them on.
 struct Counters {
   uint64_t orient3d_calls = 0, orient3d_exact = 0;
   uint64_t insphere_calls = 0, insphere_exact = 0;
@@ -288,7 +288,7 @@ inline int orient2d_xy(double ax, double ay, double bx, double by, double cx, do
 // least M_x (rounding is monotonic and M_x is a double) and at most
 // n M_x (1 + nu) for n rows: no comparisons or selects, which matters in
 // WebAssembly, where V8 turns each f64 select or max into a branch that
-// mispredicts on random data (a max-based filter ran 10x slower there).
+// mispredicts on random data.
 // The bound actually tested is computed in doubles (a few more factors
 // (1 - u)) and its constant is rounded up with a margin (>= 0.09u of S); the
 // margin also absorbs the absolute error of underflowing products (each at
@@ -470,8 +470,7 @@ inline bool insphere_decided(const InsphereTerms& t) {
 
 // The stages after a failed filter (predicates.cpp), out of line: inlined,
 // their live values made the compiler spill the filter's registers to the
-// stack on every call (insphere was ~250 instructions per call, on the hot
-// path of every insertion).
+// stack on every call, on the hot path of every insertion.
 int orient3d_undecided(const double* a, const double* b, const double* c, const double* d);
 int insphere_undecided(const double* a, const double* b, const double* c, const double* d,
                        const double* e);

@@ -12,12 +12,11 @@ namespace {
 
 constexpr int kMaxHilbertBits = 21;  // 3 * 21 = 63-bit keys
 constexpr int kBrioHilbertBits = 9;  // 4 bits of round + 3 * 9 fit in 32 bits
-// Size of the first BRIO round, at least. With 1000, sets below 4,000 points
-// (most surface models of tens of ms) were one round in pure Hilbert order:
-// each point then lands next to the boundary of the region inserted so far,
-// where the circumspheres are large, and its cavity held 27-32 tets on
-// bunny and spot against 20 with rounds (step 1: bunny 7.3 -> 5.7 ms, spot
-// 7.7 -> 5.3 ms; random points and large models 1-7% faster too).
+// Size of the first BRIO round, at least. Small, so that sets of a few
+// thousand points (most surface models) still get several rounds: in one
+// round of pure Hilbert order each point lands next to the boundary of the
+// region inserted so far, where the circumspheres are large, and its cavity
+// holds more tets than with rounds.
 constexpr size_t kFirstRound = 64;
 
 struct Keyed {

@@ -6,8 +6,8 @@
 // lowest set bit among them (exact, and it keeps the sign: the forms are
 // homogeneous). CAD models with decimal coordinates (0.1, 0.3, ...) are exact
 // zeros of insphere again and again, their differences do not round exactly,
-// and the expansion arithmetic's raw form took ~3 microseconds per call
-// there; the same determinant over 2-limb integers takes a fraction of that.
+// and the expansion arithmetic's raw form is slow there; the same
+// determinant over 2-limb integers takes a fraction of its time.
 //
 // Widths are fixed by the callers from bounds on the operands, so no
 // operation ever overflows its result type (each call site states its bound).

@@ -55,8 +55,8 @@ Status corner_index(const Token& t, uint64_t vertices_so_far, const std::string&
   return Status::success();
 }
 
-// The common statements, read without building a Status per token (about a
-// third of the reader's time): "v" with three coordinates that parse_double
+// The common statements, read without building a Status per token (the
+// checked path's main cost): "v" with three coordinates that parse_double
 // reads whole and coords_ok accepts, and corners whose vertex part is a
 // plain integer in range. On anything else they return false and the caller
 // reads the statement again from the same place with the checked path, which
@@ -106,9 +106,9 @@ Status read_obj(const uint8_t* data, size_t size, const std::string& file, Plc& 
   r.set_line_continuation(true);  // legal OBJ: "f 1 2 \\" goes on on the next line
   PlcBuilder b(out, file, 1);
   b.reserve_vertices(size / 32, size / 32, size / 32);
-  // Growing the facet list by doubling moved and page-faulted it ~17 times
-  // on armadillo (3% of its run); the "f" lines are counted first (a line
-  // continued by a backslash may hide one: reserve is only a hint).
+  // Reserve the facet list from a count of "f" lines, so that it is not
+  // moved and page-faulted while it grows (a line continued by a backslash
+  // may hide one: reserve is only a hint).
   out.facets.reserve(count_face_lines(reinterpret_cast<const char*>(data), size));
   Token t;
   std::vector<uint32_t> corners;

@@ -39,8 +39,8 @@ bool is_off_keyword(const Token& t, bool& dims_error) {
   return true;
 }
 
-// The common records, read without building a Status per token (which was
-// about half of the reader's time): a vertex whose three coordinates
+// The common records, read without building a Status per token (the
+// checked path's main cost): a vertex whose three coordinates
 // parse_double reads whole and coords_ok accepts, and a face "n i1 .. in"
 // with 1 <= n and every index in 0..nv-1. On anything else they return
 // false and the caller reads the record again from its start with the

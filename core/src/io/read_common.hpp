@@ -50,8 +50,8 @@ NumParse parse_double(const char* p, size_t n, double& out);
 /// m * 10^e10 correctly rounded (to nearest, ties to even), for 0 < m < 2^64
 /// and |e10| <= 22; false outside that range. parse_double's path for
 /// mantissas of 16 to 19 digits (17-digit "%.17g" output): strtod, its
-/// fallback, computes in long double, which WebAssembly emulates in software
-/// (a sixth of the WASM build's whole run on armadillo.obj went there).
+/// fallback, computes in long double, which WebAssembly emulates in
+/// software, slowly.
 bool exact_decimal(uint64_t m, int e10, double& out);
 
 /// Parses a whole token as a decimal integer with an optional sign.
@@ -105,8 +105,8 @@ class TextReader {
   /// (at most 18) followed by white space or the end: its value in v and
   /// true. False otherwise, with the position anywhere: the caller resets
   /// to a mark and reads the record again token by token. Index lists of
-  /// triangle soups are most of a mesh file, and a token then a parse cost
-  /// ~200 instructions an index (~3% of bunny.off's run).
+  /// triangle soups are most of a mesh file, and a token then a parse
+  /// costs several times this one pass per index.
   bool next_uint(uint64_t& v) {
     size_t i = pos_;
     while (i < size_ && data_[i] == ' ') ++i;  // the usual separator

@@ -29,7 +29,7 @@ class Out {
     return *this;
   }
   // Numbers through std::to_chars, which skips printf's format parsing and
-  // locale (writing the mesh took a tenth of a refined bunny's run).
+  // locale (a mesh is millions of numbers).
   Out& u(uint64_t v) {
     char buf[24];
     s_.append(buf, std::to_chars(buf, buf + sizeof buf, v).ptr);

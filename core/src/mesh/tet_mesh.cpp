@@ -12,9 +12,9 @@ namespace {
 
 // Below this many bytes a full array doubles; above, it grows by 1.25x.
 // Each growth copies the array into fresh pages (page faults included), and
-// at 1.25x the small meshes of segment recovery spent ~9% of a CAD model's
-// run there; with ~100 MB arrays the standard library's 2x growth would
-// double the peak memory for a moment.
+// at 1.25x the many small meshes of segment recovery would grow far more
+// often; with ~100 MB arrays the standard library's 2x growth would double
+// the peak memory for a moment.
 constexpr size_t kDoublingBytes = size_t(16) << 20;
 
 // Grows a vector's capacity when full: 2x while small, 1.25x when large.
@@ -186,7 +186,7 @@ namespace {
 // testing them on removal, or after the whole walk, and skips the tets
 // queued before it: about half of the walk when it succeeds, as it nearly
 // always does (segment recovery's first check of every segment with
-// find_edge was 6% of nefertiti's run). `queue` ends up holding the tets
+// find_edge). `queue` ends up holding the tets
 // walked, in that order: the whole star (vertex_star) when found() never
 // holds.
 template <class Found>
@@ -271,8 +271,8 @@ const char* TetMesh::ring_around_edge(TetId t0, VertexId p, VertexId q, size_t m
 
 // A neighbour across a face through a holds b only as the vertex opposite
 // that face, since the tet the walk left lacks b: its half-face indexes that
-// vertex directly (one load, not a search of four; segment recovery's checks
-// of every segment were ~7% of nefertiti's run).
+// vertex directly (one load, not a search of four, on the path of segment
+// recovery's check of every segment).
 TetId TetMesh::find_edge(VertexId a, VertexId b) {
   if (a == kInfinite) std::swap(a, b);
   if (a >= num_vertices() || vtet[a] == kNone || a == b) return kNone;

@@ -925,7 +925,7 @@ void Checker::visit_pairs() {
   const size_t ncell = cell_start_.empty() ? 0 : cell_start_.size() - 1;
   // A cell's items are copied next to each other first (box and lowest
   // cell), so the pair loop reads contiguous memory instead of two random
-  // records per pair (igea 254 -> 250 ms, armadillo 101 -> 94).
+  // records per pair.
   struct Local {
     Box box;
     int32_t c[3];

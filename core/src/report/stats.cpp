@@ -20,8 +20,7 @@ constexpr double kRatioBinsSquared[9] = {1, 2.25, 4, 9, 25, 100, 400, 2500, 1000
 // Upper bounds of the per-tet smallest dihedral angle bins, 1, 5, 10, 15,
 // 20, 30, 40, 50 and 60 degrees, as their cosines (decreasing): an angle is
 // at least a bound when its cosine is at most the bound's cosine, so a tet
-// costs no arccosine (those took most of this function's time in the
-// WebAssembly build's profile). Literals, so every platform bins alike.
+// costs no arccosine. Literals, so every platform bins alike.
 constexpr double kDihedralBinCosines[9] = {
     0.9998476951563913, 0.9961946980917455, 0.984807753012208, 0.9659258262890683,
     0.9396926207859084, 0.8660254037844387, 0.766044443118978, 0.6427876096865394, 0.5};
@@ -76,7 +75,8 @@ void quality_of_range(const TetMeshData& mesh, size_t begin, size_t end, Quality
 }
 
 // Below this many tets a second thread costs more than it saves: starting
-// and joining one costs ~35 us, half of 4,000 tets ~0.15 ms.
+// and joining one costs about as much as the statistics of a thousand
+// tets.
 constexpr size_t kMinTetsBeside = 4000;
 
 }  // namespace

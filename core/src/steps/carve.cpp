@@ -93,7 +93,7 @@ Status constrained_half_faces(TetMesh& mesh, const Subfaces& subfaces,
 // is kept. A union-find over the faces in slot order, whose roots are the
 // lowest slots of their sets: it reads the adjacency and the constrained
 // faces in memory order, where a depth-first walk missed the cache at
-// nearly every tet (~60% of carving on nefertiti, measured with perf).
+// nearly every tet.
 void connect_regions(const TetMesh& mesh, const std::vector<uint32_t>& hf_sub,
                      bool keep_convex_hull, Regions& R) {
   const TetId slots = static_cast<TetId>(mesh.num_tet_slots());

@@ -124,7 +124,7 @@ class SubfaceIndex {
     for (uint32_t s = 0; s < n; ++s) by_key_[s] = {sorted_triangle(sf.tri[s]), s};
     // By triple, then subface: a stable radix sort of the subfaces listed in
     // order gives std::sort's order of the pairs when a triple packs into 64
-    // bits (comparing the arrays cost 2.7% of bunny's run).
+    // bits (cheaper than comparing the arrays).
     const int b = index_bits(size_t(max_vertex(sf)) + 1);
     if (3 * b <= 64)
       radix_sort_by(
@@ -394,7 +394,7 @@ void missing_region(uint32_t s0, const Subfaces& sf, MeshQuery& q, const std::ve
 }
 
 // Below this many subfaces the first pass takes less than a second
-// thread costs to start (~35 us).
+// thread costs to start (tens of microseconds).
 constexpr size_t kMinSubfacesBeside = 2000;
 
 // Tet slots per piece of the shared scan below.
@@ -405,9 +405,9 @@ constexpr size_t kScanChunk = 1024;
 // shared: this thread indexes the subfaces while the other builds the
 // adjacency, then both take pieces of the tet slots in turn, each into its
 // own array, and the smaller half-face of the two (the first in slot order)
-// is the one a single pass finds. Run as two fixed halves (find_missing
-// beside the adjacency: bunny 1.5 ms beside 0.35, nefertiti 22 beside 5) the
-// other core idled for most of the pass; bunny's facet phase 3.3 -> 2.8 ms.
+// is the one a single pass finds. As two fixed halves (find_missing beside
+// the adjacency) the other core would idle for most of the pass:
+// find_missing takes several times as long.
 void missing_and_adjacency_beside(const TetMesh& mesh, const Subfaces& sf,
                                   std::vector<uint8_t>& missing, std::vector<HalfFace>& hf,
                                   std::vector<uint32_t>& nbr, std::vector<uint8_t>& fixed) {

@@ -55,7 +55,8 @@ namespace cdt3d {
 namespace {
 
 // From this many facets half of them go to a second thread (triangulate_facets):
-// bunny's 7k facets cost ~3k instructions each, a thread ~0.1 ms to start.
+// a facet costs a few thousand instructions, so half of these far outweigh
+// starting a thread.
 constexpr size_t kMinFacetsBeside = 2000;
 
 // Lawson's flips (Cdt2::make_delaunay) reach the constrained Delaunay
@@ -498,9 +499,10 @@ class PointGrid {
       const double c[3] = {p.x, p.y, p.z};
       for (int k = 0; k < 3; ++k) lo_[k] = std::min(lo_[k], c[k]), hi[k] = std::max(hi[k], c[k]);
     }
-    // The points of a surface fill few of the cells: with n/2 cells, each
-    // cell a triangle's box met held ~15 points on armadillo. 4n cells (two
-    // more halvings per axis) cut the scan; empty cells cost one compare.
+    // The points of a surface fill few of the cells, so with as few cells
+    // as points the cells a triangle's box meets are crowded. 4n cells (two
+    // more halvings per axis than n/2) cut the scan; empty cells cost one
+    // compare.
     const double side = std::max(1.0, std::floor(std::cbrt(4.0 * static_cast<double>(n))));
     for (int k = 0; k < 3; ++k) {
       const double ext = hi[k] - lo_[k];
@@ -766,7 +768,7 @@ Status FacetTriangulator::choose_projection(size_t f, int& drop) {
 // Fast path: a triangle whose edges are unsplit and nothing inside is its
 // own triangulation. Its three edges are looked up directly, so a PLC with
 // nothing embedded in its facets takes it before collect_loops and its
-// sorts (half of the facet triangulation's work on a triangle mesh). False
+// sorts (the bulk of the work on a triangle mesh). False
 // sends the facet down the general path, which also reports bad loops.
 bool FacetTriangulator::plain_triangle(size_t f, const std::vector<VertexId>* interior,
                                        Subfaces& out) const {

@@ -93,11 +93,9 @@ constexpr size_t kMaxFacetSplits = 64;
 // cells).
 constexpr size_t kSosOrderRounds = 8;
 constexpr size_t kMaxSosOrderPoints = 200000;
-// Below this many facets the self-intersection test takes well under a
-// millisecond, about what starting a thread costs. From 1,000 facets on the
-// thread pays: decimated_knight (1,000 facets) 9.5 -> 8.5 ms (fastest of 15
-// processes, 2026-11-26); it was 5,000 while the rest of the run was slower
-// and hid the test (plate_holes, 1.2k facets: 160 ms either way then).
+// Below this many facets the self-intersection test takes about what
+// starting a thread costs, so it runs here; from this many on, the second
+// thread pays.
 constexpr size_t kMinFacetsBeside = 1000;
 
 // The exact self-intersection test, on a second thread where there is one.
@@ -553,8 +551,7 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
   }
 
   // Step 4. On a large PLC the self-intersection test may still run beside:
-  // step 4 does not wait for it (igea: ~80 ms of the WebAssembly build's
-  // ~720, ~15-80 natively), its verdict comes when it has ended, at the
+  // step 4 does not wait for it, its verdict comes when it has ended, at the
   // latest after step 4 (run()). An intersecting PLC makes step 4's work
   // wasted and its outcome moot (the intersection is the run's error,
   // whatever step 4 did), so step 4 stops when the test finds a pair. Until
@@ -686,8 +683,8 @@ bool Pipeline::merge_flat_faces() {
 // 1 takes one core (small PLCs), after it when it takes both
 // (DelaunayOptions::threads). Beside step 1 on one core, the rest of
 // check_plc and the list of segments go to the second thread too, ahead of
-// the test: step 1 needs the points alone (bunny: ~6% of the run off the
-// main thread). The search for the perturbation order waits for them after
+// the test: step 1 needs the points alone, so that work leaves the main
+// thread. The search for the perturbation order waits for them after
 // D0, and a failed check is the run's error as before (with quality
 // options, whose error comes after check_plc's, all checks stay here). The
 // test reads the input (input_), and its errors name input facets and

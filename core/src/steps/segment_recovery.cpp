@@ -25,17 +25,16 @@ namespace {
 constexpr size_t kMaxSplitsPerSegment = 4096;
 
 // SplitMode::Projection splits a segment this many times at most; then rules
-// 1-3, whose termination §5 proves, take over on that segment. On the models
-// of tests/data no segment gets more than 18 projection splits.
+// 1-3, whose termination §5 proves, take over on that segment. Far above
+// what a segment of the models of tests/data needs.
 constexpr size_t kMaxProjectionSplits = 64;
 // A shell split point (shell_fraction) at a vertex of more segments than
 // this stays where it is; at fewer, other points compete with it
 // (split_by_projection). Unmerged CAD fans put dozens of segments at a
-// vertex, and there the common spheres matter: with no limit, tray_bottom
-// --keep-triangles took 29,477 points instead of 18,800 (16,948 with 6).
-// Measured from 3 to 16: plate_holes needs 5 or more (241 points with 3,
-// 212 with 4, 203 from 5 on); 6 gave the fewest points unmerged and no
-// model of tests/data more than before.
+// vertex, and there the common spheres matter: without the limit they cost
+// far more points. Below 5 plate_holes takes more points; 6 gives the
+// fewest points on the unmerged models and costs no model of tests/data
+// more.
 constexpr uint32_t kShellProbeMaxSegments = 6;
 // The projection of the reference point is used when it falls between these
 // fractions of the subsegment, else the midpoint: a split point next to an
@@ -51,9 +50,8 @@ constexpr size_t kNumFlatShifts = sizeof(kFlatShifts) / sizeof(kFlatShifts[0]);
 // Bits of the dyadic fractions tried for a split point exactly on its
 // segment's line (exact_point_on_line): at most 24 (a float32 significand, so
 // products with float32-grid differences stay exact), at least 20 (the point
-// moves by at most 2^-21 of its subsegment, which was measured to leave the
-// Steiner counts of tests/data unchanged or lower; coarser fractions moved
-// points enough to cost 4% more on plate_holes).
+// moves by at most 2^-21 of its subsegment, too little to change how many
+// splits follow; coarser fractions move points enough to cost more).
 constexpr int kExactLineBits = 24;
 constexpr int kExactLineMinBits = 20;
 
@@ -161,8 +159,8 @@ class SegmentRecovery {
   // Per vertex of the ring: its position among the vertices add_ring_face
   // found (ring_local_), and the ring faces at each of them (CSR over those
   // positions, built on the first ring_edge query): a query scans the few
-  // faces at one vertex instead of all faces, which on CAD fans with
-  // hundreds of them was 10% of the run.
+  // faces at one vertex instead of all faces, which on CAD fans number in
+  // the hundreds.
   std::vector<uint32_t> ring_local_;
   uint32_t ring_found_ = 0;
   std::vector<uint32_t> ring_face_start_, ring_face_items_;
@@ -181,8 +179,8 @@ class SegmentRecovery {
   }
   // Adds face (a, b, c) (opposite the inserted vertex) and its finite
   // vertices. The face is written one vertex at a time: copying it in from
-  // an array just built on the stack stalled on store forwarding (its three
-  // 4-byte stores read back by an 8-byte load), 1-2% of tray_bottom's run.
+  // an array just built on the stack stalls on store forwarding (its three
+  // 4-byte stores read back by an 8-byte load).
   void add_ring_face(VertexId a, VertexId b, VertexId c) {
     std::array<VertexId, 3>& f = ring_faces_.emplace_back();
     f[0] = a, f[1] = b, f[2] = c;
@@ -324,8 +322,8 @@ int SegmentRecovery::split_cost(uint32_t s, VertexId a, VertexId b, const double
 // ends): rule 1's point or the projection of the reference point p onto the
 // segment (kept within the middle 80%), whichever split_cost prefers (rule
 // 1's on a tie). Any point strictly inside splits the subsegment; the choice
-// only decides how many more splits follow. (Measured on tests/data: adding
-// the midpoint or quarter points as candidates made the CAD models worse.)
+// only decides how many more splits follow. (The midpoint or quarter
+// points as further candidates lead to more splits on CAD models.)
 double SegmentRecovery::pick_fraction(uint32_t s, VertexId a, VertexId b, VertexId p) {
   const Vec3 pa = to_vec(mesh_.point(a)), pb = to_vec(mesh_.point(b)), pp = to_vec(mesh_.point(p));
   const double f1 = rule1_fraction(pa, pb, pp);
@@ -383,9 +381,9 @@ bool SegmentRecovery::shell_fraction(uint32_t s, VertexId a, VertexId b, VertexI
 // midpoint: a probe of each insertion (split_cost) counts the subsegments it
 // would leave missing or destroy, the fewest win, the rule's own point on a
 // tie. Most split points on CAD parts are not the missing segments' own but
-// those of segments that earlier insertions destroyed (plate_holes: 30
-// segments missing in D0, 224 split without the probe); the probe avoids
-// points that start such a cascade. A shell point at a vertex of many
+// those of segments that earlier insertions destroyed, several times as
+// many; the probe avoids points that start such a cascade. A shell point
+// at a vertex of many
 // segments does not compete (kShellProbeMaxSegments): there the shared
 // spheres keep the segments' points from encroaching on each other (§5,
 // Figure 4), which a probe of one insertion does not see. Rounded to
@@ -410,10 +408,10 @@ Status SegmentRecovery::split_by_projection(uint32_t s, VertexId u, VertexId w) 
   // The other candidates, in this order (ties keep the first): any point
   // strictly inside splits the subsegment (§5's termination is kept by
   // kMaxProjectionSplits, then rules 1-3), so the choice decides only how
-  // many splits follow. Measured on the valid models of tests/data:
-  // Steiner points 2,798 -> 2,613 together, none more; the unclamped
-  // projection as a candidate or other bounds were worse on some (the
-  // counts of the CAD parts swing by 10-20% with the bounds).
+  // many splits follow. These candidates (the projection clamped into
+  // the middle part, the midpoint) save Steiner points on the valid models
+  // of tests/data and cost none more; the counts of the CAD parts are
+  // sensitive to the bounds.
   const double cands[3] = {f, std::min(kProjectionHigh, std::max(kProjectionLow, g)), 0.5};
   bool compete = true;
   if (rule == SplitRule::Shell) {
@@ -526,8 +524,8 @@ bool SegmentRecovery::exact_point_on_line(VertexId u, VertexId w, double f, Vec3
 // Rounding: the point is computed in floating point and rounded to doubles,
 // so it lies near, not on, the segment's line, unless a double exactly on the
 // line lies within 2^-21 of the subsegment from it (exact_point_on_line; a
-// coarser snap, to the nearest such double at any distance, was measured to
-// cost more splits on the CAD models of tests/data). Off the line is
+// coarser snap, to the nearest such double at any distance, moves points
+// far enough to cost more splits on CAD models). Off the line is
 // safe because (1) we keep the intended parameter and the segment in a
 // SegmentVertex, and the chain order, not coordinates, says which vertices
 // are on which segment; (2) the Delaunay
@@ -859,8 +857,8 @@ Status SegmentRecovery::run(const volatile bool* cancel, const std::atomic<bool>
   // missing was queued, so it is split or no longer a subsegment. One made
   // by a split has the new (touched) vertex at one end; its other end is
   // either a vertex of the new tets (touched) or not, and then the new
-  // subsegment is no edge and was queued. On igea the full exit scan was
-  // ~4% of the run.
+  // subsegment is no edge and was queued. So the exit scan need not pass
+  // over every subsegment again.
   std::vector<std::array<uint32_t, 3>> queue;
   for (;;) {
     missing_subsegments(mesh_, segs_, queue, stats_.rounds == 0 ? nullptr : &touched_);

@@ -56,8 +56,8 @@ struct SegmentVertex {
 /// The vertices on one input segment, in order from its first endpoint to
 /// its second. Most segments are never split or split once or twice, so up
 /// to four vertices live in the object itself: one small vector per segment
-/// cost an allocation and a free per segment of every SegmentSet, ~2% of a
-/// run under Node (WebAssembly's malloc takes a lock).
+/// would cost an allocation and a free per segment of every SegmentSet,
+/// slow under WebAssembly, whose malloc takes a lock.
 class SegmentChain {
  public:
   SegmentChain(VertexId a, VertexId b) : size_(2) { local_[0] = a, local_[1] = b; }

@@ -276,8 +276,7 @@ bool CellEdges::shape_key(size_t k) {
 // The edges of the real tets of `m` (vertices 0..k-1) as ascending pairs,
 // in ascending order. Each edge lies in several tets: up to kDenseCell
 // vertices a k x k table of marks lists them without sorting the
-// duplicates (sorting them was a fifth of the search on co-spherical
-// models).
+// duplicates (many on co-spherical models).
 void cell_edges_of(const TetMesh& m, size_t k, std::vector<std::pair<uint32_t, uint32_t>>& out) {
   constexpr size_t kDenseCell = 256;
   out.clear();
@@ -481,7 +480,7 @@ std::vector<VertexId> segment_friendly_order(const Plc& plc, size_t max_rounds,
     if (missing == 0) break;
   }
   // A few segments fewer is noise: segment recovery may then spend more
-  // points elsewhere (measured on the CAD models of tests/data).
+  // points elsewhere.
   if (10 * fewest > 9 * st.missing_before) return {};
   st.missing_after = fewest;
   // D0 in the chosen order: the search counted on the cells alone.
