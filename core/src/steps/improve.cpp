@@ -23,7 +23,7 @@ constexpr size_t kMaxRing = 10;
 constexpr double kGain = 1e-6;
 // A vertex move must gain more (about 0.02 degrees at 10 degrees): moves by
 // tiny gains touch their neighbours, which then try again, and on thin
-// CAD parts the pass went on and on (thin_plate: 7.7 -> 3.0 s).
+// CAD parts the pass would go on and on.
 constexpr double kMoveGain = 3e-4;
 // Rounds over the tets below the target; a round that changes nothing ends
 // the pass early.
@@ -31,10 +31,8 @@ constexpr int kRounds = 4;
 // A new vertex's cavity holds at most this many tets.
 constexpr size_t kMaxCavity = 32;
 // Heights (in mean edges of the sliver) inward of its centroid where a new
-// vertex is tried (five heights instead of three: elephant's smallest angle
-// 7.1 -> 13.4 degrees at target 15, bunny 20 -> 17 tets below 10 degrees;
-// the two lowest with two directions: bunny 7.2 -> 10.2, armadillo 2.2 ->
-// 7.8 degrees).
+// vertex is tried, the two lowest in two directions: fewer leave slivers
+// the pass could have removed.
 constexpr double kInsertHeights[] = {0.05, 0.1, 0.2, 0.35, 0.5, 0.7, 1.0};
 // Moves tried per target point when smoothing: fractions of the way there.
 constexpr double kSteps[] = {1.0, 0.5, 0.25, 0.1};
@@ -401,8 +399,8 @@ bool Improver::smooth(VertexId v) {
 // The tets of `star` whose radius-edge ratio is above kRatioGuard. A move
 // must not add to them: the smallest angle is what the pass raises, but a
 // move towards it can stretch a neighbour's circumsphere, and refinement
-// has just bounded the ratios (bunny: 3.46% of tets above 2 after
-// refinement, 3.78% after the pass without this guard).
+// has just bounded the ratios (without the guard the pass undoes part of
+// that bound).
 size_t Improver::ratio_bad_count(const std::vector<TetId>& star) const {
   size_t n = 0;
   for (TetId t : star) {
@@ -589,8 +587,8 @@ bool Improver::improve_tet(TetId t) {
 // faces: those two faces fix it (they are subfaces of input facets meeting
 // at that angle, or of one facet folded by rounded points), so no flip,
 // move or new vertex inside changes it. CAD models with sharp input edges
-// have thousands; trying every operation on each cost 2-3 times the
-// refinement's own time (tray_bottom) for nothing.
+// have thousands; trying every operation on each would cost more than
+// refinement itself, for nothing.
 bool Improver::pinned(TetId t) const {
   const VertexId* tv = m_.tet_vertices(t);
   const Vec3 p[4] = {to_vec(cm_.pt(tv[0])), to_vec(cm_.pt(tv[1])), to_vec(cm_.pt(tv[2])),

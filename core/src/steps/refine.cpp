@@ -80,31 +80,25 @@ constexpr int kLineMinBits = 20;
 // The insertion radius rule's factor: a point goes in only if its nearest
 // vertex is at least this times the trigger's length (the bad tet's
 // shortest edge). 1 is the safe bound of the proof; 0.5 lets refinement
-// reach the scale of thin features (thin_plate: 18% of tets with ratio > 2
-// left instead of 55%) and still stopped on every model of tests/data;
-// 0.25 ran away on thin_plate (1M points).
+// reach the scale of thin features and still stops on every model of
+// tests/data; smaller factors can run away on thin plates.
 constexpr double kFloorFactor = 0.5;
 // The same rule for the length a subsegment or subface split would make
-// (half the subsegment, the subface's circumradius): 1 left bunny at 4.83%
-// of tets with radius-edge > 2 at ratio 1.414, 0.75 leaves 4.32%; 0.5 ran
-// away on decimated_knight (100 times its points).
+// (half the subsegment, the subface's circumradius): below 1 refinement
+// fixes more bad tets; 0.75 still stops on every model, lower factors can
+// run away.
 constexpr double kSplitFloorFactor = 0.75;
 // The floor of the local scale (init_scales): no point goes in closer than
 // kScaleFactor times its local scale to another vertex. The two floors
 // above are tied to the tet that asked for the point, and chains of
-// insertions near a feature can shrink them without end (nefertiti at
-// ratio 1.414 ran to the point cap: 6.3M points, 3.8 GB, 219 s); this one
-// cannot shrink. The scale grows away from the CDT's vertices with slope
-// kScaleSlope, not 1 as the local feature size does: the vertices sample
-// it too sparsely (in the middle of a plate 0.001 thick with vertices 0.1
-// apart a slope of 1 gives 0.07, and refinement of thin_plate.off stopped
-// at 652 points with more bad tets than before). Measured at ratio 1.414
-// with the improvement pass, (0.05, 0.25) leaves the classic models bunny,
-// elephant, fertility, spot, dragon, decimated_knight, cheburashka and
-// armadillo with the same counts as without the floor (igea: 1.19% of tets
-// with radius-edge above 2 instead of 1.22%, min dihedral 4.2 instead of
-// 3.4), thin_plate.off with 9.5% of tets above 2 instead of 16.1% in a
-// third of the time, and nefertiti stops at 230k points (186 s, 237 MB).
+// insertions near a feature can shrink them without end (scanned models
+// then run to the point cap); this one cannot shrink. The scale grows away
+// from the CDT's vertices with slope kScaleSlope, not 1 as the local
+// feature size does: the vertices sample it too sparsely (in the middle of
+// a plate 0.001 thick with vertices 0.1 apart a slope of 1 gives 0.07, far
+// above the thickness, and refinement stops early). (0.05, 0.25) leaves the
+// classic models as without the floor while bounding the refinement of thin
+// plates and large scans (tests/bench/README.md has the runs).
 constexpr double kScaleFactor = 0.05;
 constexpr double kScaleSlope = 0.25;
 
@@ -260,7 +254,7 @@ class Refiner {
   std::vector<BoundaryFace> bnd_;
   // The edges of bnd_ with the boundary faces through each (collect_boundary).
   // A hash table, not a sort: the boundary of every tried cavity is paired
-  // up, and sorting its sides took a sixth of refinement's time on bunny.
+  // up, so the pairing must be cheap.
   class BoundaryEdges {
    public:
     struct Slot {
@@ -892,9 +886,8 @@ bool Refiner::insert(const double* p, Where where, int64_t parent, VertexId sa, 
 // insertion has touched a vertex of its cavity: the cavity's tets and the
 // tets beyond its boundary are then the same, and every test but the radius
 // rule looks at those alone. Bad tets near one small feature ask for the
-// same splits again and again (on bunny, 46,000 of 84,000 insertion
-// attempts were repeats of failed subsegment splits), so the verdict is
-// kept with the cavity's vertices and the time.
+// same splits again and again (most insertion attempts can be such
+// repeats), so the verdict is kept with the cavity's vertices and the time.
 void Refiner::remember_failure(Verdict verdict) {
   Failure& f = failures_[attempt_];
   f.time = commits_;
@@ -1055,8 +1048,7 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
   for (const Region& r : plc_.regions)
     if (r.max_volume > 0) region_limits_.push_back({r.attribute, r.max_volume});
   // Default bound on added points: far above what the radius-edge bound
-  // needs on the models of tests/data (at most 50 per point of the CDT
-  // measured: thin_plate, 46), plus room for the volume bound (about one
+  // needs on the models of tests/data, plus room for the volume bound (about one
   // point per 1/6 of the smallest volume limit, a regular tet's share).
   size_t cap = q_.max_points;
   if (cap == 0) {
@@ -1073,13 +1065,11 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
 
   // Depth first: the CDT's tets in slot order, and after each insertion the
   // tets it made (commit() pushes them on queue_) before the next one, so
-  // that refinement works in one place at a time. A breadth-first queue
-  // swept the whole mesh again and again and spent its time in cache
-  // misses (bunny, ratio 1.414, with the improvement pass: best user time
-  // 0.54 -> 0.43 s). A bad tet that survives its fix (a constraint was split
-  // instead) waits in `retry` until the tets around have been looked at:
-  // retried at once, it left more bad tets (bunny: 3.82% of tets with
-  // radius-edge above 2 against 3.46%).
+  // that refinement works in one place at a time (a breadth-first queue
+  // sweeps the whole mesh again and again, in cache misses). A bad tet that
+  // survives its fix (a constraint was split instead) waits in `retry`
+  // until the tets around have been looked at: retried at once, it leaves
+  // more bad tets.
   std::vector<TetId> cdt_tets, retry;
   for (TetId t = 0; t < m_.num_tet_slots(); ++t)
     if (!m_.is_dead(t)) cdt_tets.push_back(t);
