@@ -9,15 +9,19 @@
 #   bash tests/bench/bench_quality.sh                # bunny; + shared classic models if present
 #   CORPUS=data bash tests/bench/bench_quality.sh    # tests/data/bunny.off only
 #   CORPUS=shared bash tests/bench/bench_quality.sh  # the shared classic models required
+#   CORPUS=all bash tests/bench/bench_quality.sh     # issue 42's set: every valid model of
+#                                                    # tests/data, then the ten classic models
 #
 # Per model:
 #   plc_to_poly MODEL M.poly                      the PLC as cdt3d reads it, as a TetGen .poly
 #                                                 (tetgen cannot read OBJ; tests/bench/plc_to_poly.cpp)
 #   tetgen -pq1.414Q M.poly                       timed (wall, user CPU, peak RSS); writes M.1.*
-#   mesh_quality M.1.node M.1.ele                 tets, radius-edge > 2, min dihedral, flat tets
+#   mesh_quality M.1.node M.1.ele MODEL           tets, radius-edge > 2, min dihedral, flat tets,
+#                                                 and which of them touch an input angle below 10
+#                                                 degrees (excused, issue 42)
 #   cdt3d mesh MODEL --quality 1.414 --min-dihedral 15 --json -o C  timed; writes C.node/.ele/... like tetgen does,
 #                                                 so both timed runs include writing the mesh
-#   mesh_quality C.node C.ele                     the same numbers for cdt3d's mesh
+#   mesh_quality C.node C.ele MODEL               the same numbers for cdt3d's mesh
 #   cdt3d mesh MODEL --quality 1.414 --min-dihedral 15 --json --validate   the validator's verdict (untimed)
 # Every process runs under `timeout` (BENCH_TIMEOUT, default 600 s); a hang or
 # crash becomes a row that says so. Everything runs in .build/bench/quality/;
@@ -56,7 +60,7 @@ WORK=$ROOT/.build/bench/quality
 TG_FLAGS=-pq${QUALITY}Q
 
 die() { echo "bench_quality: $*" >&2; exit 1; }
-case $CORPUS in auto | data | shared) ;; *) die "CORPUS must be auto, data or shared (got '$CORPUS')" ;; esac
+case $CORPUS in auto | data | shared | all) ;; *) die "CORPUS must be auto, data, shared or all (got '$CORPUS')" ;; esac
 mkdir -p "$WORK/bin"
 
 # 1. Tools: Debian's tetgen and GNU time, through the project's set-up only if missing.
@@ -89,12 +93,21 @@ tool() {  # tool NAME [LIB]: tests/bench/NAME.cpp -> $WORK/bin/NAME, rebuilt whe
   fi
 }
 tool plc_to_poly "$LIB"
-tool mesh_quality
+tool mesh_quality "$LIB"
 CONV=$WORK/bin/plc_to_poly MQ=$WORK/bin/mesh_quality
 
 # 3. The models: "path<TAB>name" lines.
 MODELS=("$ROOT/tests/data/bunny.off"$'\t'"bunny.off") NOTES=()
-if [ "$CORPUS" = shared ] || { [ "$CORPUS" = auto ] && [ -d "$SHARED" ]; }; then
+if [ "$CORPUS" = all ]; then
+  [ -d "$SHARED/classic" ] || die "$SHARED/classic not found"
+  MODELS=()
+  while IFS=$'\t' read -r file _ _ _ _ _ expected _; do
+    case $expected in valid | valid-plc) MODELS+=("$ROOT/tests/data/$file"$'\t'"$file") ;; esac
+  done < <(tail -n +2 tests/data/MANIFEST.tsv)
+  SHARED_LIST=()
+  for m in "$SHARED"/classic/*; do SHARED_LIST+=("classic/$(basename "$m")"); done
+fi
+if [ "$CORPUS" = shared ] || [ "$CORPUS" = all ] || { [ "$CORPUS" = auto ] && [ -d "$SHARED" ]; }; then
   [ -d "$SHARED" ] || die "$SHARED not found"
   for m in "${SHARED_LIST[@]}"; do
     [ -f "$SHARED/$m" ] || die "$SHARED/$m not found"
@@ -131,14 +144,19 @@ jshare() {  # jshare JSON -> % of tets in radiusEdgeHistogram bins 3..9 (ratio >
 }
 pct() { awk -v b="$1" -v n="$2" 'BEGIN{ if (n !~ /^[0-9]+$/ || n == 0) print "-"; else printf "%.2f%%", 100 * b / n }'; }
 deg() { awk -v d="$1" 'BEGIN{ if (d !~ /^[0-9.]+([eE][-+]?[0-9]+)?$/) print "-"; else printf (d < 1 ? "%.2g\n" : "%.2f\n"), d }'; }
-# measure NODE ELE -> Q_TETS Q_BAD Q_SHARE Q_MIND (degrees, as printed) Q_FLAT Q_MAXR
-# Q_POINTS; "-" on failure, with mesh_quality's message in Q_MSG
+# measure NODE ELE MODEL -> Q_TETS Q_BAD Q_SHARE Q_MIND (degrees, as printed) Q_FLAT Q_MAXR
+# Q_POINTS, and (issue 42) Q_BADX (bad tets excused by an input angle below 10 degrees),
+# Q_KSHARE (share of bad tets not excused), Q_BELOW / Q_BELOWX (tets with a dihedral angle
+# below 10 degrees / of them excused), Q_MINK (min dihedral of tets not excused);
+# "-" on failure, with mesh_quality's message in Q_MSG
 measure() {
   local out
   Q_TETS=- Q_BAD=- Q_SHARE=- Q_MIND=- Q_FLAT=- Q_MAXR=- Q_POINTS=- Q_MSG=""
-  if out=$("$MQ" "$1" "$2" 2>&1); then
-    read -r Q_TETS Q_BAD Q_MIND Q_FLAT Q_MAXR <<<"$out"
+  Q_BADX=- Q_KSHARE=- Q_BELOW=- Q_BELOWX=- Q_MINK=-
+  if out=$("$MQ" "$1" "$2" "$3" 2>&1); then
+    read -r Q_TETS Q_BAD Q_MIND Q_FLAT Q_MAXR Q_BADX Q_BELOW Q_BELOWX Q_MINK <<<"$out"
     Q_SHARE=$(pct "$Q_BAD" "$Q_TETS")
+    Q_KSHARE=$(pct "$((Q_BAD - Q_BADX))" "$Q_TETS")
     Q_POINTS=$(grep -v -E '^[[:space:]]*(#|$)' "$1" | head -n 1 | awk '{ print $1 }')
   else
     Q_MSG=$out
@@ -148,7 +166,7 @@ meets() {  # meets CONDITION (awk) A B -> "yes" / "NO" / "-"
   awk -v a="$2" -v b="$3" "BEGIN{ n = \"^[0-9]*[.]?[0-9]+([eE][-+]?[0-9]+)?\$\"; if (a !~ n || b !~ n) print \"-\"; else print (($1) ? \"yes\" : \"NO\") }"
 }
 
-T1=() T2=() TARGETS=()
+T1=() T2=() T3=() TARGETS=() TARGETS42=()
 total=${#MODELS[@]} i=0
 for line in "${MODELS[@]}"; do
   path=${line%%$'\t'*} name=${line#*$'\t'}
@@ -162,12 +180,14 @@ for line in "${MODELS[@]}"; do
   printf '\rbench_quality: %d/%d %-30s tetgen   ' "$i" "$total" "$name" >&2
   t_wall=- t_user=- t_rss=-
   tq=(- - - - - - - -)  # tets share min-dihedral flat max-ratio points bad min-dihedral-unrounded
+  tx=(- - - - -)        # bad-excused share-not-excused below-10 below-10-excused min-dihedral-not-excused
   if "$CONV" "$path" "$dir/$stem.poly" 2>"$dir/conv.err"; then
     run "$dir" tetgen "$TG_FLAGS" "$stem.poly"
     if [ "$R_RC" -eq 0 ] && ! grep -qiE 'error|assert|terminate' <<<"$R_OUT$R_ERR" && [ -f "$dir/$stem.1.ele" ]; then
       t_wall=$R_WALL t_user=$R_USER t_rss=$R_RSS
-      measure "$dir/$stem.1.node" "$dir/$stem.1.ele"
+      measure "$dir/$stem.1.node" "$dir/$stem.1.ele" "$path"
       tq=("$Q_TETS" "$Q_SHARE" "$(deg "$Q_MIND")" "$Q_FLAT" "$Q_MAXR" "$Q_POINTS" "$Q_BAD" "$Q_MIND")
+      tx=("$Q_BADX" "$Q_KSHARE" "$Q_BELOW" "$Q_BELOWX" "$Q_MINK")
       [ -n "$Q_MSG" ] && NOTES+=("$name: mesh_quality on tetgen's mesh: $Q_MSG")
     else
       tg_failed "$R_RC" "$R_OUT" "$R_ERR"
@@ -184,11 +204,13 @@ for line in "${MODELS[@]}"; do
   printf '\rbench_quality: %d/%d %-30s cdt3d    ' "$i" "$total" "$name" >&2
   c_wall=- c_user=- c_rss=- c_json="" valid=-
   cq=(- - - - - - - -)
+  cx=(- - - - -)
   run "$dir" "$BIN" mesh "$path" --quality "$QUALITY" --min-dihedral "$MIN_DIHEDRAL" --json -o "$dir/cdt3d"
   if [ "$R_RC" -eq 0 ]; then
     c_wall=$R_WALL c_user=$R_USER c_rss=$R_RSS c_json=$R_OUT
-    measure "$dir/cdt3d.node" "$dir/cdt3d.ele"
+    measure "$dir/cdt3d.node" "$dir/cdt3d.ele" "$path"
     cq=("$Q_TETS" "$Q_SHARE" "$(deg "$Q_MIND")" "$Q_FLAT" "$Q_MAXR" "$Q_POINTS" "$Q_BAD" "$Q_MIND")
+    cx=("$Q_BADX" "$Q_KSHARE" "$Q_BELOW" "$Q_BELOWX" "$Q_MINK")
     [ -n "$Q_MSG" ] && NOTES+=("$name: mesh_quality on cdt3d's mesh: $Q_MSG")
     printf '\rbench_quality: %d/%d %-30s validate ' "$i" "$total" "$name" >&2
     run "$dir" "$BIN" mesh "$path" --quality "$QUALITY" --min-dihedral "$MIN_DIHEDRAL" --json --validate
@@ -222,6 +244,10 @@ for line in "${MODELS[@]}"; do
   # Issue 17's targets; the share compared as counts over tets (no rounding).
   s_ok=$(awk -v bt="${tq[6]}" -v nt="${tq[0]}" -v bc="${cq[6]}" -v nc="${cq[0]}" 'BEGIN{ n = "^[0-9]+$";
     if (bt !~ n || nt !~ n || bc !~ n || nc !~ n || nt == 0 || nc == 0) print "-"; else print (bc / nc <= bt / nt ? "yes" : "NO") }')
+  T3+=("| $name | ${tx[1]} / ${cx[1]} | $(deg "${tx[4]}") / $(deg "${cx[4]}") | ${tq[6]} / ${cq[6]} | ${tx[0]} / ${cx[0]} | ${cx[2]} | ${cx[3]} | $(awk -v a="${cx[2]}" -v b="${cx[3]}" 'BEGIN{ n = "^[0-9]+$"; print (a ~ n && b ~ n) ? a - b : "-" }') |")
+  k_ok=$(awk -v bt="${tq[6]}" -v xt="${tx[0]}" -v nt="${tq[0]}" -v bc="${cq[6]}" -v xc="${cx[0]}" -v nc="${cq[0]}" 'BEGIN{ n = "^[0-9]+$";
+    if (bt !~ n || xt !~ n || nt !~ n || bc !~ n || xc !~ n || nc !~ n || nt == 0 || nc == 0) print "-"; else print ((bc - xc) / nc <= (bt - xt) / nt ? "yes" : "NO") }')
+  TARGETS42+=("- $name: share not excused ${cx[1]} <= ${tx[1]}: $k_ok; min dihedral ${cq[2]} >= ${tq[2]}: $(meets 'a + 0 >= b + 0' "${cq[7]}" "${tq[7]}"); tets below 10 degrees not excused: $(awk -v a="${cx[2]}" -v b="${cx[3]}" 'BEGIN{ n = "^[0-9]+$"; print (a ~ n && b ~ n) ? a - b : "-" }') (0: $(meets 'a - b == 0' "${cx[2]}" "${cx[3]}"))")
   TARGETS+=("- $name: share radius-edge>2 ${cq[1]} <= ${tq[1]}: $s_ok; min dihedral ${cq[2]} >= ${tq[2]}: $(meets 'a + 0 >= b + 0' "${cq[7]}" "${tq[7]}"); time ratio $time_r <= 0.5: $(meets 'a + 0 <= 0.5' "$time_r" 0); memory ratio $mem_r <= 0.5: $(meets 'a + 0 <= 0.5' "$mem_r" 0); valid: $valid")
 done
 printf '\r%80s\r' '' >&2
@@ -246,6 +272,19 @@ echo
 echo "| model | points tetgen / cdt3d | user s tetgen / cdt3d / ratio | flat tetgen / cdt3d | max ratio tetgen / cdt3d | json points | json tets | json share | json minDihedral | refineSkipped | refineCapped | msRefine | msTotal |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 printf '%s\n' "${T2[@]}"
+echo
+echo "Table 3 (issue 42): tets excused by a small input angle. A tet is excused when a vertex of it lies at a facet"
+echo "corner of less than 10 degrees or on an input edge where two facets meet at less than 10 degrees (mesh_quality with"
+echo "the model); share not excused = bad tets (radius-edge > 2) that are not excused, over all tets; min dihedral over"
+echo "tets not excused; then cdt3d's tets with a dihedral angle below 10 degrees, excused, and not excused"
+echo
+echo "| model | share not excused tetgen / cdt3d | min dihedral not excused tetgen / cdt3d | bad tetgen / cdt3d | bad excused tetgen / cdt3d | cdt3d tets < 10 deg | excused | not excused |"
+echo "|---|---|---|---|---|---|---|---|"
+printf '%s\n' "${T3[@]}"
+echo
+echo "Targets of issue 42 (share of bad tets not excused at most tetgen's, min dihedral at least tetgen's, no tet below"
+echo "10 degrees that is not excused):"
+printf '%s\n' "${TARGETS42[@]}"
 echo
 echo "Targets of issue 17 (bunny and armadillo: share and min dihedral at least as good as tetgen's, time and peak memory"
 echo "at most 0.5x tetgen's, the mesh valid):"

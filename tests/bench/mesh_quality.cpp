@@ -5,9 +5,15 @@
 // and cdt3d's `-o PREFIX` files), so that both are measured by the same code,
 // not each by its own statistics.
 //
-// usage: mesh_quality MESH.node MESH.ele
-// Build (bench_quality.sh does this; only the header is used):
-//   c++ -O2 -std=c++17 -Icore/include tests/bench/mesh_quality.cpp -o mesh_quality
+// usage: mesh_quality MESH.node MESH.ele [MODEL]
+// Build (bench_quality.sh does this, linking the library for MODEL's reader):
+//   c++ -O2 -std=c++17 -Icore/include tests/bench/mesh_quality.cpp LIBCDT3D.a -o mesh_quality
+//
+// With MODEL (the PLC both meshes were made from), a tet is excused when it
+// touches an input angle below kSmallAngle degrees (issue 42): a vertex at
+// a facet corner of such an angle (an input triangle's angle), or a point
+// on an input edge where two facets meet at such a dihedral angle. No
+// Delaunay refiner can bound the tets there.
 //
 // Output, one line: "<tets> <bad> <min dihedral> <flat> <max ratio>":
 //   bad          tets whose radius-edge ratio (circumradius / shortest edge) is
@@ -18,6 +24,10 @@
 //                (longest edge)^3 in the majority orientation; zero and
 //                inverted tets count)
 //   max ratio    the largest radius-edge ratio (%.4g; "inf" with a flat tet)
+// and with MODEL four more: "<bad excused> <below> <below excused>
+// <min dihedral not excused>": bad tets that are excused, tets with a
+// dihedral angle below kSmallAngle, those of them excused, and the
+// smallest dihedral angle over tets not excused (degrees; 180 if none).
 // The dihedral angle at edge ij is the angle between the normals e x u and
 // e x v (e = pj - pi, u and v from pi to the other two corners), taken with
 // atan2 so that angles near 0 and 180 degrees keep their digits.
@@ -25,10 +35,13 @@
 // Exit codes: 0 measured, 1 read error (message on stderr), 2 usage.
 #include <cdt3d/cdt3d.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "tetgen_lines.hpp"
@@ -74,11 +87,128 @@ double radius_edge(const double* const p[4]) {
   return len(centre) / (2 * std::fabs(det)) / shortest;
 }
 
+constexpr double kSmallAngle = 10;  // degrees
+constexpr double kPi = 3.14159265358979323846;
+
+double angle_deg(const V3& a, const V3& b) { return std::atan2(len(cross(a, b)), dot(a, b)) * 180 / kPi; }
+V3 vsub(const cdt3d::Vec3& a, const cdt3d::Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+
+// Where the input has angles below kSmallAngle: corner points and edges.
+struct SmallAngles {
+  std::vector<cdt3d::Vec3> corners;
+  std::vector<std::array<cdt3d::Vec3, 2>> edges;
+};
+
+SmallAngles small_angles(const cdt3d::Plc& plc) {
+  SmallAngles out;
+  std::unordered_set<uint32_t> corner_ids;
+  // Facets by edge, with a point of the facet off that edge's line.
+  std::unordered_map<uint64_t, std::vector<size_t>> by_edge;
+  auto key = [](uint32_t a, uint32_t b) { return (uint64_t{std::min(a, b)} << 32) | std::max(a, b); };
+  for (size_t f = 0; f < plc.facets.size(); ++f)
+    for (const auto& loop : plc.facets[f].loops)
+      for (size_t i = 0; i < loop.size(); ++i) {
+        const uint32_t a = loop[(i + loop.size() - 1) % loop.size()], v = loop[i], b = loop[(i + 1) % loop.size()];
+        const double corner = angle_deg(vsub(plc.points[a], plc.points[v]), vsub(plc.points[b], plc.points[v]));
+        if (corner < kSmallAngle && corner_ids.insert(v).second) out.corners.push_back(plc.points[v]);
+        by_edge[key(v, b)].push_back(f);
+      }
+  for (const auto& [k, facets] : by_edge) {
+    if (facets.size() < 2) continue;
+    const uint32_t a = static_cast<uint32_t>(k >> 32), b = static_cast<uint32_t>(k & 0xffffffffu);
+    const V3 e = vsub(plc.points[b], plc.points[a]);
+    // Each facet's direction away from the edge, in its plane: the farthest
+    // of its vertices from the edge's line, made perpendicular to it.
+    std::vector<V3> dirs;
+    for (size_t f : facets) {
+      V3 best = {0, 0, 0};
+      double best_len = 0;
+      for (const auto& loop : plc.facets[f].loops)
+        for (uint32_t v : loop) {
+          const V3 d = vsub(plc.points[v], plc.points[a]);
+          const double t = dot(d, e) / dot(e, e);
+          const V3 perp = {d.x - t * e.x, d.y - t * e.y, d.z - t * e.z};
+          if (len(perp) > best_len) best_len = len(perp), best = perp;
+        }
+      dirs.push_back(best);
+    }
+    bool small = false;
+    for (size_t i = 0; i < dirs.size() && !small; ++i)
+      for (size_t j = i + 1; j < dirs.size() && !small; ++j)
+        small = angle_deg(dirs[i], dirs[j]) < kSmallAngle;
+    if (small) out.edges.push_back({plc.points[a], plc.points[b]});
+  }
+  return out;
+}
+
+// Per mesh point: on a small-angle corner or edge (within a relative
+// tolerance; the meshes' points on edges are rounded). A grid of sample
+// cells along the edges keeps it linear.
+std::vector<char> excused_points(const std::vector<double>& xyz, const SmallAngles& sa) {
+  const size_t n = xyz.size() / 3;
+  std::vector<char> out(n, 0);
+  if (n == 0 || (sa.corners.empty() && sa.edges.empty())) return out;
+  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], xyz[3 * i + c]), hi[c] = std::max(hi[c], xyz[3 * i + c]);
+  const double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  const double h = diag / 256 + 1e-300, tol = 1e-9 * diag;
+  auto cell = [&](const double* p) {
+    int64_t c[3];
+    for (int k = 0; k < 3; ++k) c[k] = static_cast<int64_t>(std::floor((p[k] - lo[k]) / h));
+    return (c[0] * 73856093) ^ (c[1] * 19349663) ^ (c[2] * 83492791);
+  };
+  std::unordered_map<int64_t, std::vector<uint32_t>> grid;  // cell -> edges
+  for (uint32_t e = 0; e < sa.edges.size(); ++e) {
+    const cdt3d::Vec3& a = sa.edges[e][0];
+    const cdt3d::Vec3& b = sa.edges[e][1];
+    const double l = len(vsub(b, a));
+    const size_t steps = static_cast<size_t>(std::ceil(4 * l / h)) + 1;
+    for (size_t s = 0; s <= steps; ++s) {
+      const double t = static_cast<double>(s) / static_cast<double>(steps);
+      for (int dx = -1; dx <= 1; ++dx)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dz = -1; dz <= 1; ++dz) {
+            const double p[3] = {a.x + t * (b.x - a.x) + dx * h, a.y + t * (b.y - a.y) + dy * h,
+                                 a.z + t * (b.z - a.z) + dz * h};
+            auto& list = grid[cell(p)];
+            if (list.empty() || list.back() != e) list.push_back(e);
+          }
+    }
+  }
+  std::unordered_set<int64_t> corner_cells;
+  std::vector<std::array<double, 3>> corners;
+  for (const cdt3d::Vec3& c : sa.corners) corners.push_back({c.x, c.y, c.z});
+  std::sort(corners.begin(), corners.end());
+  for (size_t i = 0; i < n; ++i) {
+    const double* p = &xyz[3 * i];
+    if (std::binary_search(corners.begin(), corners.end(), std::array<double, 3>{p[0], p[1], p[2]})) {
+      out[i] = 1;
+      continue;
+    }
+    const auto it = grid.find(cell(p));
+    if (it == grid.end()) continue;
+    for (uint32_t e : it->second) {
+      const cdt3d::Vec3& a = sa.edges[e][0];
+      const cdt3d::Vec3& b = sa.edges[e][1];
+      const V3 ab = vsub(b, a), ap = {p[0] - a.x, p[1] - a.y, p[2] - a.z};
+      const double t = dot(ap, ab) / dot(ab, ab);
+      if (t < -1e-12 || t > 1 + 1e-12) continue;
+      if (len(cross(ab, ap)) / len(ab) <= tol) {
+        out[i] = 1;
+        break;
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 3) {
-    std::fprintf(stderr, "usage: mesh_quality MESH.node MESH.ele\n");
+  if (argc != 3 && argc != 4) {
+    std::fprintf(stderr, "usage: mesh_quality MESH.node MESH.ele [MODEL]\n");
     return 2;
   }
   std::vector<double> xyz;
@@ -90,19 +220,34 @@ int main(int argc, char** argv) {
       !bad.empty())
     return bench::fail("mesh_quality", argv[2], bad);
 
-  const double pi = 3.14159265358979323846;
-  size_t bad = 0;
-  double min_angle = HUGE_VAL, max_ratio = 0;
+  std::vector<char> excused;
+  if (argc == 4) {
+    cdt3d::Plc plc;
+    const cdt3d::Status st = cdt3d::read_plc_file(argv[3], plc);
+    if (!st.ok()) return bench::fail("mesh_quality", argv[3], st.error.message);
+    excused = excused_points(xyz, small_angles(plc));
+  }
+  size_t bad = 0, bad_excused = 0, below = 0, below_excused = 0;
+  double min_angle = HUGE_VAL, min_kept = HUGE_VAL, max_ratio = 0;
   for (size_t t = 0; t < tets.size(); ++t) {
     const double* p[4];
-    for (int k = 0; k < 4; ++k) p[k] = &xyz[3 * static_cast<size_t>(tets[t][k])];
+    bool touches = false;
+    for (int k = 0; k < 4; ++k) {
+      p[k] = &xyz[3 * static_cast<size_t>(tets[t][k])];
+      touches = touches || (!excused.empty() && excused[static_cast<size_t>(tets[t][k])]);
+    }
     const double ratio = radius_edge(p);
-    if (!(ratio <= 2)) ++bad;
+    const double angle = min_dihedral(p) * 180 / kPi;
+    if (!(ratio <= 2)) ++bad, bad_excused += touches;
+    if (angle < kSmallAngle) ++below, below_excused += touches;
     max_ratio = std::max(max_ratio, ratio);
-    min_angle = std::min(min_angle, min_dihedral(p));
+    min_angle = std::min(min_angle, angle);
+    if (!touches) min_kept = std::min(min_kept, angle);
   }
   const size_t flat = bench::count_flat(xyz, tets, cdt3d::kFlatTetRatio).flat;
-  std::printf("%zu %zu %.6g %zu %.4g\n", tets.size(), bad, tets.empty() ? 0.0 : min_angle * 180 / pi, flat,
-              max_ratio);
+  std::printf("%zu %zu %.6g %zu %.4g", tets.size(), bad, tets.empty() ? 0.0 : min_angle, flat, max_ratio);
+  if (argc == 4)
+    std::printf(" %zu %zu %zu %.6g", bad_excused, below, below_excused, std::isfinite(min_kept) ? min_kept : 180.0);
+  std::printf("\n");
   return 0;
 }
