@@ -3,9 +3,9 @@
 
 usage: check_formats.py CDT3D_CLI MODEL WORKDIR
 
-Meshes MODEL with `cdt3d mesh` four times: TetGen files (the reference: our
+Meshes MODEL with `cdt3d mesh` five times: TetGen files (the reference: our
 plainest writer, coordinates exact with %.17g) plus --format msh,
-msh-binary and vtu. Then:
+msh-binary, vtk and vtu. Then:
   - Gmsh (`gmsh FILE -check`) loads each .msh without a warning or error
     and counts the same nodes and elements; Gmsh's own VTK export of it,
     read by VTK, has the same tets and triangles, each in the physical group
@@ -14,7 +14,8 @@ msh-binary and vtu. Then:
     their region attribute and triangles with their facet marker, through
     the physical groups' names; tets have positive volume;
   - meshio and VTK's vtkXMLUnstructuredGridReader read the .vtu: the same
-    points, tets in our order, region, min_dihedral and steiner_kind.
+    points, tets in our order, region, min_dihedral and steiner_kind;
+  - VTK's legacy reader reads the .vtk: the same counts, positive volumes.
 Exit 77 (skipped) only when gmsh, meshio or VTK is missing
 (tests/scripts/setup.sh installs them).
 """
@@ -227,6 +228,24 @@ def check_meshio_msh(path, points, tets, attrs, faces, markers, names):
         check(vol.min() > 0, f"meshio {name}: a tet with volume {vol.min()} <= 0")
 
 
+def check_legacy_vtk(path, points, tets):
+    """The legacy .vtk through VTK's own reader: the same points and tets,
+    all with positive volume (right-handed, as VTK's tets are)."""
+    name = os.path.basename(path)
+    r = vtk.vtkUnstructuredGridReader()
+    r.SetFileName(path)
+    r.Update()
+    g = r.GetOutput()
+    check(g.GetNumberOfPoints() == len(points) and g.GetNumberOfCells() == len(tets),
+          f"VTK {name}: {g.GetNumberOfPoints()} points, {g.GetNumberOfCells()} cells")
+    if len(tets):
+        size = vtk.vtkCellSizeFilter()
+        size.SetInputData(g)
+        size.Update()
+        vol = vtk_to_numpy(size.GetOutput().GetCellData().GetArray("Volume"))
+        check(vol.min() > 0, f"VTK {name}: a tet with volume {vol.min()} <= 0")
+
+
 def min_dihedral(points, tets):
     """Smallest dihedral angle per tet, degrees (independent numpy version)."""
     pairs = [(0, 1, 2, 3), (0, 2, 1, 3), (0, 3, 1, 2), (1, 2, 0, 3), (1, 3, 0, 2), (2, 3, 0, 1)]
@@ -314,6 +333,8 @@ def main():
         run([cli, "mesh", model, "-q", "-o", base, "--format", fmt])
         check_gmsh(base + ".msh", len(points), tets, faces, vtags, ftags)
         check_meshio_msh(base + ".msh", points, tets, attrs, faces, markers, input_marker_names(model))
+    run([cli, "mesh", model, "-q", "-o", prefix, "--format", "vtk"])
+    check_legacy_vtk(prefix + ".vtk", points, tets)
     run([cli, "mesh", model, "-q", "-o", prefix, "--format", "vtu"])
     check_vtu(prefix + ".vtu", stats, points, tets, attrs)
     regions = "none" if attrs is None else len(set(attrs))

@@ -135,7 +135,8 @@ TEST_CASE("write_vtk: legacy unstructured grid with tetra cells and region data"
     for (size_t t = 0; t < 2; ++t, ++i) {
       REQUIRE(w[i].size() == 5);
       CHECK(w[i][0] == "4");
-      for (int k = 0; k < 4; ++k) CHECK(integer(w[i][k + 1]) == m.tets[4 * t + k]);
+      // Right-handed: two vertices swapped (0, 2, 1, 3).
+      for (int k = 0; k < 4; ++k) CHECK(integer(w[i][k + 1]) == m.tets[4 * t + "\0\2\1\3"[k]]);
     }
     CHECK(w[i++] == std::vector<std::string>{"CELL_TYPES", "2"});
     CHECK(w[i++] == std::vector<std::string>{"10"});
@@ -169,7 +170,7 @@ TEST_CASE("write_medit: 1-based, region refs and face markers", "[writers]") {
     CHECK(w[i++] == std::vector<std::string>{"2"});
     for (size_t t = 0; t < 2; ++t, ++i) {
       REQUIRE(w[i].size() == 5);
-      for (int k = 0; k < 4; ++k) CHECK(integer(w[i][k]) == m.tets[4 * t + k] + 1);
+      for (int k = 0; k < 4; ++k) CHECK(integer(w[i][k]) == m.tets[4 * t + "\0\2\1\3"[k]] + 1);
       CHECK(integer(w[i][4]) == (with_data ? static_cast<long long>(m.tet_attributes[t]) : 0));
     }
     CHECK(w[i++] == std::vector<std::string>{"Triangles"});

@@ -202,9 +202,10 @@ struct TetMeshData {
 std::string write_node(const TetMeshData& m);
 std::string write_ele(const TetMeshData& m);
 std::string write_face(const TetMeshData& m);
-/// Legacy VTK unstructured grid (ASCII), cell data: region attribute.
+/// Legacy VTK unstructured grid (ASCII), cell data: region attribute. Tets
+/// are written right-handed (points 0, 2, 1, 3 of `tets`), as VTK's are.
 std::string write_vtk(const TetMeshData& m);
-/// Medit .mesh (MeshVersionFormatted 2).
+/// Medit .mesh (MeshVersionFormatted 2), tets right-handed as in write_vtk.
 std::string write_medit(const TetMeshData& m);
 /// Gmsh MSH 4.1, ASCII or binary (binary bytes in the string, machine byte
 /// order as the format allows). Nodes are numbered from 1 (point i is node

@@ -18,6 +18,7 @@ using io::has_markers;
 using io::n_faces;
 using io::n_points;
 using io::n_tets;
+using io::kRightHandedTet;
 using io::Out;
 
 // Medit references are integers: the region attribute rounded to the nearest
@@ -83,7 +84,8 @@ std::string write_vtk(const TetMeshData& m) {
   o.str("CELLS ").u(nt).sp().u(5 * nt).nl();
   for (size_t t = 0; t < nt; ++t) {
     o.str("4");
-    for (int k = 0; k < 4; ++k) o.sp().u(m.tets[4 * t + k]);
+    // Right-handed, so that VTK and ParaView see positive volumes.
+    for (int k : kRightHandedTet) o.sp().u(m.tets[4 * t + k]);
     o.nl();
   }
   o.str("CELL_TYPES ").u(nt).nl();
@@ -107,7 +109,8 @@ std::string write_medit(const TetMeshData& m) {
   }
   o.str("Tetrahedra\n").u(nt).nl();
   for (size_t t = 0; t < nt; ++t) {
-    for (int k = 0; k < 4; ++k) o.u(uint64_t{m.tets[4 * t + k]} + 1).sp();
+    // Right-handed, the positive orientation of Medit and MMG.
+    for (int k : kRightHandedTet) o.u(uint64_t{m.tets[4 * t + k]} + 1).sp();
     o.i(attr ? medit_ref(m.tet_attributes[t]) : 0).nl();
   }
   o.str("Triangles\n").u(nf).nl();
