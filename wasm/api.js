@@ -87,7 +87,7 @@ const OPTION_TYPES = {
   checkIntersections: 'boolean',
   keepTriangles: 'boolean',
   mergeCoplanarFacets: 'boolean',
-  repair: 'boolean',
+  repair: 'boolean or object',
   degeneracy: 'string',
   verbosity: 'number',
   stopAfter: 'string',
@@ -123,7 +123,7 @@ function checkOptions(options) {
         '',
       );
     }
-    if (key === 'quality') continue; // checkQuality()
+    if (key === 'quality' || key === 'repair') continue; // checkQuality(), checkRepair()
     if (value !== undefined && typeof value !== type) {
       throw invalidArgument(`tetrahedralize: option "${key}" must be a ${type}, got ${describe(value)}.`, '');
     }
@@ -151,13 +151,15 @@ function checkOptions(options) {
     throw invalidArgument('tetrahedralize: option "signal" must be an AbortSignal.', '');
   }
   const quality = checkQuality(options.quality);
+  const repair = checkRepair(options.repair, 'tetrahedralize: option "repair"');
   return {
     keepConvexHull: options.keepConvexHull ?? false,
     validate: options.validate ?? false,
     checkIntersections: options.checkIntersections ?? true,
     // mergeCoplanarFacets: the old name of the default (flat faces merged).
     keepTriangles: options.keepTriangles ?? (options.mergeCoplanarFacets === false),
-    repair: options.repair ?? false,
+    repair: repair !== null,
+    fillHoles: repair?.fillHoles ?? false,
     degeneracy,
     verbosity,
     stopAfter,
@@ -165,6 +167,23 @@ function checkOptions(options) {
     onProgress: options.onProgress ?? null,
     signal,
   };
+}
+
+// options.repair: true or {fillHoles?: boolean} repairs first; false, null
+// or undefined do not. Returns null (no repair) or {fillHoles}.
+function checkRepair(repair, what) {
+  if (repair === undefined || repair === null || repair === false) return null;
+  if (repair === true) return { fillHoles: false };
+  if (typeof repair !== 'object' || Array.isArray(repair)) {
+    throw invalidArgument(`${what} must be true or an object {fillHoles?: boolean}, got ${describe(repair)}.`, '');
+  }
+  for (const [key, value] of Object.entries(repair)) {
+    if (key !== 'fillHoles') throw invalidArgument(`${what}: unknown field "${key}" (known: fillHoles).`, '');
+    if (value !== undefined && typeof value !== 'boolean') {
+      throw invalidArgument(`${what}: fillHoles must be a boolean, got ${describe(value)}.`, '');
+    }
+  }
+  return { fillHoles: repair.fillHoles ?? false };
 }
 
 // options.quality: true or an object turns quality refinement on (every
@@ -394,6 +413,7 @@ function wrap(mod, abortReason) {
             checkIntersections: opts.checkIntersections,
             keepTriangles: opts.keepTriangles,
             repair: opts.repair,
+            fillHoles: opts.fillHoles,
             degeneracy: opts.degeneracy,
             verbosity: opts.verbosity,
             stopAfter: opts.stopAfter,
@@ -412,9 +432,10 @@ function wrap(mod, abortReason) {
       return raw;
     },
 
-    repair(input) {
+    repair(input, options) {
       const plc = normalizeInput(input, 'repair');
-      const raw = call(() => mod._repair(plc));
+      const opts = checkRepair(options ?? {}, 'repair(input, options): options');
+      const raw = call(() => mod._repair(plc, opts.fillHoles));
       if (!raw.ok) throw errorFromRaw(raw);
       // The repaired PLC in the {points, facets, ...} input shape, so that it
       // can go straight to tetrahedralize().

@@ -383,6 +383,8 @@ val repair_report_js(const cdt3d::RepairReport& r) {
   n("weldedPoints", r.welded_points), n("repeatedVertices", r.repeated_vertices);
   n("zeroAreaPolygons", r.zero_area_polygons), n("degenerateFacets", r.degenerate_facets);
   n("duplicateFacets", r.duplicate_facets), n("nonplanarFacets", r.nonplanar_facets);
+  n("filledHoles", r.filled_holes), n("fillTriangles", r.fill_triangles);
+  n("unfilledHoles", r.unfilled_holes);
   n("tjunctionVertices", r.tjunction_vertices), n("tjunctionFacets", r.tjunction_facets);
   n("crossingPairs", r.crossing_pairs), n("crossingFacets", r.crossing_facets);
   n("intersectionPoints", r.intersection_points), n("rounds", r.rounds);
@@ -394,12 +396,14 @@ val repair_report_js(const cdt3d::RepairReport& r) {
 // repair(input) -> {ok, report, facetSources, the repaired PLC as flat arrays
 // (the shape plc_from_js reads), poly: its TetGen .poly text} or an error.
 // The input is read without check_plc(): what it rejects is what repair fixes.
-val repair_js(val input) {
+val repair_js(val input, bool fill_holes) {
   cdt3d::Plc plc, fixed;
   cdt3d::Status st = plc_from_js(input, plc, nullptr, false);
   if (!st.ok()) return failure(st.error);
   cdt3d::RepairReport report;
-  st = cdt3d::repair(plc, fixed, report);
+  cdt3d::RepairOptions repair_options;
+  repair_options.fill_holes = fill_holes;
+  st = cdt3d::repair(plc, fixed, report, repair_options);
   if (!st.ok()) return failure(st.error);
   std::vector<double> xyz, hole_points, holes, regions;
   std::vector<uint32_t> counts, sizes, verts, hole_counts, segments;
@@ -454,7 +458,9 @@ val tetrahedralize_js(val input, val options, val on_progress) {
   cdt3d::RepairReport report;
   if (fix) {
     cdt3d::Plc fixed;
-    st = cdt3d::repair(plc, fixed, report);
+    cdt3d::RepairOptions repair_options;
+    repair_options.fill_holes = options["fillHoles"].as<bool>();
+    st = cdt3d::repair(plc, fixed, report, repair_options);
     if (!st.ok()) return failure(st.error);
     plc = std::move(fixed);
     ms_read += report.ms;
@@ -649,7 +655,9 @@ EMSCRIPTEN_BINDINGS(cdt3d) {
   emscripten::function("_tetrahedralize", +[](val input, val options, val progress) {
     return guarded([&] { return tetrahedralize_js(input, options, progress); });
   });
-  emscripten::function("_repair", +[](val input) { return guarded([&] { return repair_js(input); }); });
+  emscripten::function("_repair", +[](val input, bool fill_holes) {
+    return guarded([&] { return repair_js(input, fill_holes); });
+  });
   emscripten::function("_validate", +[](val input, val result) {
     return guarded([&] { return validate_js(input, result); });
   });

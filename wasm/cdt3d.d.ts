@@ -149,11 +149,12 @@ export interface Cdt3d {
    * the facets they lie on; inserts the intersection segments of crossing
    * facets (new points rounded to doubles, checked again exactly). The input
    * is not checked first (that is what repair is for). The result is a
-   * {@link PlcInput} for tetrahedralize().
+   * {@link PlcInput} for tetrahedralize(). With `fillHoles`, every boundary
+   * loop of an open surface is first closed by triangles of its vertices.
    * @throws {Cdt3dError} what repair cannot fix (e.g. "nan", or "self-intersection"
    *   naming input facets that still intersect).
    */
-  repair(input: PlcInput): RepairResult;
+  repair(input: PlcInput, options?: RepairOptions): RepairResult;
   /** Step 1 alone: the Delaunay tetrahedralization of a point set (3 coordinates per point). */
   delaunay(points: Float64Array | number[]): { tets: Uint32Array; stats: { points: number; tets: number; msDelaunay: number } };
   /** Checks a result against its input with exact predicates (valid, facets recovered, constrained Delaunay). */
@@ -272,9 +273,10 @@ export interface TetrahedralizeOptions {
   /**
    * Repair the PLC first (as {@link Cdt3d.repair}); the result's faceFacets,
    * steinerParents and errors still name input facets, and `repair` says what
-   * changed. Default false.
+   * changed. `{ fillHoles: true }` also closes the holes of an open surface
+   * (`cdt3d mesh --fill-holes`). Default false.
    */
-  repair?: boolean;
+  repair?: boolean | RepairOptions;
   /**
    * How step 3 (local degeneracies: five co-spherical vertices) is handled.
    * "symbolic" (default): symbolic perturbation, no vertex moves and no point
@@ -466,6 +468,12 @@ export interface MeshResult {
   repair?: RepairReport;
 }
 
+/** Options of repair. */
+export interface RepairOptions {
+  /** Close every boundary loop with triangles of its vertices, of least total area. Default false. */
+  fillHoles?: boolean;
+}
+
 /** What repair changed, step by step (the native `cdt3d repair --json` "repair" object). */
 export interface RepairReport {
   /** False when the PLC was valid already: then nothing was changed. */
@@ -478,6 +486,10 @@ export interface RepairReport {
   weldedPoints: number;
   /** Step 1: repeated polygon vertices dropped (or cut at). */
   repeatedVertices: number;
+  /** With fillHoles: boundary loops closed, the triangles that close them, loops left open. */
+  filledHoles: number;
+  fillTriangles: number;
+  unfilledHoles: number;
   /** Step 1: polygons of zero area dropped. */
   zeroAreaPolygons: number;
   /** Step 1: facets dropped because no polygon with area was left. */

@@ -37,7 +37,7 @@ void usage(std::FILE* out) {
       "                        [--keep-triangles] [--paper-degeneracy]\n"
       "                        [--no-intersection-check] [--one-thread]\n"
       "                        [--stop-after PHASE]\n"
-      "                        [--repair] [--quality [RATIO]] [--max-volume V] [--min-dihedral D]\n"
+      "                        [--repair] [--fill-holes] [--quality [RATIO]] [--max-volume V] [--min-dihedral D]\n"
       "                        [--max-points N]\n"
       "\n"
       "Constrained Delaunay tetrahedralization of MODEL (.stl .off .obj .ply .poly .smesh).\n"
@@ -65,6 +65,8 @@ void usage(std::FILE* out) {
       "                    beside the other half; same result, more wall time)\n"
       "  --repair          repair the PLC first (as `cdt3d repair`); facets in the output\n"
       "                    and in errors keep their input numbers\n"
+      "  --fill-holes      repair, closing the holes of an open surface first (as `cdt3d\n"
+      "                    repair --fill-holes`)\n"
       "  --stop-after P    delaunay | segments | degeneracy | facets: stop after that step,\n"
       "                    write all tets as PREFIX.node/.ele and the subsegments as .edge\n"
       "quality refinement of the CDT (each of these options turns it on):\n"
@@ -266,6 +268,7 @@ bool parse_count(const char* text, size_t& out) {
 struct MeshArgs {
   std::string input, prefix, format = "node", stop_name;
   bool json = false, quiet = false, show_quality = false, fix = false;
+  RepairOptions repair_options;
   Options opt;
   Phase stop = Phase::Done;
   // Each quality option with its value alone (the other fields at their
@@ -285,6 +288,7 @@ int parse_mesh_args(int argc, char** argv, MeshArgs& m) {
   bool& quiet = m.quiet;
   bool& show_quality = m.show_quality;
   bool& fix = m.fix;
+  RepairOptions& repair_options = m.repair_options;
   Options& opt = m.opt;
   auto& quality_args = m.quality_args;
   for (int i = 0; i < argc; ++i) {
@@ -336,6 +340,9 @@ int parse_mesh_args(int argc, char** argv, MeshArgs& m) {
       opt.keep_triangles = false;  // the default, named
     } else if (a == "--repair") {
       fix = true;
+    } else if (a == "--fill-holes") {
+      fix = true;  // filling holes is a step of repair
+      repair_options.fill_holes = true;
     } else if (a == "--no-intersection-check") {
       opt.check_intersections = false;
     } else if (a == "--one-thread") {
@@ -425,7 +432,7 @@ int run_mesh(int argc, char** argv) {
   RepairReport report;
   if (st.ok() && fix) {
     Plc fixed;
-    st = repair(plc, fixed, report);
+    st = repair(plc, fixed, report, m.repair_options);
     plc = std::move(fixed);
   }
   const double ms_read =

@@ -14,13 +14,15 @@ namespace {
 
 void repair_usage(std::FILE* out) {
   std::fprintf(out,
-               "usage: cdt3d repair MODEL [-o PREFIX] [--json] [-q]\n"
+               "usage: cdt3d repair MODEL [-o PREFIX] [--fill-holes] [--json] [-q]\n"
                "\n"
                "Repairs MODEL (.stl .off .obj .ply .poly .smesh) exactly: welds identical points,\n"
                "drops repeated vertices, zero-area polygons and duplicate facets, splits\n"
                "non-planar facets, makes T-junction vertices vertices of the facets they lie\n"
                "on, inserts the intersection segments of crossing facets. Prints what changed.\n"
                "  -o PREFIX   write the repaired PLC as PREFIX.poly (TetGen format)\n"
+               "  --fill-holes  close every boundary loop of an open surface with triangles of\n"
+               "              its vertices (least total area) before the other steps\n"
                "  --json      print the report as one JSON object on stdout\n"
                "  -q          quiet: print nothing but errors\n"
                "exit codes: 0 repaired (or nothing to repair), 1 input error or what repair\n"
@@ -37,13 +39,15 @@ std::string repair_summary(const RepairReport& r) {
       "  Repair: %zu -> %zu points, %zu -> %zu facets, %zu input facets changed (%.1f ms)\n"
       "    welded points %zu, repeated vertices %zu, zero-area polygons %zu, degenerate facets "
       "%zu, duplicate facets %zu\n"
+      "    holes filled %zu with %zu triangles, %zu left open\n"
       "    non-planar facets split %zu\n"
       "    T-junction vertices %zu in %zu facets\n"
       "    crossing facet pairs %zu: %zu facets split, %zu new points, %zu rounds, %zu pairs left\n",
       r.input_points, r.points, r.input_facets, r.facets, r.changed_facets.size(), r.ms,
       r.welded_points, r.repeated_vertices, r.zero_area_polygons, r.degenerate_facets,
-      r.duplicate_facets, r.nonplanar_facets, r.tjunction_vertices, r.tjunction_facets,
-      r.crossing_pairs, r.crossing_facets, r.intersection_points, r.rounds, r.unresolved_pairs);
+      r.duplicate_facets, r.filled_holes, r.fill_triangles, r.unfilled_holes, r.nonplanar_facets,
+      r.tjunction_vertices, r.tjunction_facets, r.crossing_pairs, r.crossing_facets,
+      r.intersection_points, r.rounds, r.unresolved_pairs);
   return buf;
 }
 
@@ -54,12 +58,14 @@ std::string repair_json(const RepairReport& r) {
       "{\"changed\":%s,\"inputPoints\":%zu,\"points\":%zu,\"inputFacets\":%zu,\"facets\":%zu,"
       "\"changedFacets\":%zu,\"weldedPoints\":%zu,\"repeatedVertices\":%zu,"
       "\"zeroAreaPolygons\":%zu,\"degenerateFacets\":%zu,\"duplicateFacets\":%zu,"
+      "\"filledHoles\":%zu,\"fillTriangles\":%zu,\"unfilledHoles\":%zu,"
       "\"nonplanarFacets\":%zu,\"tjunctionVertices\":%zu,\"tjunctionFacets\":%zu,"
       "\"crossingPairs\":%zu,\"crossingFacets\":%zu,\"intersectionPoints\":%zu,\"rounds\":%zu,"
       "\"unresolvedPairs\":%zu,\"ms\":%.3f}",
       r.changed() ? "true" : "false", r.input_points, r.points, r.input_facets, r.facets,
       r.changed_facets.size(), r.welded_points, r.repeated_vertices, r.zero_area_polygons,
-      r.degenerate_facets, r.duplicate_facets, r.nonplanar_facets, r.tjunction_vertices,
+      r.degenerate_facets, r.duplicate_facets, r.filled_holes, r.fill_triangles, r.unfilled_holes,
+      r.nonplanar_facets, r.tjunction_vertices,
       r.tjunction_facets, r.crossing_pairs, r.crossing_facets, r.intersection_points, r.rounds,
       r.unresolved_pairs, r.ms);
   return buf;
@@ -68,6 +74,7 @@ std::string repair_json(const RepairReport& r) {
 int run_repair(int argc, char** argv) {
   std::string input, prefix;
   bool json = false, quiet = false;
+  RepairOptions options;
   for (int i = 0; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "-h" || a == "--help") {
@@ -77,6 +84,8 @@ int run_repair(int argc, char** argv) {
       json = true;
     } else if (a == "-q") {
       quiet = true;
+    } else if (a == "--fill-holes") {
+      options.fill_holes = true;
     } else if (a == "-o" && i + 1 < argc) {
       prefix = argv[++i];
     } else if (!a.empty() && a[0] != '-' && input.empty()) {
@@ -95,7 +104,7 @@ int run_repair(int argc, char** argv) {
   RepairReport report;
   // Read without the input checks: what they reject is what repair fixes.
   Status st = read_plc_file(input, plc, false);
-  if (st.ok()) st = repair(plc, fixed, report);
+  if (st.ok()) st = repair(plc, fixed, report, options);
   if (st.ok() && !prefix.empty()) st = write_text(prefix + ".poly", write_poly(fixed));
   if (!st.ok()) {
     if (json)

@@ -371,3 +371,40 @@ TEST_CASE("repair: degenerate soups end repaired or with an error naming input f
   }
   CHECK(repaired >= 10);
 }
+
+TEST_CASE("repair --fill-holes: every boundary loop closed, oriented like the surface", "[repair]") {
+  // The cube without its top (4-5-6, 4-6-7) and side triangle 1-6-5: one
+  // hole, the loop 4-5-1-6-7 (not planar), closed by three triangles.
+  const std::string open =
+      "OFF\n8 9 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+      "3 0 2 1\n3 0 3 2\n3 0 1 5\n3 0 5 4\n"
+      "3 1 2 6\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n";
+  const Plc in = from_text(open, "open.off");
+  Plc out;
+  RepairReport rep;
+  RepairOptions options;
+  options.fill_holes = true;
+  REQUIRE(repair(in, out, rep, options).ok());
+  CHECK(rep.filled_holes == 1);
+  CHECK(rep.unfilled_holes == 0);
+  CHECK(rep.fill_triangles == 3);
+  REQUIRE(out.facets.size() == in.facets.size() + 3);
+  // Each new facet names the input facet along its hole (provenance).
+  for (size_t f = in.facets.size(); f < out.facets.size(); ++f) CHECK(rep.facet_source[f] < in.facets.size());
+  // Closed and consistently oriented: every edge is used once in each direction.
+  std::vector<std::pair<VertexId, VertexId>> directed;
+  for (const Facet& f : out.facets)
+    for (const auto& loop : f.loops)
+      for (size_t i = 0; i < loop.size(); ++i) directed.emplace_back(loop[i], loop[(i + 1) % loop.size()]);
+  for (const auto& [a, b] : directed) {
+    CHECK(std::count(directed.begin(), directed.end(), std::make_pair(a, b)) == 1);
+    CHECK(std::count(directed.begin(), directed.end(), std::make_pair(b, a)) == 1);
+  }
+  require_meshable(out);
+  // Without the option the surface stays open; on a closed one nothing is filled.
+  REQUIRE(repair(in, out, rep).ok());
+  CHECK(rep.filled_holes == 0);
+  CHECK(tetrahedralize(out).status.error.code == ErrorCode::OpenBoundary);
+  REQUIRE(repair(from_text(kCube, "cube.off"), out, rep, options).ok());
+  CHECK_FALSE(rep.changed());
+}

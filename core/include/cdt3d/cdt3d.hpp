@@ -466,6 +466,10 @@ struct RepairReport {
   size_t zero_area_polygons = 0;  ///< polygons of zero area (collinear or < 3 vertices) dropped
   size_t degenerate_facets = 0;   ///< facets dropped because no polygon with area was left
   size_t duplicate_facets = 0;    ///< facets dropped as repeats of an earlier facet
+  // Step 1b, with RepairOptions::fill_holes.
+  size_t filled_holes = 0;        ///< boundary loops closed
+  size_t fill_triangles = 0;      ///< triangles added to close them
+  size_t unfilled_holes = 0;      ///< loops left open (no triangulation without collinear triples)
   // Step 2.
   size_t nonplanar_facets = 0;    ///< non-planar facets split into triangles
   // Step 3: T-junctions.
@@ -497,8 +501,16 @@ struct RepairReport {
 /// `plc` may fail check_plc() (read it with read_plc(..., check = false)).
 /// Errors: what repair cannot fix (non-finite coordinates, indices out of
 /// range, facets still intersecting: SelfIntersection naming input facets);
-/// `out` then holds the PLC as far as it got. An open surface is left open.
-Status repair(const Plc& plc, Plc& out, RepairReport& report);
+/// `out` then holds the PLC as far as it got. An open surface is left open
+/// unless `options.fill_holes`.
+struct RepairOptions {
+  /// After step 1, close every boundary loop (edges of one facet only) with
+  /// triangles of its own vertices, of least total area (CLI --fill-holes,
+  /// JS repair: { fillHoles: true }); the patch takes the marker and
+  /// provenance of the facet along the loop and goes through steps 2-4.
+  bool fill_holes = false;
+};
+Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOptions& options = {});
 
 /// After tetrahedralize() of a repaired PLC: makes the result name input
 /// facets (face_facet, Steiner parents of facet points, error facets and

@@ -14,7 +14,7 @@ namespace cdt3d {
 
 bool RepairReport::changed() const {
   return welded_points + repeated_vertices + zero_area_polygons + degenerate_facets +
-             duplicate_facets + nonplanar_facets + tjunction_vertices + crossing_pairs >
+             duplicate_facets + filled_holes + nonplanar_facets + tjunction_vertices + crossing_pairs >
          0;
 }
 
@@ -109,7 +109,7 @@ std::vector<Intersection> input_pairs(const std::vector<Intersection>& left, con
 
 }  // namespace
 
-Status repair(const Plc& plc, Plc& out, RepairReport& report) {
+Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOptions& options) {
   const auto t0 = std::chrono::steady_clock::now();
   report = RepairReport();
   report.input_points = plc.points.size();
@@ -129,6 +129,7 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report) {
   repair_steps::clean_polygons(w, report);
   repair_steps::drop_duplicate_facets(w, report);
   repair_steps::drop_orphaned_points(w, plc);
+  if (options.fill_holes) repair_steps::fill_holes(w, report);
   repair_steps::split_nonplanar_facets(w, report);
   st = repair_steps::split_at_tjunctions(w, report);
   {
