@@ -91,3 +91,31 @@ test('what repair cannot fix throws a Cdt3dError naming the input', () => {
   );
   assert.throws(() => cdt.tetrahedralize(input('cube_ascii.stl'), { repair: 1 }), (e) => e.code === 'invalid-argument');
 });
+
+test('fillHoles closes the holes of open surfaces, as the native --fill-holes', () => {
+  for (const file of ['open_cube.off', 'bunny_holes.off']) {
+    const r = cdt.repair(input(file), { fillHoles: true });
+    assert.ok(r.report.filledHoles > 0 && r.report.unfilledHoles === 0, file);
+    assert.equal(r.facets.length, r.report.inputFacets + r.report.fillTriangles - r.report.duplicateFacets, file);
+    const mesh = cdt.tetrahedralize(r, { validate: true });
+    assert.deepEqual(mesh.validation, { ok: true, message: '' }, file);
+    const direct = cdt.tetrahedralize(input(file), { repair: { fillHoles: true }, validate: true });
+    assert.equal(direct.stats.tets, mesh.stats.tets, file);
+    assert.equal(direct.repair.filledHoles, r.report.filledHoles, file);
+    if (!skipNative) {
+      const native = spawnSync(requireNativeCli(), ['repair', path.join('tests', 'data', file), '--fill-holes', '--json'], {
+        cwd: repoRoot,
+        encoding: 'utf8',
+      });
+      const report = JSON.parse(native.stdout).repair;
+      for (const key of ['filledHoles', 'fillTriangles', 'unfilledHoles', 'facets', 'points']) {
+        assert.equal(r.report[key], report[key], `${file}: ${key}`);
+      }
+    }
+  }
+  // Without the option holes stay open; bad option values are the caller's error.
+  assert.equal(cdt.repair(input('open_cube.off')).report.filledHoles, 0);
+  assert.throws(() => cdt.repair(input('open_cube.off'), { fillHoles: 'yes' }), (e) => e.code === 'invalid-argument');
+  assert.throws(() => cdt.tetrahedralize(input('open_cube.off'), { repair: { fill: true } }),
+    (e) => e.code === 'invalid-argument' && /unknown field "fill"/.test(e.message));
+});
