@@ -3,7 +3,7 @@
 // result with three.js, statistics and downloads.
 import { createMeshWorker } from 'cdt3d/worker';
 
-import { BACKGROUND, STEINER_COLORS, Viewer, nextTask } from './viewer.js';
+import { BACKGROUND, STEINER_COLORS, STEINER_MANY, Viewer, nextTask } from './viewer.js';
 
 const SAMPLES = [
   { file: 'bunny.off', label: 'Stanford bunny (7k triangles)' },
@@ -82,6 +82,9 @@ const demo = {
   snapshot: () => viewer.snapshot(),
   repair: null, // the repair report of the last "Repair and mesh"
   quality: null, // the quality option of the last job (null: no refinement)
+  // The mesher: 'loading', 'warming' (meshing its built-in model), 'ready' or
+  // 'failed'; threaded: the two-thread module; loadMs and runs (warm-up ms).
+  engine: { state: 'loading', threaded: null, loadMs: NaN, runs: [] },
 };
 window.cdt3dDemo = demo;
 
@@ -127,6 +130,7 @@ async function openModel(source) {
   $('model-status').textContent = 'Meshing…';
   document.title = `${name} — cdt3d`;
   viewer.clear();
+  updateSteinerNote();
   current = { id, name, source, result: null, built: null, origin: null, surface: null };
   updateVisibleCount();
   showProgress(name, qualityOption() ? [...PHASES, REFINE_PHASE] : PHASES);
@@ -142,11 +146,7 @@ async function openModel(source) {
     if (id !== jobSeq) return;
     setState('meshing');
     timing.meshStart = performance.now();
-    const options = {
-      validate: $('opt-validate').checked,
-      keepConvexHull: $('opt-hull').checked,
-      keepTriangles: $('opt-keep-triangles').checked,
-    };
+    const options = meshOptions();
     if (source.repair) options.repair = true;
     const quality = qualityOption();
     if (quality) options.quality = quality;
@@ -200,6 +200,7 @@ async function openModel(source) {
     viewer.setExtent(...relativeBounds(result.points, current.origin));
     viewer.setTets({ position: built.position, center: built.center, colors, order: built.order });
     viewer.setSteiner(built.steinerPosition, built.steinerKinds);
+    updateSteinerNote();
     applyViewControls();
     $('downloads').hidden = false;
     $('remesh').disabled = false;
@@ -238,6 +239,50 @@ function nextFrames(n) {
 function seconds(ms) {
   return ms < 1000 ? `${Math.round(ms)} ms` : `${(ms / 1000).toFixed(2)} s`;
 }
+
+// The options of the check boxes (quality is added by the caller).
+function meshOptions() {
+  return {
+    validate: $('opt-validate').checked,
+    keepConvexHull: $('opt-hull').checked,
+    keepTriangles: $('opt-keep-triangles').checked,
+  };
+}
+
+// ---------------------------------------------------------------- the mesher
+
+// The worker starts now: the WebAssembly module is compiled while it
+// downloads, then a small built-in model is meshed a few times with the
+// page's options, so that the engine has optimised the hot code before the
+// user's first model (a cold module meshed it several times slower). All of
+// it runs in the worker; a model opened meanwhile goes first.
+function setEngine(state, text) {
+  demo.engine.state = state;
+  document.body.dataset.engine = state;
+  $('engine').textContent = text;
+}
+
+function threadsText(threaded) {
+  return threaded ? 'two threads' : 'one thread (the page is not cross-origin isolated)';
+}
+
+setEngine('loading', 'Loading the mesher…');
+mesher
+  .prepare({ rounds: 0 })
+  .then((loaded) => {
+    demo.engine.threaded = loaded.threaded;
+    demo.engine.loadMs = loaded.loadMs;
+    setEngine('warming', `Mesher: ${threadsText(loaded.threaded)}; warming up…`);
+    return mesher.prepare({ options: meshOptions() });
+  })
+  .then((warmed) => {
+    demo.engine.runs = warmed.runs;
+    setEngine('ready', `Mesher: ${threadsText(warmed.threaded)}; ready.`);
+  })
+  .catch((e) => {
+    // Jobs still start the worker on their own; their errors say what failed.
+    setEngine('failed', `The mesher could not be prepared: ${e?.message ?? e}`);
+  });
 
 // ---------------------------------------------------------------- surface & geometry
 
@@ -713,6 +758,43 @@ $('show-steiner').addEventListener('change', (e) => viewer.setShowSteiner(e.targ
 $('show-constrained').addEventListener('change', (e) => viewer.setShowConstrained(e.target.checked));
 $('show-edges').addEventListener('change', (e) => viewer.setShowEdges(e.target.checked));
 $('fit').addEventListener('click', () => viewer.fitView());
+
+// Up axis, remembered between visits (storage may be unavailable).
+const UP_KEY = 'cdt3d.up';
+function storedUp() {
+  try {
+    return localStorage.getItem(UP_KEY) === 'y' ? 'y' : 'z';
+  } catch {
+    return 'z';
+  }
+}
+$('up-axis').value = storedUp();
+viewer.setUp($('up-axis').value);
+$('up-axis').addEventListener('change', () => {
+  const up = $('up-axis').value;
+  try {
+    localStorage.setItem(UP_KEY, up);
+  } catch {}
+  viewer.setUp(up);
+});
+
+// Steiner points: thousands of markers hide the mesh, so beyond
+// STEINER_MANY 'auto' shows those near the cut plane only, and says so.
+function updateSteinerNote() {
+  const n = viewer.steinerCount();
+  const note = $('steiner-note');
+  note.hidden = n === 0;
+  if (n === 0) return;
+  note.textContent =
+    viewer.steinerShown() === 'cut'
+      ? `${fmt.format(n)} Steiner points: only those within 2% of the cut plane are drawn; move the cut to sweep through them.`
+      : `${fmt.format(n)} Steiner points drawn${n > STEINER_MANY ? ' (they hide the mesh: try "near the cut plane")' : ''}.`;
+  note.dataset.shown = viewer.steinerShown();
+}
+$('steiner-mode').addEventListener('change', () => {
+  viewer.setSteinerMode($('steiner-mode').value);
+  updateSteinerNote();
+});
 $('color-mode').addEventListener('change', () => {
   if (current?.built) {
     viewer.setTetColors(tetColors(current.built));

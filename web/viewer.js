@@ -3,6 +3,9 @@
 // in the shaders), Steiner points, and a cut along one axis that keeps the
 // tetrahedra crossing it whole (the tets are pre-sorted along the axis, so a
 // cut is just a draw range: nothing is rebuilt while the slider moves).
+// Model coordinates stay as they are; the model group is turned so that the
+// chosen up axis (Z or Y) points up on screen, and the clipping planes,
+// which three.js takes in world coordinates, are turned with it.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
@@ -88,6 +91,11 @@ void main() {
   outColor = vec4(pow(c, vec3(1.0 / 2.2)), opacity);
 }`;
 
+// Marker size in pixels, and the count beyond which 'auto' shows only the
+// points near the cut plane.
+const STEINER_SIZE_MAX = 5;
+export const STEINER_MANY = 2000;
+
 export const STEINER_COLORS = {
   1: [1.0, 0.84, 0.1], // on a segment
   2: [0.15, 0.85, 1.0], // on a facet
@@ -121,6 +129,9 @@ export class Viewer {
     this.extent = [new THREE.Vector3(-1, -1, -1), new THREE.Vector3(1, 1, 1)];
     this.keepPlane = new THREE.Plane(new THREE.Vector3(-1, 0, 0), 0);
     this.ghostPlane = new THREE.Plane(new THREE.Vector3(1, 0, 0), 0);
+    // Steiner points near the cut only: the far side of a slab on the kept side.
+    this.slabPlane = new THREE.Plane(new THREE.Vector3(1, 0, 0), 0);
+    this.up = 'y';
 
     this.surface = null;
     this.surfaceHighlighted = 0;
@@ -129,6 +140,7 @@ export class Viewer {
     this.showSurface = true;
     this.surfaceMode = 'ghost'; // 'solid' before/without a mesh, 'ghost' with one
     this.showSteiner = true;
+    this.steinerMode = 'auto'; // 'all', 'cut' (near the cut plane), 'auto' (cut when many)
     this.frames = 0;
     this.needsRender = true;
 
@@ -166,7 +178,7 @@ export class Viewer {
     };
     this.surfaceMaterials.ghost.side = THREE.FrontSide;
     this.pointsMaterial = new THREE.PointsMaterial({
-      size: 5,
+      size: STEINER_SIZE_MAX,
       sizeAttenuation: false,
       vertexColors: true,
       map: dotTexture(),
@@ -218,6 +230,11 @@ export class Viewer {
     pts.setAttribute('position', new THREE.BufferAttribute(new Float32Array(3), 3));
     pts.setAttribute('color', new THREE.BufferAttribute(new Float32Array(3), 3));
     scene.add(new THREE.Points(pts, this.pointsMaterial));
+    // The points' program with the slab's second clipping plane (Steiner
+    // points near the cut) is another program: compiled now too.
+    const slabbed = this.pointsMaterial.clone();
+    slabbed.clippingPlanes = [this.keepPlane, this.slabPlane];
+    scene.add(new THREE.Points(pts, slabbed));
     try {
       await this.renderer.compileAsync(scene, this.camera);
       // compileAsync waits for the programs only with KHR_parallel_shader_compile
@@ -391,7 +408,54 @@ export class Viewer {
     this.steiner.renderOrder = 3;
     this.steiner.visible = this.showSteiner;
     this.model.add(this.steiner);
+    this.applySteinerMode();
+  }
+
+  /** Count of the Steiner points of the model shown (0 without one). */
+  steinerCount() {
+    return this.steiner ? this.steiner.geometry.getAttribute('position').count : 0;
+  }
+
+  /**
+   * 'all', 'cut' (only the points within a thin slab at the cut plane) or
+   * 'auto' ('cut' beyond STEINER_MANY points, whose markers would otherwise
+   * hide the mesh). Markers shrink as their number grows.
+   */
+  setSteinerMode(mode) {
+    this.steinerMode = mode;
+    this.applySteinerMode();
+  }
+
+  /** The mode in effect for the current points: 'all' or 'cut'. */
+  steinerShown() {
+    if (this.steinerMode !== 'auto') return this.steinerMode;
+    return this.steinerCount() > STEINER_MANY ? 'cut' : 'all';
+  }
+
+  applySteinerMode() {
+    const n = this.steinerCount();
+    // 5 px up to a few hundred points, down to 2 px for tens of thousands.
+    const size = n <= 300 ? STEINER_SIZE_MAX : Math.max(2, STEINER_SIZE_MAX * Math.sqrt(300 / n) * 1.6);
+    this.pointsMaterial.size = Math.min(STEINER_SIZE_MAX, Math.round(size * 2) / 2);
+    const planes = this.steinerShown() === 'cut' ? [this.keepPlane, this.slabPlane] : [this.keepPlane];
+    if (this.pointsMaterial.clippingPlanes.length !== planes.length) {
+      this.pointsMaterial.clippingPlanes = planes;
+      this.pointsMaterial.needsUpdate = true; // another number of planes: another program
+    }
     this.requestRender();
+  }
+
+  /**
+   * Which model axis points up on screen: 'z' (CAD parts and most scans) or
+   * 'y'. The camera is framed again.
+   */
+  setUp(up) {
+    this.up = up === 'z' ? 'z' : 'y';
+    // -90 degrees about X takes the model's Z to the world's Y (up).
+    this.model.rotation.set(this.up === 'z' ? -Math.PI / 2 : 0, 0, 0);
+    this.model.updateMatrixWorld(true);
+    this.applyCut();
+    this.fitView();
   }
 
   /** Bounds of the model relative to its origin (for the cut and the camera). */
@@ -423,6 +487,12 @@ export class Viewer {
     // Keep: signed distance >= 0 (three.js clips the negative side).
     this.keepPlane.set(n, this.flip ? -c : c);
     this.ghostPlane.set(n.clone().negate(), this.flip ? c : -c);
+    // The slab: within 2% of the extent of the cut, on the kept side.
+    const lo = this.extent[0].getComponent(this.axis);
+    const hi = this.extent[1].getComponent(this.axis);
+    const depth = 0.02 * Math.max(1e-12, hi - lo);
+    this.slabPlane.set(n.clone().negate(), (this.flip ? c : -c) + depth);
+    for (const plane of [this.keepPlane, this.ghostPlane, this.slabPlane]) plane.applyMatrix4(this.model.matrixWorld);
     if (this.tets) {
       const t = this.tets;
       let visible = 0;
@@ -480,7 +550,7 @@ export class Viewer {
   /** Frames the model: looks at its bounds from a pleasant oblique direction. */
   fitView() {
     const [lo, hi] = this.extent;
-    const centre = lo.clone().add(hi).multiplyScalar(0.5);
+    const centre = lo.clone().add(hi).multiplyScalar(0.5).applyMatrix4(this.model.matrixWorld);
     const radius = Math.max(1e-9, lo.distanceTo(hi) / 2);
     const fov = (this.camera.fov * Math.PI) / 180;
     const fit = Math.min(fov, 2 * Math.atan(Math.tan(fov / 2) * this.camera.aspect));

@@ -13,6 +13,11 @@ const alias = pkg.exports?.['./worker']
   ? {}
   : { 'cdt3d/worker': fileURLToPath(new URL('../wasm/worker.js', import.meta.url)) };
 
+const ISOLATION = {
+  'Cross-Origin-Opener-Policy': 'same-origin',
+  'Cross-Origin-Embedder-Policy': 'require-corp',
+};
+
 export default defineConfig({
   root: here,
   base: './',
@@ -27,7 +32,14 @@ export default defineConfig({
     emptyOutDir: true,
     target: 'es2022',
     chunkSizeWarningLimit: 1500,
+    // Never inline the package's pthread worker script (3 KB) as a data: URL:
+    // a worker from a data: URL has an opaque origin and cannot import the
+    // module script it runs, so the two-thread module would not start.
+    assetsInlineLimit: (file) => (file.endsWith('.worker.js') ? false : undefined),
   },
-  server: { host: '127.0.0.1' },
-  preview: { host: '127.0.0.1' },
+  // Cross-origin isolation gives the page SharedArrayBuffer, so the package
+  // loads its two-thread module (a static host needs the same two headers:
+  // README.md).
+  server: { host: '127.0.0.1', headers: ISOLATION },
+  preview: { host: '127.0.0.1', headers: ISOLATION },
 });

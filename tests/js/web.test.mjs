@@ -4,17 +4,15 @@
 // cancellation and the main thread's long tasks. Screenshots go to tests/out/.
 // Needs /usr/bin/chromium (or $CHROMIUM_PATH); CDT3D_SKIP_BROWSER=1 skips.
 import assert from 'node:assert/strict';
-import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync, statSync } from 'node:fs';
-import http from 'node:http';
+import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
 
+import { buildPage, chromiumPath, launchChromium, recordLongTasks, servePage } from './page-support.mjs';
 import { importPackage, packageDir, repoRoot } from './support.mjs';
 
 const skip = process.env.CDT3D_SKIP_BROWSER === '1' && 'CDT3D_SKIP_BROWSER=1';
-const chromiumPath = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
-const webDir = path.join(repoRoot, 'web');
 const outDir = path.join(repoRoot, 'tests', 'out');
 
 // Models driven through the file input (tests/data).
@@ -29,17 +27,8 @@ const LARGE_SAMPLE = 'armadillo.obj'; // bundled sample (web/public/samples)
 const PAGE_OPTIONS = { validate: true, keepConvexHull: false };
 const FINAL = ['done', 'error', 'cancelled'];
 
-const MIME = {
-  '.html': 'text/html; charset=utf-8',
-  '.js': 'text/javascript; charset=utf-8',
-  '.css': 'text/css; charset=utf-8',
-  '.wasm': 'application/wasm',
-  '.json': 'application/json',
-  '.svg': 'image/svg+xml',
-};
-
 let buildDir;
-let server;
+let served; // {server, origin, isolated}
 let origin;
 let context;
 let page;
@@ -63,64 +52,23 @@ before(async () => {
 
   // A production build of the page, as `npx vite build web` makes it.
   buildDir = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-web-'));
-  const { build } = await import('vite');
-  await build({
-    configFile: path.join(webDir, 'vite.config.js'),
-    logLevel: 'warn',
-    build: { outDir: buildDir, emptyOutDir: true },
-  });
+  await buildPage(buildDir);
 
-  server = http.createServer((req, res) => {
-    let rel = decodeURIComponent(new URL(req.url, 'http://x').pathname);
-    if (rel.endsWith('/')) rel += 'index.html';
-    const file = path.join(buildDir, rel);
-    if (!file.startsWith(buildDir + path.sep) || !existsSync(file) || !statSync(file).isFile()) {
-      res.writeHead(404, { 'content-type': 'text/plain' });
-      res.end('not found');
-      return;
-    }
-    res.writeHead(200, {
-      'content-type': MIME[path.extname(file)] ?? 'application/octet-stream',
-      'cache-control': 'no-store',
-    });
-    res.end(readFileSync(file));
-  });
-  await new Promise((resolve) => server.listen(0, '127.0.0.1', resolve));
-  origin = `http://127.0.0.1:${server.address().port}`;
+  served = await servePage(buildDir);
+  origin = served.origin;
 
-  const { chromium } = await import('playwright-core');
   profile = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-chromium-'));
-  context = await chromium.launchPersistentContext(profile, {
-    executablePath: chromiumPath,
-    headless: true,
-    viewport: { width: 1280, height: 800 },
-    // WebGL through SwiftShader (no GPU here). Not --disable-gpu: that makes
-    // the compositor read every WebGL frame back on the main thread
-    // (GLES2::ReadPixels in Commit), which shows up as long tasks that a
-    // page on a real GPU never has.
-    args: [
-      '--headless', '--no-sandbox', '--use-angle=swiftshader', '--use-gl=angle',
-      '--enable-unsafe-swiftshader', '--disable-quic', '--no-first-run',
-      '--disable-background-networking', '--disable-component-update', '--disable-sync',
-    ],
-  });
+  context = await launchChromium(profile);
   page = context.pages()[0] ?? (await context.newPage());
   page.on('pageerror', (e) => pageErrors.push(String(e?.stack ?? e)));
-  // Long tasks of the main thread, from the very start.
-  await page.addInitScript(() => {
-    window.__longTasks = [];
-    try {
-      new PerformanceObserver((list) => {
-        for (const e of list.getEntries()) window.__longTasks.push({ start: e.startTime, duration: e.duration });
-      }).observe({ type: 'longtask', buffered: true });
-    } catch {}
-  });
+  // Long tasks and frames of the main thread, from the very start.
+  await page.addInitScript(recordLongTasks);
   mkdirSync(outDir, { recursive: true });
 });
 
 after(async () => {
   await context?.close().catch(() => {});
-  server?.close();
+  served?.server.close();
   if (profile) rmSync(profile, { recursive: true, force: true });
   if (buildDir) rmSync(buildDir, { recursive: true, force: true });
 });
