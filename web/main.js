@@ -5,13 +5,15 @@ import { createMeshWorker } from 'cdt3d/worker';
 
 import { BACKGROUND, STEINER_COLORS, STEINER_MANY, Viewer, nextTask } from './viewer.js';
 
+// `up`: the samples' own up axis (the Stanford scans are Y-up); files
+// opened by the user get the remembered choice.
 const SAMPLES = [
-  { file: 'bunny.off', label: 'Stanford bunny (7k triangles)' },
+  { file: 'bunny.off', label: 'Stanford bunny (7k triangles)', up: 'y' },
   { file: 'cube_internal_facet.poly', label: 'Cube with an internal facet (2 regions)' },
   { file: 'nested_cubes_cavity.poly', label: 'Cube with a cavity' },
   { file: 'schonhardt.off', label: 'Schönhardt polyhedron' },
   { file: 'fandisk.off', label: 'Fandisk CAD part (14k triangles)' },
-  { file: 'armadillo.obj', label: 'Armadillo (86k triangles, large)' },
+  { file: 'armadillo.obj', label: 'Armadillo (86k triangles, large)', up: 'y' },
 ];
 const DEFAULT_SAMPLE = 'bunny.off';
 
@@ -131,6 +133,7 @@ async function openModel(source) {
   document.title = `${name} — cdt3d`;
   viewer.clear();
   updateSteinerNote();
+  showUp(SAMPLES.find((s) => s.file === source.sample)?.up ?? storedUp());
   current = { id, name, source, result: null, built: null, origin: null, surface: null };
   updateVisibleCount();
   showProgress(name, qualityOption() ? [...PHASES, REFINE_PHASE] : PHASES);
@@ -193,12 +196,14 @@ async function openModel(source) {
     await nextTask();
     if (id !== jobSeq) return;
     const mode = $('color-mode').value;
-    let colors = tetColors(built, mode);
-    await nextTask();
+    let colors = await tetColors(built, mode);
     if (id !== jobSeq) return;
-    if ($('color-mode').value !== mode) colors = tetColors(built); // changed meanwhile
+    if ($('color-mode').value !== mode) colors = await tetColors(built); // changed meanwhile
+    if (id !== jobSeq) return;
     viewer.setExtent(...relativeBounds(result.points, current.origin));
-    viewer.setTets({ position: built.position, center: built.center, colors, order: built.order });
+    // Uploaded to the GPU a slice per task; false when cleared by a newer model.
+    if (!(await viewer.setTets({ position: built.position, center: built.center, colors, order: built.order }))) return;
+    if (id !== jobSeq) return;
     viewer.setSteiner(built.steinerPosition, built.steinerKinds);
     updateSteinerNote();
     applyViewControls();
@@ -324,8 +329,7 @@ geometry.onmessage = (e) => {
   if (msg.type === 'order') {
     if (current?.built && msg.id === current.id) {
       current.built.order = msg;
-      viewer.setOrder(msg);
-      updateVisibleCount();
+      viewer.setOrder(msg).then(updateVisibleCount);
     }
     return;
   }
@@ -347,20 +351,25 @@ function buildGeometry(id, result) {
   }
   return new Promise((resolve, reject) => {
     geometryWaiters.set(id, { resolve, reject });
-    // Copies (the page keeps the result for downloads).
-    geometry.postMessage({
-      type: 'build',
-      id,
-      points: result.points,
-      tets: result.tets,
-      faces: result.faces,
-      tetAttributes: result.tetAttributes,
-      inputPoints: result.inputPoints ?? result.stats?.inputPoints ?? 0,
-      steinerKinds: result.steinerKinds,
-      origin: current.origin,
-      axis: viewer.axis,
-      flip: viewer.flip,
-    });
+    // Copies (the page keeps the result for downloads), transferred: a
+    // plain slice is a memory copy, while cloning the arrays inside
+    // postMessage took over 100 ms of the main thread for a 150k-tet mesh.
+    const arrays = {};
+    for (const key of ['points', 'tets', 'faces', 'tetAttributes', 'steinerKinds']) {
+      if (ArrayBuffer.isView(result[key])) arrays[key] = result[key].slice();
+    }
+    geometry.postMessage(
+      {
+        type: 'build',
+        id,
+        ...arrays,
+        inputPoints: result.inputPoints ?? result.stats?.inputPoints ?? 0,
+        origin: current.origin,
+        axis: viewer.axis,
+        flip: viewer.flip,
+      },
+      Object.values(arrays).map((a) => a.buffer),
+    );
   });
 }
 
@@ -409,8 +418,10 @@ function rampColor(deg) {
 const css = (c) => `rgb(${c.map((v) => Math.round(v * 255)).join(',')})`;
 
 // Per vertex rgba8: the tet colour (shader works in linear space, so colours
-// are squared roughly) and, in alpha, the constrained flag.
-function tetColors(built, mode = $('color-mode').value) {
+// are squared roughly) and, in alpha, the constrained flag. Computed
+// COLOR_SLICE tets per task, so that a large mesh does not block the page.
+const COLOR_SLICE = 1 << 15;
+async function tetColors(built, mode = $('color-mode').value) {
   const nt = built.quality.length;
   const out = new Uint8Array(nt * 16);
   const lut = new Uint8Array(256 * 3); // quality in 0.5 degree steps
@@ -423,6 +434,7 @@ function tetColors(built, mode = $('color-mode').value) {
   const plain = lin(PLAIN_COLOR);
   const { quality, region, flags } = built;
   for (let t = 0; t < nt; t++) {
+    if (t > 0 && t % COLOR_SLICE === 0) await nextTask();
     let r;
     let g;
     let b;
@@ -768,8 +780,12 @@ function storedUp() {
     return 'z';
   }
 }
-$('up-axis').value = storedUp();
-viewer.setUp($('up-axis').value);
+function showUp(up) {
+  $('up-axis').value = up;
+  if (viewer.up !== up) viewer.setUp(up);
+}
+showUp(storedUp());
+// A choice made by hand is remembered (a sample's own axis is not).
 $('up-axis').addEventListener('change', () => {
   const up = $('up-axis').value;
   try {
@@ -795,9 +811,14 @@ $('steiner-mode').addEventListener('change', () => {
   viewer.setSteinerMode($('steiner-mode').value);
   updateSteinerNote();
 });
-$('color-mode').addEventListener('change', () => {
-  if (current?.built) {
-    viewer.setTetColors(tetColors(current.built));
+$('color-mode').addEventListener('change', async () => {
+  const built = current?.built;
+  if (!built) return;
+  const mode = $('color-mode').value;
+  const colors = await tetColors(built, mode);
+  // Only the latest choice for the model still shown.
+  if (current?.built === built && $('color-mode').value === mode) {
+    viewer.setTetColors(colors);
     showLegend();
   }
 });

@@ -91,10 +91,13 @@ void main() {
   outColor = vec4(pow(c, vec3(1.0 / 2.2)), opacity);
 }`;
 
+// Bytes uploaded to the GPU per task (see upload()).
+const UPLOAD_BYTES = 1 << 21;
+
 // Marker size in pixels, and the count beyond which 'auto' shows only the
 // points near the cut plane.
 const STEINER_SIZE_MAX = 5;
-export const STEINER_MANY = 2000;
+export const STEINER_MANY = 1000;
 
 export const STEINER_COLORS = {
   1: [1.0, 0.84, 0.1], // on a segment
@@ -135,7 +138,8 @@ export class Viewer {
 
     this.surface = null;
     this.surfaceHighlighted = 0;
-    this.tets = null; // {mesh, keys, count}
+    this.tets = null; // {mesh, buffers, keys, axis, flip, count, visible}
+    this.generation = 0; // bumped by clear() and setTets(): older uploads stop
     this.steiner = null;
     this.showSurface = true;
     this.surfaceMode = 'ghost'; // 'solid' before/without a mesh, 'ghost' with one
@@ -277,11 +281,8 @@ export class Viewer {
         this[part] = null;
       }
     }
-    if (this.tets) {
-      this.model.remove(this.tets.mesh);
-      this.tets.mesh.geometry.dispose();
-      this.tets = null;
-    }
+    this.generation++; // uploads under way are dropped
+    this.removeTets();
     this.requestRender();
   }
 
@@ -348,26 +349,89 @@ export class Viewer {
 
   /**
    * The tetrahedra from the geometry worker's arrays; `colors` is a
-   * Uint8Array (4 per vertex: rgb and the constrained flag).
+   * Uint8Array (4 per vertex: rgb and the constrained flag). Resolves once
+   * they are on the GPU and shown; false if the view was cleared meanwhile.
    */
-  setTets({ position, center, colors, order }) {
-    if (this.tets) {
-      this.model.remove(this.tets.mesh);
-      this.tets.mesh.geometry.dispose();
+  async setTets({ position, center, colors, order }) {
+    const generation = ++this.generation;
+    const buffers = [];
+    const stale = () => generation !== this.generation;
+    const attributes = [];
+    for (const [array, size, target] of [
+      [position, 3, 'ARRAY_BUFFER'],
+      [center, 3, 'ARRAY_BUFFER'],
+      [order.index, 1, 'ELEMENT_ARRAY_BUFFER'],
+    ]) {
+      const attribute = await this.upload(array, size, target, stale);
+      if (attribute === null) break;
+      buffers.push(attribute.buffer);
+      attributes.push(attribute);
     }
+    // The first draw would otherwise wait for the GPU process to take in
+    // the uploads (hundreds of ms with a software GPU): wait between tasks.
+    if (!stale()) await gpuDone(this.renderer.getContext());
+    if (stale()) {
+      this.deleteBuffers(buffers);
+      return false;
+    }
+    this.removeTets();
     const g = new THREE.BufferGeometry();
-    g.setAttribute('position', new THREE.BufferAttribute(position, 3));
-    g.setAttribute('center', new THREE.BufferAttribute(center, 3));
+    g.setAttribute('position', attributes[0]);
+    g.setAttribute('center', attributes[1]);
     g.setAttribute('color', new THREE.BufferAttribute(colors, 4, true));
-    g.setIndex(new THREE.BufferAttribute(order.index, 1));
+    g.setIndex(attributes[2]);
     g.boundingSphere = new THREE.Sphere(new THREE.Vector3(), Infinity);
     const mesh = new THREE.Mesh(g, this.tetMaterial);
     mesh.frustumCulled = false;
     mesh.renderOrder = 1;
-    this.tets = { mesh, keys: order.keys, axis: order.axis, flip: order.flip, count: position.length / 12 };
+    this.tets = { mesh, buffers, keys: order.keys, axis: order.axis, flip: order.flip, count: position.length / 12 };
     this.model.add(mesh);
     this.setSurfaceMode('ghost');
     this.applyCut();
+    return true;
+  }
+
+  /**
+   * A GL buffer holding `array`, filled a slice per task (UPLOAD_BYTES each),
+   * as a three.js GLBufferAttribute: one upload of the tens of megabytes a
+   * large mesh has blocks the main thread for hundreds of milliseconds with
+   * a software GPU. null (and no buffer) once `stale()` says the view moved on.
+   */
+  async upload(array, itemSize, target, stale) {
+    const gl = this.renderer.getContext();
+    const buffer = gl.createBuffer();
+    const step = Math.max(itemSize, Math.floor(UPLOAD_BYTES / array.BYTES_PER_ELEMENT / itemSize) * itemSize);
+    for (let offset = 0; offset < array.length || offset === 0; offset += step) {
+      // No vertex array object of three.js bound while an element buffer is
+      // bound (it would take the binding); resetState() tells three.js that
+      // its cached GL state is gone.
+      this.renderer.resetState();
+      gl.bindBuffer(gl[target], buffer);
+      if (offset === 0) gl.bufferData(gl[target], array.byteLength, gl.STATIC_DRAW);
+      if (array.length > 0) gl.bufferSubData(gl[target], offset * array.BYTES_PER_ELEMENT, array, offset, Math.min(step, array.length - offset));
+      gl.bindBuffer(gl[target], null);
+      this.renderer.resetState();
+      await nextTask();
+      if (stale()) {
+        gl.deleteBuffer(buffer);
+        return null;
+      }
+    }
+    const type = array instanceof Float32Array ? gl.FLOAT : gl.UNSIGNED_INT;
+    return new THREE.GLBufferAttribute(buffer, type, itemSize, array.BYTES_PER_ELEMENT, array.length / itemSize);
+  }
+
+  deleteBuffers(buffers) {
+    const gl = this.renderer.getContext();
+    for (const b of buffers) gl.deleteBuffer(b);
+  }
+
+  removeTets() {
+    if (!this.tets) return;
+    this.model.remove(this.tets.mesh);
+    this.tets.mesh.geometry.dispose();
+    this.deleteBuffers(this.tets.buffers);
+    this.tets = null;
   }
 
   /** New colours for the tets (same layout as in setTets). */
@@ -380,13 +444,19 @@ export class Viewer {
   }
 
   /** A new order of the tets for another axis or side (from the geometry worker). */
-  setOrder(order) {
-    if (!this.tets) return;
-    const g = this.tets.mesh.geometry;
-    g.setIndex(new THREE.BufferAttribute(order.index, 1));
-    this.tets.keys = order.keys;
-    this.tets.axis = order.axis;
-    this.tets.flip = order.flip;
+  async setOrder(order) {
+    const tets = this.tets;
+    if (!tets) return;
+    const index = await this.upload(order.index, 1, 'ELEMENT_ARRAY_BUFFER', () => this.tets !== tets);
+    if (index === null) return;
+    const g = tets.mesh.geometry;
+    const old = g.index;
+    g.setIndex(index);
+    this.deleteBuffers([old.buffer]);
+    tets.buffers = tets.buffers.map((b) => (b === old.buffer ? index.buffer : b));
+    tets.keys = order.keys;
+    tets.axis = order.axis;
+    tets.flip = order.flip;
     this.applyCut();
   }
 
