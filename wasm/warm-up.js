@@ -7,10 +7,15 @@
 //
 // A closed, star-shaped bumpy sphere with a flat base: its long thin
 // triangles need Steiner points on segments, the base is a merged flat
-// facet, and it is written as OFF, OBJ and binary STL in turn so that each
-// common reader runs.
+// facet. Rounds 0-2 mesh 5k triangles written as OFF, OBJ and binary STL,
+// so that each common reader runs; round 3 meshes 48k triangles (24k
+// points), for the code that only large inputs reach (step 1's rounds on
+// the second thread from 20,000 points) and a heap grown to their size:
+// without it a first model of 100k+ triangles still ran about twice as
+// slow as later ones. Later rounds repeat the small ones.
 
 const FORMATS = ['off', 'obj', 'stl'];
+const LARGE_ROUND = 3;
 
 // Points and triangles of the surface: `rings` latitude rings of `sectors`
 // points between two poles, outward-facing (counterclockwise seen from
@@ -76,10 +81,11 @@ function toStl({ points, triangles }) {
   return new Uint8Array(out.buffer);
 }
 
-/** The warm-up model of round `round` as a file: {bytes, fileName}. */
+/** The warm-up model of round `round` (>= 0) as a file: {bytes, fileName}. */
 export function warmUpModel(round) {
-  const format = FORMATS[((round % FORMATS.length) + FORMATS.length) % FORMATS.length];
-  const surface = bumpySphere(40, 64);
+  const large = round === LARGE_ROUND;
+  const format = large ? 'obj' : FORMATS[round % FORMATS.length];
+  const surface = large ? bumpySphere(120, 200) : bumpySphere(40, 64);
   const bytes = format === 'off' ? toOff(surface) : format === 'obj' ? toObj(surface) : toStl(surface);
   return { bytes, fileName: `warm-up.${format}` };
 }

@@ -293,14 +293,14 @@ export function createMeshWorker() {
 
     /**
      * Starts the worker and instantiates the WebAssembly module now (it is
-     * compiled while it downloads), then meshes a small built-in model
-     * `rounds` times with `options` (the options the caller's models will
-     * use), so that the engine has optimised the hot functions before the
+     * compiled while it downloads), then meshes built-in models (warm-up.js:
+     * three small ones, then a large one) `rounds` times with `options` (the
+     * options the caller's models will use), so that the engine has optimised the hot functions before the
      * first real model: a cold module runs its first large model several
      * times slower. Warm-up gives way to real jobs: it stops as soon as one
      * is submitted. Resolves to {threaded, loadMs, runs: [ms of each round]}.
      */
-    async prepare({ rounds = 6, options = {}, signal } = {}) {
+    async prepare({ rounds = 4, options = {}, signal } = {}) {
       if (!Number.isInteger(rounds) || rounds < 0) {
         throw new Cdt3dError('invalid-argument', `prepare: rounds must be a non-negative integer, got ${rounds}.`);
       }

@@ -257,8 +257,8 @@ function meshOptions() {
 // ---------------------------------------------------------------- the mesher
 
 // The worker starts now: the WebAssembly module is compiled while it
-// downloads, then a small built-in model is meshed a few times with the
-// page's options, so that the engine has optimised the hot code before the
+// downloads, then the package's built-in models are meshed with the page's
+// options, so that the engine has optimised the hot code before the
 // user's first model (a cold module meshed it several times slower). All of
 // it runs in the worker; a model opened meanwhile goes first.
 function setEngine(state, text) {

@@ -229,6 +229,30 @@ test('cdt3d/worker in Node: errors, cancel, reuse and write', { skip: workerSkip
   }
 });
 
+test('cdt3d/worker in Node: prepare() loads the module, warms it up, and gives way to a real job', { skip: workerSkip, timeout: 120_000 }, async () => {
+  const { createMeshWorker } = await importWorkerHelper();
+  const w = createMeshWorker();
+  try {
+    const loaded = await w.prepare({ rounds: 0 });
+    assert.deepEqual(loaded.runs, []);
+    assert.equal(loaded.threaded, true, 'Node gets the two-thread module');
+    assert.ok(loaded.loadMs >= 0);
+    // Each round meshes the built-in model (a failure would reject).
+    const warmed = await w.prepare({ rounds: 3, options: { validate: true } });
+    assert.equal(warmed.runs.length, 3);
+    // A real job submitted while warming goes first; warm-up stops.
+    const warming = w.prepare({ rounds: 50 });
+    const small = readFileSync(path.join(repoRoot, SMALL));
+    const result = await w.mesh(small, {}, { fileName: path.basename(SMALL), transfer: false });
+    assert.ok((await warming).runs.length < 50, 'warm-up went on after a real job was submitted');
+    const local = await (await importPackage()).createCdt3d();
+    assert.deepEqual(result.tets, local.tetrahedralize({ bytes: small, fileName: path.basename(SMALL) }).tets);
+    await assert.rejects(w.prepare({ rounds: -1 }), /rounds must be a non-negative integer/);
+  } finally {
+    w.terminate();
+  }
+});
+
 // ---------------------------------------------------------------- tests
 
 test('the page opens and meshes its default sample', { skip, timeout: 90_000 }, async () => {
