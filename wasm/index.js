@@ -29,15 +29,31 @@ function canShareMemory() {
 }
 
 async function createThreaded(args) {
+  // A pool worker script that is missing (say, a bundler did not emit it)
+  // fails before Emscripten listens for its errors: ask first.
+  if (threadsWorkerUrl.protocol === 'http:' || threadsWorkerUrl.protocol === 'https:') {
+    const head = await fetch(threadsWorkerUrl, { method: 'HEAD' }).catch(() => null);
+    if (!head?.ok) throw new Error(`its worker script ${threadsWorkerUrl.href} is missing`);
+  }
   const { default: create } = await import(/* @vite-ignore */ threadsJsUrl.href);
   let timer;
-  const late = new Promise((_, reject) => {
+  let onError;
+  const failed = new Promise((_, reject) => {
     timer = setTimeout(() => reject(new Error('its thread pool did not start')), THREADS_START_MS);
+    // A pool worker that cannot load makes Emscripten rethrow its error
+    // event here, uncaught; taken as the start's failure, it is kept from
+    // ending the caller's worker.
+    onError = (e) => {
+      e.preventDefault();
+      reject(new Error(`its thread pool failed: ${e.message || 'the worker did not load'}`));
+    };
+    globalThis.addEventListener?.('error', onError);
   });
   try {
-    return await Promise.race([create(args), late]);
+    return await Promise.race([create(args), failed]);
   } finally {
     clearTimeout(timer);
+    globalThis.removeEventListener?.('error', onError);
   }
 }
 

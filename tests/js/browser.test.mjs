@@ -1,8 +1,9 @@
 // The package's browser entry ("default" export condition) in a real browser:
 // headless Chromium loads it on a page and in a module worker, reads the small
 // corpus files, meshes one model and posts the results back; they must equal
-// Node's. Twice: served with the COOP/COEP headers (cross-origin isolated:
-// the two-thread module) and without them (the single-threaded fallback).
+// Node's. Served with the COOP/COEP headers (cross-origin isolated: the
+// two-thread module), without them (the single-threaded fallback), and with
+// them but without the thread pool's worker script (the fallback again).
 // Needs /usr/bin/chromium (or $CHROMIUM_PATH); CDT3D_SKIP_BROWSER=1 skips.
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
@@ -31,8 +32,9 @@ const MIME = {
 // Runs the files through one cdt3d instance; shared by the page and the worker.
 const RUN = `
 async function run(createCdt3d, Cdt3dError, files) {
+  const t0 = performance.now();
   const cdt = await createCdt3d();
-  const out = { version: cdt.version, threaded: cdt.threaded, isolated: self.crossOriginIsolated === true, results: {} };
+  const out = { createMs: performance.now() - t0, version: cdt.version, threaded: cdt.threaded, isolated: self.crossOriginIsolated === true, results: {} };
   for (const rel of files) {
     const bytes = new Uint8Array(await (await fetch('/' + rel)).arrayBuffer());
     try {
@@ -93,6 +95,7 @@ let origin;
 let resultPromise;
 let deliver;
 let isolated = false; // send the COOP/COEP headers
+let noPoolWorker = false; // answer 404 for the two-thread module's worker script
 
 before(async () => {
   if (skip) return;
@@ -118,6 +121,7 @@ before(async () => {
       });
       return;
     }
+    if (noPoolWorker && url.pathname.endsWith('/threads/cdt3d.worker.js')) return send(404, 'text/plain', 'not found');
     if (url.pathname === '/') return send(200, MIME['.html'], page(entry));
     if (url.pathname === '/worker.js') return send(200, MIME['.js'], worker(entry));
     if (url.pathname === '/files.json') return send(200, MIME['.json'], JSON.stringify(files));
@@ -143,7 +147,19 @@ for (const withHeaders of [true, false]) {
   );
 }
 
-async function runInChromium(withHeaders) {
+test('isolated, but the thread pool cannot load: the single-threaded module, without waiting for the time-out', { skip, timeout: 180_000 }, async () => {
+  noPoolWorker = true;
+  try {
+    const t0 = Date.now();
+    await runInChromium(true, false);
+    // Page and worker each fall back; the 10 s time-out would have taken 20 s.
+    assert.ok(Date.now() - t0 < 90_000);
+  } finally {
+    noPoolWorker = false;
+  }
+});
+
+async function runInChromium(withHeaders, threads = withHeaders) {
   isolated = withHeaders;
   resultPromise = new Promise((resolve) => {
     deliver = resolve;
@@ -205,7 +221,8 @@ async function runInChromium(withHeaders) {
     assert.equal(got[where].failed, undefined, `${where}: ${got[where].failed}`);
     assert.equal(got[where].version, cdt.version, `${where}: version`);
     assert.equal(got[where].isolated, withHeaders, `${where}: crossOriginIsolated`);
-    assert.equal(got[where].threaded, withHeaders, `${where}: the ${withHeaders ? 'two-thread' : 'single-threaded'} module`);
+    assert.equal(got[where].threaded, threads, `${where}: the ${threads ? 'two-thread' : 'single-threaded'} module`);
+    if (!threads) assert.ok(got[where].createMs < 9_000, `${where}: ${got[where].createMs} ms to start`);
     assert.deepEqual(got[where].results, expected, `${where}: results differ from Node`);
     assert.deepEqual(got[where].mesh.stats, stats, `${where}: mesh statistics differ from Node`);
     assert.deepEqual(got[where].mesh.validation, mesh.validation, `${where}: validation`);
