@@ -495,9 +495,12 @@ function showProgress(name, phases) {
   $('progress-steps').innerHTML = phases.map(([p, label]) => `<li data-phase="${p}">${label}</li>`).join('');
   const t0 = performance.now();
   clearInterval(progressTimer);
+  pendingProgress = null;
+  drawnPhase = null;
   progressTimer = setInterval(() => {
     $('progress-time').textContent = seconds(performance.now() - t0);
-  }, 100);
+    if (pendingProgress) drawProgress(pendingProgress);
+  }, PROGRESS_PAINT_MS);
   setPhase('starting…');
 }
 
@@ -510,7 +513,21 @@ function setPhase(text) {
   $('progress-phase').textContent = text;
 }
 
-function onProgress({ phase, fraction }) {
+// The bar is repainted at most every PROGRESS_PAINT_MS, and at once when
+// the phase changes: each repaint of the overlay composites the page again,
+// which with a software GPU took CPU time from the meshing threads (the
+// worker reports up to 25 times a second).
+const PROGRESS_PAINT_MS = 250;
+let pendingProgress = null;
+let drawnPhase = null;
+function onProgress(progress) {
+  pendingProgress = progress;
+  if (progress.phase !== drawnPhase) drawProgress(progress);
+}
+
+function drawProgress({ phase, fraction }) {
+  pendingProgress = null;
+  drawnPhase = phase;
   const i = progressPhases.findIndex(([p]) => p === phase);
   const f = Math.max(0, Math.min(1, Number(fraction) || 0));
   if (phase === 'done') {
