@@ -9,10 +9,12 @@
 // triangles need Steiner points on segments, the base is a merged flat
 // facet. Rounds 0-2 mesh 5k triangles written as OFF, OBJ and binary STL,
 // so that each common reader runs; round 3 meshes 48k triangles (24k
-// points), for the code that only large inputs reach (step 1's rounds on
-// the second thread from 20,000 points) and a heap grown to their size:
-// without it a first model of 100k+ triangles still ran about twice as
-// slow as later ones. Later rounds repeat the small ones.
+// points, its radius made rough like a scan's, which leaves facet
+// recovery thousands of cavities), for the code that only large inputs
+// reach (step 1's rounds on the second thread from 20,000 points) and a
+// heap grown to their size: without it a first model of 100k+ triangles
+// still ran about twice as slow as later ones. Later rounds repeat the
+// small ones.
 
 const FORMATS = ['off', 'obj', 'stl'];
 const LARGE_ROUND = 3;
@@ -21,10 +23,17 @@ const LARGE_ROUND = 3;
 // points between two poles, outward-facing (counterclockwise seen from
 // outside). Radius bumps keep the surface a graph over the sphere's
 // directions, so it cannot intersect itself.
-function bumpySphere(rings, sectors) {
+function bumpySphere(rings, sectors, roughness = 0) {
   const points = [];
+  let seed = 12345;
+  // Deterministic noise in [0, 1) (an LCG): the radius of a scan is rough.
+  const noise = () => {
+    seed = (Math.imul(seed, 1103515245) + 12345) >>> 0;
+    return seed / 2 ** 32;
+  };
   const push = (theta, phi) => {
-    const r = 1 + 0.08 * Math.sin(5 * theta) * Math.sin(4 * phi) + 0.05 * Math.cos(7 * phi);
+    const r =
+      1 + 0.08 * Math.sin(5 * theta) * Math.sin(4 * phi) + 0.05 * Math.cos(7 * phi) + roughness * (noise() - 0.5);
     const x = r * Math.sin(phi) * Math.cos(theta);
     const y = r * Math.sin(phi) * Math.sin(theta);
     // The bottom cut flat: one plane, many coplanar triangles.
@@ -85,7 +94,7 @@ function toStl({ points, triangles }) {
 export function warmUpModel(round) {
   const large = round === LARGE_ROUND;
   const format = large ? 'obj' : FORMATS[round % FORMATS.length];
-  const surface = large ? bumpySphere(120, 200) : bumpySphere(40, 64);
+  const surface = large ? bumpySphere(120, 200, 0.01) : bumpySphere(40, 64);
   const bytes = format === 'off' ? toOff(surface) : format === 'obj' ? toObj(surface) : toStl(surface);
   return { bytes, fileName: `warm-up.${format}` };
 }

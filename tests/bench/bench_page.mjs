@@ -8,11 +8,13 @@
 // MODEL is a path, or a file name looked up in $CDT3D_BENCH_MODELS, tests/data
 // and web/public/samples (default: bunny.off armadillo.obj nefertiti.obj; the
 // last is not in the repository: point CDT3D_BENCH_MODELS at a folder with it).
-// For each model: the native CLI (`cdt3d mesh MODEL --validate --json`,
-// BENCH_NATIVE_RUNS times, median), then a fresh load of the page (no HTTP
-// cache, no default sample) that waits until the page says its mesher is
-// ready, opens the model through the file input ("first"), and opens it
-// again BENCH_LATER times ("later", median). The page is served with the
+// For each model, BENCH_FIRST times (default 1): a fresh load of the page
+// (no HTTP cache, no default sample) that waits until the page says its
+// mesher is ready, opens the model through the file input ("first"), and
+// opens it again BENCH_LATER times (default 3: "later"); right before each
+// of these page runs the native CLI meshes the model once
+// (`cdt3d mesh MODEL --validate --json`), so that both see the same load.
+// Medians of each. The page is served with the
 // COOP/COEP headers (the two-thread module); BENCH_ISOLATION=0 serves it
 // without them (the single-threaded fallback). Needs the native and WASM
 // builds (tests/scripts/build.sh) and /usr/bin/chromium (or $CHROMIUM_PATH).
@@ -28,7 +30,7 @@ const repoRoot = fileURLToPath(new URL('../../', import.meta.url));
 const nativeCli = path.join(repoRoot, '.build', 'native', 'core', 'cdt3d');
 const isolation = process.env.BENCH_ISOLATION !== '0';
 const laterRuns = positive('BENCH_LATER', 3);
-const nativeRuns = positive('BENCH_NATIVE_RUNS', 3);
+const firstRuns = positive('BENCH_FIRST', 1);
 const DEFAULT_MODELS = ['bunny.off', 'armadillo.obj', 'nefertiti.obj'];
 
 function positive(name, fallback) {
@@ -61,18 +63,13 @@ const median = (xs) => {
 };
 
 function native(file) {
-  const runs = [];
-  let stats;
-  for (let i = 0; i < nativeRuns; i++) {
-    const out = execFileSync(nativeCli, ['mesh', file, '--validate', '--json', '-q'], {
-      encoding: 'utf8',
-      maxBuffer: 64 << 20,
-    });
-    stats = JSON.parse(out);
-    if (!stats.ok) fail(`the native CLI failed on ${file}: ${out.slice(0, 300)}`);
-    runs.push(stats.msTotal);
-  }
-  return { ms: median(runs), runs, tets: stats.tets };
+  const out = execFileSync(nativeCli, ['mesh', file, '--validate', '--json', '-q'], {
+    encoding: 'utf8',
+    maxBuffer: 64 << 20,
+  });
+  const stats = JSON.parse(out);
+  if (!stats.ok) fail(`the native CLI failed on ${file}: ${out.slice(0, 300)}`);
+  return stats;
 }
 
 // Opens `file` through the page's file input; resolves to what the page measured.
@@ -119,36 +116,45 @@ async function main() {
     await context.addInitScript(recordLongTasks);
 
     console.log(`# ${new Date().toISOString()} load ${os.loadavg().map((l) => l.toFixed(2)).join(' ')}; ` +
-      `page ${isolation ? 'cross-origin isolated' : 'not isolated'}; native median of ${nativeRuns}, later median of ${laterRuns}`);
+      `page ${isolation ? 'cross-origin isolated' : 'not isolated'}; ${firstRuns} page load(s) per model, ${laterRuns} later runs each`);
     const rows = [];
     for (const file of models) {
       const name = path.basename(file);
-      const nat = native(file);
-      for (const p of context.pages()) await p.close();
-      const page = await context.newPage();
-      const t0 = Date.now();
-      await page.goto(`${origin}/?model=`);
-      await page.waitForFunction(() => ['ready', 'failed'].includes(document.body.dataset.engine), null, {
-        timeout: 300_000,
-      });
-      const engine = await page.evaluate(() => window.cdt3dDemo.engine);
-      const readyMs = Date.now() - t0;
-      const first = await openOnPage(page, file);
-      if (first.state !== 'done') fail(`${name}: the page ended in "${first.state}": ${first.error}`);
+      const nat = [];
+      const firsts = [];
       const later = [];
-      for (let i = 0; i < laterRuns; i++) later.push(await openOnPage(page, file));
-      const laterMs = median(later.map((r) => r.ms));
+      let engine;
+      let readyMs;
+      for (let k = 0; k < firstRuns; k++) {
+        for (const p of context.pages()) await p.close();
+        const page = await context.newPage();
+        const t0 = Date.now();
+        await page.goto(`${origin}/?model=`);
+        await page.waitForFunction(() => ['ready', 'failed'].includes(document.body.dataset.engine), null, {
+          timeout: 300_000,
+        });
+        engine = await page.evaluate(() => window.cdt3dDemo.engine);
+        readyMs = Date.now() - t0;
+        nat.push(native(file));
+        const first = await openOnPage(page, file);
+        if (first.state !== 'done') fail(`${name}: the page ended in "${first.state}": ${first.error}`);
+        firsts.push(first);
+        for (let i = 0; i < laterRuns; i++) {
+          nat.push(native(file));
+          later.push(await openOnPage(page, file));
+        }
+      }
+      const first = firsts[0];
       rows.push({
-        name, tets: nat.tets, native: nat.ms, first: first.ms, later: laterMs,
-        threads: engine.threaded ? 2 : 1, readyMs, warm: engine.runs,
-        firstWall: first.wall, firstShown: first.shown,
-        longest: Math.max(first.longest, ...later.map((r) => r.longest)),
+        name, tets: nat[0].tets, native: median(nat.map((n) => n.msTotal)), first: median(firsts.map((f) => f.ms)),
+        later: median(later.map((r) => r.ms)), threads: engine.threaded ? 2 : 1, readyMs, warm: engine.runs,
+        longest: Math.max(...firsts.map((f) => f.longest), ...later.map((r) => r.longest)),
       });
       const r = rows.at(-1);
       console.log(
-        `${name}: ${r.tets} tets; native ${nat.runs.map((x) => x.toFixed(0)).join('/')} ms; ` +
+        `${name}: ${r.tets} tets; native ${nat.map((x) => x.msTotal.toFixed(0)).join('/')} ms; ` +
           `page ready after ${readyMs} ms (${r.threads} thread${r.threads === 1 ? '' : 's'}, warm-up rounds ` +
-          `${r.warm.map((x) => x.toFixed(0)).join('/')} ms); first ${first.ms.toFixed(0)} ms ` +
+          `${r.warm.map((x) => x.toFixed(0)).join('/')} ms); first ${firsts.map((f) => f.ms.toFixed(0)).join('/')} ms ` +
           `(worker ${first.wall.toFixed(0)} ms, shown after ${first.shown.toFixed(0)} ms); later ` +
           `${later.map((x) => x.ms.toFixed(0)).join('/')} ms; longest main-thread task ${r.longest.toFixed(0)} ms`,
       );
