@@ -268,7 +268,8 @@ function setEngine(state, text) {
 }
 
 function threadsText(threaded) {
-  return threaded ? 'two threads' : 'one thread (the page is not cross-origin isolated)';
+  if (threaded) return 'two threads';
+  return self.crossOriginIsolated ? 'one thread (the two-thread module did not start)' : 'one thread (the page is not cross-origin isolated)';
 }
 
 setEngine('loading', 'Loading the mesher…');
@@ -418,9 +419,11 @@ function rampColor(deg) {
 const css = (c) => `rgb(${c.map((v) => Math.round(v * 255)).join(',')})`;
 
 // Per vertex rgba8: the tet colour (shader works in linear space, so colours
-// are squared roughly) and, in alpha, the constrained flag. Computed
-// COLOR_SLICE tets per task, so that a large mesh does not block the page.
-const COLOR_SLICE = 1 << 15;
+// are squared roughly) and, in alpha, the constrained flag. Computed in
+// slices of at most COLOR_SLICE_MS, so that a large mesh does not block the
+// page (the first slices run as cold, interpreted code: 32k tets took up to
+// about 100 ms on a loaded machine).
+const COLOR_SLICE_MS = 15;
 async function tetColors(built, mode = $('color-mode').value) {
   const nt = built.quality.length;
   const out = new Uint8Array(nt * 16);
@@ -433,8 +436,12 @@ async function tetColors(built, mode = $('color-mode').value) {
   const regionLut = REGION_COLORS.map(lin);
   const plain = lin(PLAIN_COLOR);
   const { quality, region, flags } = built;
+  let sliceStart = performance.now();
   for (let t = 0; t < nt; t++) {
-    if (t > 0 && t % COLOR_SLICE === 0) await nextTask();
+    if ((t & 1023) === 1023 && performance.now() - sliceStart > COLOR_SLICE_MS) {
+      await nextTask();
+      sliceStart = performance.now();
+    }
     let r;
     let g;
     let b;

@@ -92,7 +92,7 @@ void main() {
 }`;
 
 // Bytes uploaded to the GPU per task (see upload()).
-const UPLOAD_BYTES = 1 << 21;
+const UPLOAD_BYTES = 1 << 20;
 
 // Marker size in pixels, and the count beyond which 'auto' shows only the
 // points near the cut plane.
@@ -411,7 +411,10 @@ export class Viewer {
       if (array.length > 0) gl.bufferSubData(gl[target], offset * array.BYTES_PER_ELEMENT, array, offset, Math.min(step, array.length - offset));
       gl.bindBuffer(gl[target], null);
       this.renderer.resetState();
-      await nextTask();
+      // The next slice only once the GPU process has taken this one: with
+      // its transfer buffer full, a bufferSubData call blocks the main
+      // thread until there is room.
+      await gpuDone(gl);
       if (stale()) {
         gl.deleteBuffer(buffer);
         return null;
