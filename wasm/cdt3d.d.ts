@@ -121,11 +121,12 @@ export interface Cdt3d {
   /** Every code a Cdt3dError can carry. */
   readonly errorCodes: readonly Cdt3dErrorCode[];
   /**
-   * True for the two-thread module that Node gets by default: a call then
-   * does some of its work (the self-intersection test, half of the later
-   * insertion rounds of step 1 from 20,000 points, half of the facet
-   * triangulations and statistics) on a second core. False in browsers and
-   * workers, and under Node with `createCdt3d({ threads: false })`.
+   * True for the two-thread module that Node, and cross-origin isolated
+   * pages and their workers, get by default: a call then does some of its
+   * work (the self-intersection test, half of the later insertion rounds of
+   * step 1 from 20,000 points, half of the facet triangulations and
+   * statistics) on a second core. False on pages that are not cross-origin
+   * isolated, and with `createCdt3d({ threads: false })`.
    */
   readonly threaded: boolean;
   /**
@@ -551,10 +552,11 @@ export interface CreateCdt3dOptions {
   /** Where to fetch `path` ("cdt3d.wasm") from; `prefix` is the script's folder. */
   locateFile?: (path: string, prefix: string) => string;
   /**
-   * Node only: false loads the single-threaded module. By default Node gets
-   * the two-thread module (one extra worker thread, started with the
-   * instance) unless `wasmBinary` or `locateFile` is given, which name the
-   * single-threaded module's .wasm. Ignored in browsers and workers.
+   * False loads the single-threaded module. By default Node, and pages that
+   * are cross-origin isolated (and their workers), get the two-thread module
+   * (one extra worker thread, started with the instance) unless `wasmBinary`
+   * or `locateFile` is given, which name the single-threaded module's .wasm.
+   * Elsewhere in browsers true cannot apply (no SharedArrayBuffer).
    */
   threads?: boolean;
 }

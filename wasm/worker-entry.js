@@ -13,7 +13,10 @@
 //   {id, type: 'write', result, format} -> {id, type: 'written', text} | error
 //      (text: a string, or a Uint8Array with its buffer transferred for msh, msh-binary, vtu)
 //   {id, type: 'readSurface', bytes, fileName} -> {id, type: 'surface', surface} | error
+//   {id, type: 'warm', round, options} -> {id, type: 'warmed', ms, threaded} | error
+//      (round >= 0 meshes the warm-up model with `options`; -1 only loads the module)
 import { Cdt3dError, createCdt3d as createForBrowser } from './index.js';
+import { warmUpModel } from './warm-up.js';
 
 // Progress messages are throttled: a phase change, the end, or every 40 ms.
 const PROGRESS_INTERVAL_MS = 40;
@@ -33,6 +36,7 @@ function serve(createCdt3d, post, listen) {
   });
 
   async function handle(msg) {
+    const started = performance.now();
     const id = msg?.id;
     let bytes = null;
     let fileName = '';
@@ -45,6 +49,12 @@ function serve(createCdt3d, post, listen) {
       if (msg.type === 'write') {
         const text = cdt.write(msg.result, msg.format);
         post({ id, type: 'written', text }, typeof text === 'string' ? [] : [text.buffer]);
+        return;
+      }
+      if (msg.type === 'warm') {
+        // ms: for round -1 the module's download, compilation and start.
+        if (msg.round >= 0) cdt.tetrahedralize(warmUpModel(msg.round), { ...(msg.options ?? {}) });
+        post({ id, type: 'warmed', ms: performance.now() - started, threaded: cdt.threaded });
         return;
       }
       if (msg.type === 'readSurface') {

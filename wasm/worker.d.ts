@@ -32,12 +32,33 @@ export interface WorkerJobOptions {
   transfer?: boolean;
 }
 
+/** What `prepare()` did. */
+export interface PrepareResult {
+  /** The instance runs the two-thread module (cross-origin isolated pages, Node). */
+  threaded: boolean;
+  /** Milliseconds to start the worker's instance (download, compile, instantiate). */
+  loadMs: number;
+  /** Milliseconds of each warm-up round run. */
+  runs: number[];
+}
+
 /** A worker kept alive between jobs (the WebAssembly module is instantiated once). */
 export interface MeshWorker {
   mesh(file: WorkerInput, options?: Omit<TetrahedralizeOptions, 'onProgress' | 'signal'>, extra?: WorkerJobOptions): Promise<MeshResult>;
   readSurface(file: WorkerInput, extra?: { fileName?: string; signal?: AbortSignalLike }): Promise<InputSurface>;
   write(result: MeshResult, format: 'node' | 'ele' | 'face' | 'vtk' | 'mesh', extra?: { signal?: AbortSignalLike }): Promise<string>;
   write(result: MeshResult, format: 'msh' | 'msh-binary' | 'vtu', extra?: { signal?: AbortSignalLike }): Promise<Uint8Array>;
+  /**
+   * Starts the worker and loads the module now (compiled while it
+   * downloads), then meshes built-in models `rounds` times (default 4:
+   * three small ones, then a large one) with `options`, so that the engine has optimised the hot code before
+   * the first real model. Stops early when a real job is submitted.
+   */
+  prepare(settings?: {
+    rounds?: number;
+    options?: Omit<TetrahedralizeOptions, 'onProgress' | 'signal'>;
+    signal?: AbortSignalLike;
+  }): Promise<PrepareResult>;
   /** True while a job runs. */
   readonly busy: boolean;
   /** Stops the worker; pending jobs reject with "cancelled". */

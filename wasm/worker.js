@@ -149,6 +149,7 @@ export function createMeshWorker() {
     else if (msg.type === 'result') job.resolve(msg.result);
     else if (msg.type === 'written') job.resolve(msg.text);
     else if (msg.type === 'surface') job.resolve(msg.surface);
+    else if (msg.type === 'warmed') job.resolve(msg);
     else job.reject(new Cdt3dError('internal', `cdt3d worker: unexpected answer ${JSON.stringify(msg.type)}.`));
     pump();
   }
@@ -288,6 +289,34 @@ export function createMeshWorker() {
      */
     write(result, format, { signal } = {}) {
       return submit('write', '', (id) => ({ message: { id, type: 'write', result, format }, transfer: [] }), { signal });
+    },
+
+    /**
+     * Starts the worker and instantiates the WebAssembly module now (it is
+     * compiled while it downloads), then meshes built-in models (warm-up.js:
+     * three small ones, then a large one) `rounds` times with `options` (the
+     * options the caller's models will use), so that the engine has optimised the hot functions before the
+     * first real model: a cold module runs its first large model several
+     * times slower. Warm-up gives way to real jobs: it stops as soon as one
+     * is submitted. Resolves to {threaded, loadMs, runs: [ms of each round]}.
+     */
+    async prepare({ rounds = 4, options = {}, signal } = {}) {
+      if (!Number.isInteger(rounds) || rounds < 0) {
+        throw new Cdt3dError('invalid-argument', `prepare: rounds must be a non-negative integer, got ${rounds}.`);
+      }
+      // Plain data only: callbacks and signals cannot be posted.
+      const plain = Object.fromEntries(
+        Object.entries(options ?? {}).filter(([k, v]) => typeof v !== 'function' && k !== 'signal'),
+      );
+      const warm = (round) =>
+        submit('warm', '', (id) => ({ message: { id, type: 'warm', round, options: plain }, transfer: [] }), { signal });
+      const loaded = await warm(-1);
+      const runs = [];
+      for (let round = 0; round < rounds; round++) {
+        if (current !== null || waiting.length > 0 || closed) break; // a real job goes first
+        runs.push((await warm(round)).ms);
+      }
+      return { threaded: loaded.threaded, loadMs: loaded.ms, runs };
     },
 
     /** True while a job is running or waiting. */

@@ -3,15 +3,17 @@
 // result with three.js, statistics and downloads.
 import { createMeshWorker } from 'cdt3d/worker';
 
-import { BACKGROUND, STEINER_COLORS, Viewer, nextTask } from './viewer.js';
+import { BACKGROUND, STEINER_COLORS, STEINER_MANY, Viewer, nextTask } from './viewer.js';
 
+// `up`: the samples' own up axis (the Stanford scans are Y-up); files
+// opened by the user get the remembered choice.
 const SAMPLES = [
-  { file: 'bunny.off', label: 'Stanford bunny (7k triangles)' },
+  { file: 'bunny.off', label: 'Stanford bunny (7k triangles)', up: 'y' },
   { file: 'cube_internal_facet.poly', label: 'Cube with an internal facet (2 regions)' },
   { file: 'nested_cubes_cavity.poly', label: 'Cube with a cavity' },
   { file: 'schonhardt.off', label: 'Schönhardt polyhedron' },
   { file: 'fandisk.off', label: 'Fandisk CAD part (14k triangles)' },
-  { file: 'armadillo.obj', label: 'Armadillo (86k triangles, large)' },
+  { file: 'armadillo.obj', label: 'Armadillo (86k triangles, large)', up: 'y' },
 ];
 const DEFAULT_SAMPLE = 'bunny.off';
 
@@ -82,6 +84,9 @@ const demo = {
   snapshot: () => viewer.snapshot(),
   repair: null, // the repair report of the last "Repair and mesh"
   quality: null, // the quality option of the last job (null: no refinement)
+  // The mesher: 'loading', 'warming' (meshing its built-in model), 'ready' or
+  // 'failed'; threaded: the two-thread module; loadMs and runs (warm-up ms).
+  engine: { state: 'loading', threaded: null, loadMs: NaN, runs: [] },
 };
 window.cdt3dDemo = demo;
 
@@ -127,6 +132,8 @@ async function openModel(source) {
   $('model-status').textContent = 'Meshing…';
   document.title = `${name} — cdt3d`;
   viewer.clear();
+  updateSteinerNote();
+  showUp(SAMPLES.find((s) => s.file === source.sample)?.up ?? storedUp());
   current = { id, name, source, result: null, built: null, origin: null, surface: null };
   updateVisibleCount();
   showProgress(name, qualityOption() ? [...PHASES, REFINE_PHASE] : PHASES);
@@ -142,11 +149,7 @@ async function openModel(source) {
     if (id !== jobSeq) return;
     setState('meshing');
     timing.meshStart = performance.now();
-    const options = {
-      validate: $('opt-validate').checked,
-      keepConvexHull: $('opt-hull').checked,
-      keepTriangles: $('opt-keep-triangles').checked,
-    };
+    const options = meshOptions();
     if (source.repair) options.repair = true;
     const quality = qualityOption();
     if (quality) options.quality = quality;
@@ -193,13 +196,16 @@ async function openModel(source) {
     await nextTask();
     if (id !== jobSeq) return;
     const mode = $('color-mode').value;
-    let colors = tetColors(built, mode);
-    await nextTask();
+    let colors = await tetColors(built, mode);
     if (id !== jobSeq) return;
-    if ($('color-mode').value !== mode) colors = tetColors(built); // changed meanwhile
+    if ($('color-mode').value !== mode) colors = await tetColors(built); // changed meanwhile
+    if (id !== jobSeq) return;
     viewer.setExtent(...relativeBounds(result.points, current.origin));
-    viewer.setTets({ position: built.position, center: built.center, colors, order: built.order });
+    // Uploaded to the GPU a slice per task; false when cleared by a newer model.
+    if (!(await viewer.setTets({ position: built.position, center: built.center, colors, order: built.order }))) return;
+    if (id !== jobSeq) return;
     viewer.setSteiner(built.steinerPosition, built.steinerKinds);
+    updateSteinerNote();
     applyViewControls();
     $('downloads').hidden = false;
     $('remesh').disabled = false;
@@ -238,6 +244,51 @@ function nextFrames(n) {
 function seconds(ms) {
   return ms < 1000 ? `${Math.round(ms)} ms` : `${(ms / 1000).toFixed(2)} s`;
 }
+
+// The options of the check boxes (quality is added by the caller).
+function meshOptions() {
+  return {
+    validate: $('opt-validate').checked,
+    keepConvexHull: $('opt-hull').checked,
+    keepTriangles: $('opt-keep-triangles').checked,
+  };
+}
+
+// ---------------------------------------------------------------- the mesher
+
+// The worker starts now: the WebAssembly module is compiled while it
+// downloads, then the package's built-in models are meshed with the page's
+// options, so that the engine has optimised the hot code before the
+// user's first model (a cold module meshed it several times slower). All of
+// it runs in the worker; a model opened meanwhile goes first.
+function setEngine(state, text) {
+  demo.engine.state = state;
+  document.body.dataset.engine = state;
+  $('engine').textContent = text;
+}
+
+function threadsText(threaded) {
+  if (threaded) return 'two threads';
+  return self.crossOriginIsolated ? 'one thread (the two-thread module did not start)' : 'one thread (the page is not cross-origin isolated)';
+}
+
+setEngine('loading', 'Loading the mesher…');
+mesher
+  .prepare({ rounds: 0 })
+  .then((loaded) => {
+    demo.engine.threaded = loaded.threaded;
+    demo.engine.loadMs = loaded.loadMs;
+    setEngine('warming', `Mesher: ${threadsText(loaded.threaded)}; warming up…`);
+    return mesher.prepare({ options: meshOptions() });
+  })
+  .then((warmed) => {
+    demo.engine.runs = warmed.runs;
+    setEngine('ready', `Mesher: ${threadsText(warmed.threaded)}; ready.`);
+  })
+  .catch((e) => {
+    // Jobs still start the worker on their own; their errors say what failed.
+    setEngine('failed', `The mesher could not be prepared: ${e?.message ?? e}`);
+  });
 
 // ---------------------------------------------------------------- surface & geometry
 
@@ -279,8 +330,7 @@ geometry.onmessage = (e) => {
   if (msg.type === 'order') {
     if (current?.built && msg.id === current.id) {
       current.built.order = msg;
-      viewer.setOrder(msg);
-      updateVisibleCount();
+      viewer.setOrder(msg).then(updateVisibleCount);
     }
     return;
   }
@@ -302,20 +352,25 @@ function buildGeometry(id, result) {
   }
   return new Promise((resolve, reject) => {
     geometryWaiters.set(id, { resolve, reject });
-    // Copies (the page keeps the result for downloads).
-    geometry.postMessage({
-      type: 'build',
-      id,
-      points: result.points,
-      tets: result.tets,
-      faces: result.faces,
-      tetAttributes: result.tetAttributes,
-      inputPoints: result.inputPoints ?? result.stats?.inputPoints ?? 0,
-      steinerKinds: result.steinerKinds,
-      origin: current.origin,
-      axis: viewer.axis,
-      flip: viewer.flip,
-    });
+    // Copies (the page keeps the result for downloads), transferred: a
+    // plain slice is a memory copy, while cloning the arrays inside
+    // postMessage took over 100 ms of the main thread for a 150k-tet mesh.
+    const arrays = {};
+    for (const key of ['points', 'tets', 'faces', 'tetAttributes', 'steinerKinds']) {
+      if (ArrayBuffer.isView(result[key])) arrays[key] = result[key].slice();
+    }
+    geometry.postMessage(
+      {
+        type: 'build',
+        id,
+        ...arrays,
+        inputPoints: result.inputPoints ?? result.stats?.inputPoints ?? 0,
+        origin: current.origin,
+        axis: viewer.axis,
+        flip: viewer.flip,
+      },
+      Object.values(arrays).map((a) => a.buffer),
+    );
   });
 }
 
@@ -364,8 +419,12 @@ function rampColor(deg) {
 const css = (c) => `rgb(${c.map((v) => Math.round(v * 255)).join(',')})`;
 
 // Per vertex rgba8: the tet colour (shader works in linear space, so colours
-// are squared roughly) and, in alpha, the constrained flag.
-function tetColors(built, mode = $('color-mode').value) {
+// are squared roughly) and, in alpha, the constrained flag. Computed in
+// slices of at most COLOR_SLICE_MS, so that a large mesh does not block the
+// page (the first slices run as cold, interpreted code: 32k tets took up to
+// about 100 ms on a loaded machine).
+const COLOR_SLICE_MS = 15;
+async function tetColors(built, mode = $('color-mode').value) {
   const nt = built.quality.length;
   const out = new Uint8Array(nt * 16);
   const lut = new Uint8Array(256 * 3); // quality in 0.5 degree steps
@@ -377,7 +436,12 @@ function tetColors(built, mode = $('color-mode').value) {
   const regionLut = REGION_COLORS.map(lin);
   const plain = lin(PLAIN_COLOR);
   const { quality, region, flags } = built;
+  let sliceStart = performance.now();
   for (let t = 0; t < nt; t++) {
+    if ((t & 1023) === 1023 && performance.now() - sliceStart > COLOR_SLICE_MS) {
+      await nextTask();
+      sliceStart = performance.now();
+    }
     let r;
     let g;
     let b;
@@ -438,9 +502,12 @@ function showProgress(name, phases) {
   $('progress-steps').innerHTML = phases.map(([p, label]) => `<li data-phase="${p}">${label}</li>`).join('');
   const t0 = performance.now();
   clearInterval(progressTimer);
+  pendingProgress = null;
+  drawnPhase = null;
   progressTimer = setInterval(() => {
     $('progress-time').textContent = seconds(performance.now() - t0);
-  }, 100);
+    if (pendingProgress) drawProgress(pendingProgress);
+  }, PROGRESS_PAINT_MS);
   setPhase('starting…');
 }
 
@@ -453,7 +520,21 @@ function setPhase(text) {
   $('progress-phase').textContent = text;
 }
 
-function onProgress({ phase, fraction }) {
+// The bar is repainted at most every PROGRESS_PAINT_MS, and at once when
+// the phase changes: each repaint of the overlay composites the page again,
+// which with a software GPU took CPU time from the meshing threads (the
+// worker reports up to 25 times a second).
+const PROGRESS_PAINT_MS = 250;
+let pendingProgress = null;
+let drawnPhase = null;
+function onProgress(progress) {
+  pendingProgress = progress;
+  if (progress.phase !== drawnPhase) drawProgress(progress);
+}
+
+function drawProgress({ phase, fraction }) {
+  pendingProgress = null;
+  drawnPhase = phase;
   const i = progressPhases.findIndex(([p]) => p === phase);
   const f = Math.max(0, Math.min(1, Number(fraction) || 0));
   if (phase === 'done') {
@@ -713,9 +794,55 @@ $('show-steiner').addEventListener('change', (e) => viewer.setShowSteiner(e.targ
 $('show-constrained').addEventListener('change', (e) => viewer.setShowConstrained(e.target.checked));
 $('show-edges').addEventListener('change', (e) => viewer.setShowEdges(e.target.checked));
 $('fit').addEventListener('click', () => viewer.fitView());
-$('color-mode').addEventListener('change', () => {
-  if (current?.built) {
-    viewer.setTetColors(tetColors(current.built));
+
+// Up axis, remembered between visits (storage may be unavailable).
+const UP_KEY = 'cdt3d.up';
+function storedUp() {
+  try {
+    return localStorage.getItem(UP_KEY) === 'y' ? 'y' : 'z';
+  } catch {
+    return 'z';
+  }
+}
+function showUp(up) {
+  $('up-axis').value = up;
+  if (viewer.up !== up) viewer.setUp(up);
+}
+showUp(storedUp());
+// A choice made by hand is remembered (a sample's own axis is not).
+$('up-axis').addEventListener('change', () => {
+  const up = $('up-axis').value;
+  try {
+    localStorage.setItem(UP_KEY, up);
+  } catch {}
+  viewer.setUp(up);
+});
+
+// Steiner points: thousands of markers hide the mesh, so beyond
+// STEINER_MANY 'auto' shows those near the cut plane only, and says so.
+function updateSteinerNote() {
+  const n = viewer.steinerCount();
+  const note = $('steiner-note');
+  note.hidden = n === 0;
+  if (n === 0) return;
+  note.textContent =
+    viewer.steinerShown() === 'cut'
+      ? `${fmt.format(n)} Steiner points: only those within 2% of the cut plane are drawn; move the cut to sweep through them.`
+      : `${fmt.format(n)} Steiner points drawn${n > STEINER_MANY ? ' (they hide the mesh: try "near the cut plane")' : ''}.`;
+  note.dataset.shown = viewer.steinerShown();
+}
+$('steiner-mode').addEventListener('change', () => {
+  viewer.setSteinerMode($('steiner-mode').value);
+  updateSteinerNote();
+});
+$('color-mode').addEventListener('change', async () => {
+  const built = current?.built;
+  if (!built) return;
+  const mode = $('color-mode').value;
+  const colors = await tetColors(built, mode);
+  // Only the latest choice for the model still shown.
+  if (current?.built === built && $('color-mode').value === mode) {
+    viewer.setTetColors(colors);
     showLegend();
   }
 });

@@ -3,6 +3,9 @@
 // in the shaders), Steiner points, and a cut along one axis that keeps the
 // tetrahedra crossing it whole (the tets are pre-sorted along the axis, so a
 // cut is just a draw range: nothing is rebuilt while the slider moves).
+// Model coordinates stay as they are; the model group is turned so that the
+// chosen up axis (Z or Y) points up on screen, and the clipping planes,
+// which three.js takes in world coordinates, are turned with it.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
@@ -88,6 +91,14 @@ void main() {
   outColor = vec4(pow(c, vec3(1.0 / 2.2)), opacity);
 }`;
 
+// Bytes uploaded to the GPU per task (see upload()).
+const UPLOAD_BYTES = 1 << 20;
+
+// Marker size in pixels, and the count beyond which 'auto' shows only the
+// points near the cut plane.
+const STEINER_SIZE_MAX = 5;
+export const STEINER_MANY = 1000;
+
 export const STEINER_COLORS = {
   1: [1.0, 0.84, 0.1], // on a segment
   2: [0.15, 0.85, 1.0], // on a facet
@@ -121,14 +132,19 @@ export class Viewer {
     this.extent = [new THREE.Vector3(-1, -1, -1), new THREE.Vector3(1, 1, 1)];
     this.keepPlane = new THREE.Plane(new THREE.Vector3(-1, 0, 0), 0);
     this.ghostPlane = new THREE.Plane(new THREE.Vector3(1, 0, 0), 0);
+    // Steiner points near the cut only: the far side of a slab on the kept side.
+    this.slabPlane = new THREE.Plane(new THREE.Vector3(1, 0, 0), 0);
+    this.up = 'y';
 
     this.surface = null;
     this.surfaceHighlighted = 0;
-    this.tets = null; // {mesh, keys, count}
+    this.tets = null; // {mesh, buffers, keys, axis, flip, count, visible}
+    this.generation = 0; // bumped by clear() and setTets(): older uploads stop
     this.steiner = null;
     this.showSurface = true;
     this.surfaceMode = 'ghost'; // 'solid' before/without a mesh, 'ghost' with one
     this.showSteiner = true;
+    this.steinerMode = 'auto'; // 'all', 'cut' (near the cut plane), 'auto' (cut when many)
     this.frames = 0;
     this.needsRender = true;
 
@@ -166,7 +182,7 @@ export class Viewer {
     };
     this.surfaceMaterials.ghost.side = THREE.FrontSide;
     this.pointsMaterial = new THREE.PointsMaterial({
-      size: 5,
+      size: STEINER_SIZE_MAX,
       sizeAttenuation: false,
       vertexColors: true,
       map: dotTexture(),
@@ -218,6 +234,11 @@ export class Viewer {
     pts.setAttribute('position', new THREE.BufferAttribute(new Float32Array(3), 3));
     pts.setAttribute('color', new THREE.BufferAttribute(new Float32Array(3), 3));
     scene.add(new THREE.Points(pts, this.pointsMaterial));
+    // The points' program with the slab's second clipping plane (Steiner
+    // points near the cut) is another program: compiled now too.
+    const slabbed = this.pointsMaterial.clone();
+    slabbed.clippingPlanes = [this.keepPlane, this.slabPlane];
+    scene.add(new THREE.Points(pts, slabbed));
     try {
       await this.renderer.compileAsync(scene, this.camera);
       // compileAsync waits for the programs only with KHR_parallel_shader_compile
@@ -260,11 +281,8 @@ export class Viewer {
         this[part] = null;
       }
     }
-    if (this.tets) {
-      this.model.remove(this.tets.mesh);
-      this.tets.mesh.geometry.dispose();
-      this.tets = null;
-    }
+    this.generation++; // uploads under way are dropped
+    this.removeTets();
     this.requestRender();
   }
 
@@ -331,26 +349,92 @@ export class Viewer {
 
   /**
    * The tetrahedra from the geometry worker's arrays; `colors` is a
-   * Uint8Array (4 per vertex: rgb and the constrained flag).
+   * Uint8Array (4 per vertex: rgb and the constrained flag). Resolves once
+   * they are on the GPU and shown; false if the view was cleared meanwhile.
    */
-  setTets({ position, center, colors, order }) {
-    if (this.tets) {
-      this.model.remove(this.tets.mesh);
-      this.tets.mesh.geometry.dispose();
+  async setTets({ position, center, colors, order }) {
+    const generation = ++this.generation;
+    const buffers = [];
+    const stale = () => generation !== this.generation;
+    const attributes = [];
+    for (const [array, size, target] of [
+      [position, 3, 'ARRAY_BUFFER'],
+      [center, 3, 'ARRAY_BUFFER'],
+      [order.index, 1, 'ELEMENT_ARRAY_BUFFER'],
+    ]) {
+      const attribute = await this.upload(array, size, target, stale);
+      if (attribute === null) break;
+      buffers.push(attribute.buffer);
+      attributes.push(attribute);
     }
+    // The first draw would otherwise wait for the GPU process to take in
+    // the uploads (hundreds of ms with a software GPU): wait between tasks.
+    if (!stale()) await gpuDone(this.renderer.getContext());
+    if (stale()) {
+      this.deleteBuffers(buffers);
+      return false;
+    }
+    this.removeTets();
     const g = new THREE.BufferGeometry();
-    g.setAttribute('position', new THREE.BufferAttribute(position, 3));
-    g.setAttribute('center', new THREE.BufferAttribute(center, 3));
+    g.setAttribute('position', attributes[0]);
+    g.setAttribute('center', attributes[1]);
     g.setAttribute('color', new THREE.BufferAttribute(colors, 4, true));
-    g.setIndex(new THREE.BufferAttribute(order.index, 1));
+    g.setIndex(attributes[2]);
     g.boundingSphere = new THREE.Sphere(new THREE.Vector3(), Infinity);
     const mesh = new THREE.Mesh(g, this.tetMaterial);
     mesh.frustumCulled = false;
     mesh.renderOrder = 1;
-    this.tets = { mesh, keys: order.keys, axis: order.axis, flip: order.flip, count: position.length / 12 };
+    this.tets = { mesh, buffers, keys: order.keys, axis: order.axis, flip: order.flip, count: position.length / 12 };
     this.model.add(mesh);
     this.setSurfaceMode('ghost');
     this.applyCut();
+    return true;
+  }
+
+  /**
+   * A GL buffer holding `array`, filled a slice per task (UPLOAD_BYTES each),
+   * as a three.js GLBufferAttribute: one upload of the tens of megabytes a
+   * large mesh has blocks the main thread for hundreds of milliseconds with
+   * a software GPU. null (and no buffer) once `stale()` says the view moved on.
+   */
+  async upload(array, itemSize, target, stale) {
+    const gl = this.renderer.getContext();
+    const buffer = gl.createBuffer();
+    const step = Math.max(itemSize, Math.floor(UPLOAD_BYTES / array.BYTES_PER_ELEMENT / itemSize) * itemSize);
+    for (let offset = 0; offset < array.length || offset === 0; offset += step) {
+      // No vertex array object of three.js bound while an element buffer is
+      // bound (it would take the binding); resetState() tells three.js that
+      // its cached GL state is gone.
+      this.renderer.resetState();
+      gl.bindBuffer(gl[target], buffer);
+      if (offset === 0) gl.bufferData(gl[target], array.byteLength, gl.STATIC_DRAW);
+      if (array.length > 0) gl.bufferSubData(gl[target], offset * array.BYTES_PER_ELEMENT, array, offset, Math.min(step, array.length - offset));
+      gl.bindBuffer(gl[target], null);
+      this.renderer.resetState();
+      // The next slice only once the GPU process has taken this one: with
+      // its transfer buffer full, a bufferSubData call blocks the main
+      // thread until there is room.
+      await gpuDone(gl);
+      if (stale()) {
+        gl.deleteBuffer(buffer);
+        return null;
+      }
+    }
+    const type = array instanceof Float32Array ? gl.FLOAT : gl.UNSIGNED_INT;
+    return new THREE.GLBufferAttribute(buffer, type, itemSize, array.BYTES_PER_ELEMENT, array.length / itemSize);
+  }
+
+  deleteBuffers(buffers) {
+    const gl = this.renderer.getContext();
+    for (const b of buffers) gl.deleteBuffer(b);
+  }
+
+  removeTets() {
+    if (!this.tets) return;
+    this.model.remove(this.tets.mesh);
+    this.tets.mesh.geometry.dispose();
+    this.deleteBuffers(this.tets.buffers);
+    this.tets = null;
   }
 
   /** New colours for the tets (same layout as in setTets). */
@@ -363,13 +447,19 @@ export class Viewer {
   }
 
   /** A new order of the tets for another axis or side (from the geometry worker). */
-  setOrder(order) {
-    if (!this.tets) return;
-    const g = this.tets.mesh.geometry;
-    g.setIndex(new THREE.BufferAttribute(order.index, 1));
-    this.tets.keys = order.keys;
-    this.tets.axis = order.axis;
-    this.tets.flip = order.flip;
+  async setOrder(order) {
+    const tets = this.tets;
+    if (!tets) return;
+    const index = await this.upload(order.index, 1, 'ELEMENT_ARRAY_BUFFER', () => this.tets !== tets);
+    if (index === null) return;
+    const g = tets.mesh.geometry;
+    const old = g.index;
+    g.setIndex(index);
+    this.deleteBuffers([old.buffer]);
+    tets.buffers = tets.buffers.map((b) => (b === old.buffer ? index.buffer : b));
+    tets.keys = order.keys;
+    tets.axis = order.axis;
+    tets.flip = order.flip;
     this.applyCut();
   }
 
@@ -391,7 +481,54 @@ export class Viewer {
     this.steiner.renderOrder = 3;
     this.steiner.visible = this.showSteiner;
     this.model.add(this.steiner);
+    this.applySteinerMode();
+  }
+
+  /** Count of the Steiner points of the model shown (0 without one). */
+  steinerCount() {
+    return this.steiner ? this.steiner.geometry.getAttribute('position').count : 0;
+  }
+
+  /**
+   * 'all', 'cut' (only the points within a thin slab at the cut plane) or
+   * 'auto' ('cut' beyond STEINER_MANY points, whose markers would otherwise
+   * hide the mesh). Markers shrink as their number grows.
+   */
+  setSteinerMode(mode) {
+    this.steinerMode = mode;
+    this.applySteinerMode();
+  }
+
+  /** The mode in effect for the current points: 'all' or 'cut'. */
+  steinerShown() {
+    if (this.steinerMode !== 'auto') return this.steinerMode;
+    return this.steinerCount() > STEINER_MANY ? 'cut' : 'all';
+  }
+
+  applySteinerMode() {
+    const n = this.steinerCount();
+    // 5 px up to a few hundred points, down to 2 px for tens of thousands.
+    const size = n <= 300 ? STEINER_SIZE_MAX : Math.max(2, STEINER_SIZE_MAX * Math.sqrt(300 / n) * 1.6);
+    this.pointsMaterial.size = Math.min(STEINER_SIZE_MAX, Math.round(size * 2) / 2);
+    const planes = this.steinerShown() === 'cut' ? [this.keepPlane, this.slabPlane] : [this.keepPlane];
+    if (this.pointsMaterial.clippingPlanes.length !== planes.length) {
+      this.pointsMaterial.clippingPlanes = planes;
+      this.pointsMaterial.needsUpdate = true; // another number of planes: another program
+    }
     this.requestRender();
+  }
+
+  /**
+   * Which model axis points up on screen: 'z' (CAD parts and most scans) or
+   * 'y'. The camera is framed again.
+   */
+  setUp(up) {
+    this.up = up === 'z' ? 'z' : 'y';
+    // -90 degrees about X takes the model's Z to the world's Y (up).
+    this.model.rotation.set(this.up === 'z' ? -Math.PI / 2 : 0, 0, 0);
+    this.model.updateMatrixWorld(true);
+    this.applyCut();
+    this.fitView();
   }
 
   /** Bounds of the model relative to its origin (for the cut and the camera). */
@@ -423,6 +560,12 @@ export class Viewer {
     // Keep: signed distance >= 0 (three.js clips the negative side).
     this.keepPlane.set(n, this.flip ? -c : c);
     this.ghostPlane.set(n.clone().negate(), this.flip ? c : -c);
+    // The slab: within 2% of the extent of the cut, on the kept side.
+    const lo = this.extent[0].getComponent(this.axis);
+    const hi = this.extent[1].getComponent(this.axis);
+    const depth = 0.02 * Math.max(1e-12, hi - lo);
+    this.slabPlane.set(n.clone().negate(), (this.flip ? c : -c) + depth);
+    for (const plane of [this.keepPlane, this.ghostPlane, this.slabPlane]) plane.applyMatrix4(this.model.matrixWorld);
     if (this.tets) {
       const t = this.tets;
       let visible = 0;
@@ -480,7 +623,7 @@ export class Viewer {
   /** Frames the model: looks at its bounds from a pleasant oblique direction. */
   fitView() {
     const [lo, hi] = this.extent;
-    const centre = lo.clone().add(hi).multiplyScalar(0.5);
+    const centre = lo.clone().add(hi).multiplyScalar(0.5).applyMatrix4(this.model.matrixWorld);
     const radius = Math.max(1e-9, lo.distanceTo(hi) / 2);
     const fov = (this.camera.fov * Math.PI) / 180;
     const fit = Math.min(fov, 2 * Math.atan(Math.tan(fov / 2) * this.camera.aspect));

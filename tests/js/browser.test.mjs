@@ -1,6 +1,9 @@
 // The package's browser entry ("default" export condition) in a real browser:
 // headless Chromium loads it on a page and in a module worker, reads the small
-// corpus files and posts the results back; they must equal Node's.
+// corpus files, meshes one model and posts the results back; they must equal
+// Node's. Served with the COOP/COEP headers (cross-origin isolated: the
+// two-thread module), without them (the single-threaded fallback), and with
+// them but without the thread pool's worker script (the fallback again).
 // Needs /usr/bin/chromium (or $CHROMIUM_PATH); CDT3D_SKIP_BROWSER=1 skips.
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
@@ -15,6 +18,8 @@ import { corpusFiles, importPackage, packageDir, packageFile, repoRoot } from '.
 const skip = process.env.CDT3D_SKIP_BROWSER === '1' && 'CDT3D_SKIP_BROWSER=1';
 const chromiumPath = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
 const files = corpusFiles().filter((rel) => statSync(path.join(repoRoot, rel)).size <= 512 * 1024);
+// Meshed on both modules: enough segments to recover that the second thread has work.
+const MESHED = 'tests/data/bunny.off';
 
 const MIME = {
   '.html': 'text/html; charset=utf-8',
@@ -27,8 +32,9 @@ const MIME = {
 // Runs the files through one cdt3d instance; shared by the page and the worker.
 const RUN = `
 async function run(createCdt3d, Cdt3dError, files) {
+  const t0 = performance.now();
   const cdt = await createCdt3d();
-  const out = { version: cdt.version, results: {} };
+  const out = { createMs: performance.now() - t0, version: cdt.version, threaded: cdt.threaded, isolated: self.crossOriginIsolated === true, results: {} };
   for (const rel of files) {
     const bytes = new Uint8Array(await (await fetch('/' + rel)).arrayBuffer());
     try {
@@ -39,6 +45,14 @@ async function run(createCdt3d, Cdt3dError, files) {
         : { ok: false, unexpected: String(e && e.stack || e) };
     }
   }
+  const bytes = new Uint8Array(await (await fetch('/${MESHED}')).arrayBuffer());
+  const mesh = cdt.tetrahedralize({ bytes, fileName: '${MESHED}' }, { validate: true });
+  out.mesh = {
+    stats: Object.fromEntries(Object.entries(mesh.stats).filter(([k]) => !/^ms[A-Z]/.test(k))),
+    validation: mesh.validation,
+    tets: Array.from(mesh.tets.slice(0, 400)),
+    tetCount: mesh.tets.length,
+  };
   return out;
 }`;
 
@@ -79,19 +93,23 @@ self.onmessage = async (e) => {
 let server;
 let origin;
 let resultPromise;
+let deliver;
+let isolated = false; // send the COOP/COEP headers
+let noPoolWorker = false; // answer 404 for the two-thread module's worker script
 
 before(async () => {
   if (skip) return;
   const pkg = JSON.parse(packageFile('package.json'));
   const entry = '/pkg/' + pkg.exports['.'].default.replace(/^\.\//, '');
-  let deliver;
-  resultPromise = new Promise((resolve) => {
-    deliver = resolve;
-  });
   server = http.createServer((req, res) => {
     const url = new URL(req.url, 'http://x');
     const send = (status, type, body) => {
-      res.writeHead(status, { 'content-type': type, 'cache-control': 'no-store' });
+      const headers = { 'content-type': type, 'cache-control': 'no-store' };
+      if (isolated) {
+        headers['cross-origin-opener-policy'] = 'same-origin';
+        headers['cross-origin-embedder-policy'] = 'require-corp';
+      }
+      res.writeHead(status, headers);
       res.end(body);
     };
     if (req.method === 'POST' && url.pathname === '/result') {
@@ -103,6 +121,7 @@ before(async () => {
       });
       return;
     }
+    if (noPoolWorker && url.pathname.endsWith('/threads/cdt3d.worker.js')) return send(404, 'text/plain', 'not found');
     if (url.pathname === '/') return send(200, MIME['.html'], page(entry));
     if (url.pathname === '/worker.js') return send(200, MIME['.js'], worker(entry));
     if (url.pathname === '/files.json') return send(200, MIME['.json'], JSON.stringify(files));
@@ -121,7 +140,30 @@ before(async () => {
 
 after(() => server?.close());
 
-test('the browser entry works on a page and in a module worker (headless Chromium)', { skip, timeout: 120_000 }, async () => {
+for (const withHeaders of [true, false]) {
+  const which = withHeaders ? 'cross-origin isolated: two threads' : 'not isolated: one thread';
+  test(`the browser entry works on a page and in a module worker, ${which} (headless Chromium)`, { skip, timeout: 180_000 }, () =>
+    runInChromium(withHeaders),
+  );
+}
+
+test('isolated, but the thread pool cannot load: the single-threaded module, without waiting for the time-out', { skip, timeout: 180_000 }, async () => {
+  noPoolWorker = true;
+  try {
+    const t0 = Date.now();
+    await runInChromium(true, false);
+    // Page and worker each fall back; the 10 s time-out would have taken 20 s.
+    assert.ok(Date.now() - t0 < 90_000);
+  } finally {
+    noPoolWorker = false;
+  }
+});
+
+async function runInChromium(withHeaders, threads = withHeaders) {
+  isolated = withHeaders;
+  resultPromise = new Promise((resolve) => {
+    deliver = resolve;
+  });
   assert.ok(
     existsSync(chromiumPath),
     `Chromium not found at ${chromiumPath}: apt-get install chromium, set CHROMIUM_PATH, or CDT3D_SKIP_BROWSER=1 to skip.`,
@@ -173,9 +215,18 @@ test('the browser entry works on a page and in a module worker (headless Chromiu
       expected[rel] = { ok: false, error: e.toJSON() };
     }
   }
+  const mesh = cdt.tetrahedralize({ bytes: readFileSync(path.join(repoRoot, MESHED)), fileName: MESHED }, { validate: true });
+  const stats = Object.fromEntries(Object.entries(mesh.stats).filter(([k]) => !/^ms[A-Z]/.test(k)));
   for (const where of ['main', 'worker']) {
     assert.equal(got[where].failed, undefined, `${where}: ${got[where].failed}`);
     assert.equal(got[where].version, cdt.version, `${where}: version`);
+    assert.equal(got[where].isolated, withHeaders, `${where}: crossOriginIsolated`);
+    assert.equal(got[where].threaded, threads, `${where}: the ${threads ? 'two-thread' : 'single-threaded'} module`);
+    if (!threads) assert.ok(got[where].createMs < 9_000, `${where}: ${got[where].createMs} ms to start`);
     assert.deepEqual(got[where].results, expected, `${where}: results differ from Node`);
+    assert.deepEqual(got[where].mesh.stats, stats, `${where}: mesh statistics differ from Node`);
+    assert.deepEqual(got[where].mesh.validation, mesh.validation, `${where}: validation`);
+    assert.equal(got[where].mesh.tetCount, mesh.tets.length, `${where}: tets`);
+    assert.deepEqual(got[where].mesh.tets, Array.from(mesh.tets.slice(0, 400)), `${where}: the first tets`);
   }
-});
+}

@@ -12,7 +12,8 @@ import { corpusFile, importPackage, packageDir, repoRoot } from './support.mjs';
 const SHIPPED = [
   'LICENSE', 'README.md', 'api.js', 'cdt3d.d.ts', 'cli.js', 'dist/cdt3d.js', 'dist/cdt3d.wasm',
   'dist/node/cdt3d.js', 'dist/node/cdt3d.wasm', 'dist/node/cdt3d.worker.js', 'dist/node/package.json',
-  'index.js', 'node.js', 'package.json', 'worker-entry.js', 'worker.d.ts', 'worker.js',
+  'dist/threads/cdt3d.js', 'dist/threads/cdt3d.wasm', 'dist/threads/cdt3d.worker.js',
+  'index.js', 'node.js', 'package.json', 'warm-up.js', 'worker-entry.js', 'worker.d.ts', 'worker.js',
 ];
 
 const tmp = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-pack-'));

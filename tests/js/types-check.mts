@@ -135,6 +135,11 @@ new Cdt3dError('internal', 'outer', { line: 3, cause: new Error('inner') });
   const text: Promise<string> = w.write(await job, 'mesh');
   const vtu: Promise<Uint8Array> = w.write(await job, 'vtu');
   const busy: boolean = w.busy;
+  const prepared = await w.prepare({ rounds: 2, options: { validate: true } });
+  const warm: [boolean, number, number[]] = [prepared.threaded, prepared.loadMs, prepared.runs];
+  // @ts-expect-error rounds is a number
+  void w.prepare({ rounds: 'many' });
+  void warm;
   w.terminate();
   void [once, text, vtu, busy];
 }

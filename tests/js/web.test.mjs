@@ -4,17 +4,15 @@
 // cancellation and the main thread's long tasks. Screenshots go to tests/out/.
 // Needs /usr/bin/chromium (or $CHROMIUM_PATH); CDT3D_SKIP_BROWSER=1 skips.
 import assert from 'node:assert/strict';
-import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync, statSync } from 'node:fs';
-import http from 'node:http';
+import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
 
+import { buildPage, chromiumPath, launchChromium, recordLongTasks, servePage } from './page-support.mjs';
 import { importPackage, packageDir, repoRoot } from './support.mjs';
 
 const skip = process.env.CDT3D_SKIP_BROWSER === '1' && 'CDT3D_SKIP_BROWSER=1';
-const chromiumPath = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
-const webDir = path.join(repoRoot, 'web');
 const outDir = path.join(repoRoot, 'tests', 'out');
 
 // Models driven through the file input (tests/data).
@@ -29,17 +27,8 @@ const LARGE_SAMPLE = 'armadillo.obj'; // bundled sample (web/public/samples)
 const PAGE_OPTIONS = { validate: true, keepConvexHull: false };
 const FINAL = ['done', 'error', 'cancelled'];
 
-const MIME = {
-  '.html': 'text/html; charset=utf-8',
-  '.js': 'text/javascript; charset=utf-8',
-  '.css': 'text/css; charset=utf-8',
-  '.wasm': 'application/wasm',
-  '.json': 'application/json',
-  '.svg': 'image/svg+xml',
-};
-
 let buildDir;
-let server;
+let served; // {server, origin, isolated}
 let origin;
 let context;
 let page;
@@ -63,64 +52,23 @@ before(async () => {
 
   // A production build of the page, as `npx vite build web` makes it.
   buildDir = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-web-'));
-  const { build } = await import('vite');
-  await build({
-    configFile: path.join(webDir, 'vite.config.js'),
-    logLevel: 'warn',
-    build: { outDir: buildDir, emptyOutDir: true },
-  });
+  await buildPage(buildDir);
 
-  server = http.createServer((req, res) => {
-    let rel = decodeURIComponent(new URL(req.url, 'http://x').pathname);
-    if (rel.endsWith('/')) rel += 'index.html';
-    const file = path.join(buildDir, rel);
-    if (!file.startsWith(buildDir + path.sep) || !existsSync(file) || !statSync(file).isFile()) {
-      res.writeHead(404, { 'content-type': 'text/plain' });
-      res.end('not found');
-      return;
-    }
-    res.writeHead(200, {
-      'content-type': MIME[path.extname(file)] ?? 'application/octet-stream',
-      'cache-control': 'no-store',
-    });
-    res.end(readFileSync(file));
-  });
-  await new Promise((resolve) => server.listen(0, '127.0.0.1', resolve));
-  origin = `http://127.0.0.1:${server.address().port}`;
+  served = await servePage(buildDir);
+  origin = served.origin;
 
-  const { chromium } = await import('playwright-core');
   profile = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-chromium-'));
-  context = await chromium.launchPersistentContext(profile, {
-    executablePath: chromiumPath,
-    headless: true,
-    viewport: { width: 1280, height: 800 },
-    // WebGL through SwiftShader (no GPU here). Not --disable-gpu: that makes
-    // the compositor read every WebGL frame back on the main thread
-    // (GLES2::ReadPixels in Commit), which shows up as long tasks that a
-    // page on a real GPU never has.
-    args: [
-      '--headless', '--no-sandbox', '--use-angle=swiftshader', '--use-gl=angle',
-      '--enable-unsafe-swiftshader', '--disable-quic', '--no-first-run',
-      '--disable-background-networking', '--disable-component-update', '--disable-sync',
-    ],
-  });
+  context = await launchChromium(profile);
   page = context.pages()[0] ?? (await context.newPage());
   page.on('pageerror', (e) => pageErrors.push(String(e?.stack ?? e)));
-  // Long tasks of the main thread, from the very start.
-  await page.addInitScript(() => {
-    window.__longTasks = [];
-    try {
-      new PerformanceObserver((list) => {
-        for (const e of list.getEntries()) window.__longTasks.push({ start: e.startTime, duration: e.duration });
-      }).observe({ type: 'longtask', buffered: true });
-    } catch {}
-  });
+  // Long tasks and frames of the main thread, from the very start.
+  await page.addInitScript(recordLongTasks);
   mkdirSync(outDir, { recursive: true });
 });
 
 after(async () => {
   await context?.close().catch(() => {});
-  server?.close();
+  served?.server.close();
   if (profile) rmSync(profile, { recursive: true, force: true });
   if (buildDir) rmSync(buildDir, { recursive: true, force: true });
 });
@@ -281,6 +229,30 @@ test('cdt3d/worker in Node: errors, cancel, reuse and write', { skip: workerSkip
   }
 });
 
+test('cdt3d/worker in Node: prepare() loads the module, warms it up, and gives way to a real job', { skip: workerSkip, timeout: 120_000 }, async () => {
+  const { createMeshWorker } = await importWorkerHelper();
+  const w = createMeshWorker();
+  try {
+    const loaded = await w.prepare({ rounds: 0 });
+    assert.deepEqual(loaded.runs, []);
+    assert.equal(loaded.threaded, true, 'Node gets the two-thread module');
+    assert.ok(loaded.loadMs >= 0);
+    // Each round meshes the built-in model (a failure would reject).
+    const warmed = await w.prepare({ rounds: 3, options: { validate: true } });
+    assert.equal(warmed.runs.length, 3);
+    // A real job submitted while warming goes first; warm-up stops.
+    const warming = w.prepare({ rounds: 50 });
+    const small = readFileSync(path.join(repoRoot, SMALL));
+    const result = await w.mesh(small, {}, { fileName: path.basename(SMALL), transfer: false });
+    assert.ok((await warming).runs.length < 50, 'warm-up went on after a real job was submitted');
+    const local = await (await importPackage()).createCdt3d();
+    assert.deepEqual(result.tets, local.tetrahedralize({ bytes: small, fileName: path.basename(SMALL) }).tets);
+    await assert.rejects(w.prepare({ rounds: -1 }), /rounds must be a non-negative integer/);
+  } finally {
+    w.terminate();
+  }
+});
+
 // ---------------------------------------------------------------- tests
 
 test('the page opens and meshes its default sample', { skip, timeout: 90_000 }, async () => {
@@ -294,6 +266,68 @@ test('the page opens and meshes its default sample', { skip, timeout: 90_000 }, 
   assert.equal(error, undefined, `Node could not mesh ${rel}: ${error?.message}`);
   assert.deepEqual(comparable(await pageStats()), comparable(result.stats));
   await shot('default');
+  // Served with COOP/COEP: the page is cross-origin isolated and its mesher
+  // runs the two-thread module, warmed up once the default sample is done.
+  assert.equal(await page.evaluate(() => self.crossOriginIsolated), true);
+  await page.waitForFunction(() => ['ready', 'failed'].includes(document.body.dataset.engine), null, { timeout: 60_000 });
+  const engine = await page.evaluate(() => window.cdt3dDemo.engine);
+  assert.equal(engine.state, 'ready', await page.textContent('#engine'));
+  assert.equal(engine.threaded, true, 'the two-thread module');
+  assert.match(await page.textContent('#engine'), /two threads/);
+});
+
+test('without the COOP/COEP headers the page meshes on one thread', { skip, timeout: 90_000 }, async () => {
+  served.isolated = false;
+  try {
+    await page.goto(`${origin}/?model=`);
+    await page.waitForFunction(() => ['ready', 'failed'].includes(document.body.dataset.engine), null, { timeout: 60_000 });
+    assert.equal(await page.evaluate(() => self.crossOriginIsolated), false);
+    const engine = await page.evaluate(() => window.cdt3dDemo.engine);
+    assert.equal(engine.state, 'ready');
+    assert.equal(engine.threaded, false, 'the single-threaded module');
+    assert.ok(engine.runs.length > 0, 'the worker warmed up on its built-in model');
+    assert.match(await page.textContent('#engine'), /one thread/);
+    assert.equal(await openFile(MEDIUM), 'done', await page.textContent('#error'));
+    assert.deepEqual(comparable(await pageStats()), comparable(nodeMesh(MEDIUM).result.stats));
+  } finally {
+    served.isolated = true;
+    await page.goto(`${origin}/?model=`);
+  }
+  assert.equal(await page.evaluate(() => self.crossOriginIsolated), true);
+});
+
+test('the up axis: Z up by default, Y up on request, remembered across visits', { skip, timeout: 60_000 }, async () => {
+  await page.evaluate(() => localStorage.removeItem('cdt3d.up'));
+  await page.reload();
+  assert.equal(await page.inputValue('#up-axis'), 'z');
+  assert.equal(await openFile(MEDIUM), 'done');
+  // The model's Z is turned onto the screen's up (world Y).
+  const upOf = () => page.evaluate(() => {
+    const m = window.cdt3dDemo.viewer.model;
+    m.updateMatrixWorld(true);
+    const e = m.matrixWorld.elements; // column-major: column 2 is where model Z goes
+    return { zGoesTo: [e[8], e[9], e[10]].map((v) => Math.round(v)), yGoesTo: [e[4], e[5], e[6]].map((v) => Math.round(v)) };
+  });
+  assert.deepEqual((await upOf()).zGoesTo, [0, 1, 0]);
+  const zUp = await snapshot();
+  await page.selectOption('#up-axis', 'y');
+  assert.deepEqual((await upOf()).yGoesTo, [0, 1, 0]);
+  const yUp = await snapshot();
+  assert.notEqual(yUp.checksum, zUp.checksum, 'the view did not turn');
+  assert.ok(yUp.centreCoverage > 0.05, 'the model is framed again after turning');
+  // The cut still keeps tets: the clipping planes turn with the model.
+  await page.locator('#cut').fill('400');
+  assert.ok(Number(await page.getAttribute('#visible-count', 'data-visible')) > 0);
+  await page.reload();
+  assert.equal(await page.inputValue('#up-axis'), 'y', 'the choice is remembered');
+  await page.selectOption('#up-axis', 'z');
+  assert.equal(await page.evaluate(() => localStorage.getItem('cdt3d.up')), 'z');
+  // A bundled sample opens on its own axis (the Stanford bunny is Y-up), not remembered.
+  await page.selectOption('#sample', 'bunny.off');
+  assert.equal(await waitForState(FINAL), 'done');
+  assert.equal(await page.inputValue('#up-axis'), 'y');
+  assert.deepEqual((await upOf()).yGoesTo, [0, 1, 0]);
+  assert.equal(await page.evaluate(() => localStorage.getItem('cdt3d.up')), 'z');
 });
 
 test('"keep input triangles": the flat faces of a CAD part stay triangles, as keepTriangles in the Node API', { skip, timeout: 90_000 }, async () => {
@@ -548,6 +582,52 @@ test('a large model can be cancelled, and a new file cancels the running job', {
   assert.equal(await page.textContent('#model-name'), path.basename(SMALL));
   const { result } = nodeMesh(SMALL);
   assert.deepEqual(comparable(await pageStats()), comparable(result.stats));
+});
+
+test('a model of 50k+ tets: meshed and shown with no main-thread task over 100 ms of the page\'s own work; its thousands of Steiner points drawn near the cut only', { skip, timeout: 180_000 }, async () => {
+  assert.ok(
+    await page.evaluate(() => PerformanceObserver.supportedEntryTypes.includes('long-animation-frame')),
+    'this Chromium reports no long animation frames (needed for the attribution)',
+  );
+  await page.selectOption('#sample', LARGE_SAMPLE);
+  assert.equal(await waitForState(FINAL, 150_000), 'done', await page.textContent('#error'));
+  const { timing, frames, tasks, stats } = await page.evaluate(() => ({
+    timing: window.cdt3dDemo.timings.at(-1),
+    frames: window.__longFrames,
+    tasks: window.__longTasks,
+    stats: window.cdt3dDemo.stats,
+  }));
+  assert.ok(stats.tets >= 50_000, `${LARGE_SAMPLE}: ${stats.tets} tets`);
+  // Each script entry of a long animation frame is one callback of the page
+  // (an event handler, a timer, a promise reaction, a frame callback) with
+  // the style and layout it forced: the page's own work in one task. The
+  // frame's rendering (SwiftShader here) is the browser's, not the page's.
+  const during = (e) => e.start < timing.shown && e.start + e.duration > timing.start;
+  const scripts = frames.filter(during).flatMap((f) => f.scripts);
+  const over = scripts.filter((s) => s.duration > 100);
+  const longTasks = tasks.filter(during).map((t) => Math.round(t.duration));
+  assert.deepEqual(over, [], `page work over 100 ms while ${LARGE_SAMPLE} was meshed and shown (long tasks: ${longTasks})`);
+  // Steiner points: beyond 1,000 only those near the cut plane, small, with a note.
+  const steiner = stats.steinerSegment + stats.steinerFacet + stats.steinerVolume;
+  const view = await page.evaluate(() => ({
+    count: window.cdt3dDemo.viewer.steinerCount(),
+    shown: window.cdt3dDemo.viewer.steinerShown(),
+    planes: window.cdt3dDemo.viewer.pointsMaterial.clippingPlanes.length,
+    size: window.cdt3dDemo.viewer.pointsMaterial.size,
+  }));
+  assert.equal(view.count, steiner);
+  assert.ok(steiner > 1000, `${LARGE_SAMPLE} has ${steiner} Steiner points: too few to test their thinning`);
+  {
+    assert.deepEqual([view.shown, view.planes], ['cut', 2]);
+    assert.ok(view.size < 5, `markers of ${steiner} points are ${view.size} px`);
+    assert.match(await page.textContent('#steiner-note'), /within 2% of the cut plane/);
+    const slab = await snapshot();
+    await page.selectOption('#steiner-mode', 'all');
+    assert.equal(await page.evaluate(() => window.cdt3dDemo.viewer.pointsMaterial.clippingPlanes.length), 1);
+    assert.notEqual((await snapshot()).checksum, slab.checksum, 'all the points draw another image');
+    await page.selectOption('#steiner-mode', 'auto');
+  }
+  await shot('large');
 });
 
 test('the main thread had no long task over 200 ms while meshing', { skip, timeout: 30_000 }, async () => {
