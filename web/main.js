@@ -121,6 +121,7 @@ async function openModel(source) {
   demo.highlighted = 0;
   $('error').hidden = true;
   $('repair').hidden = true;
+  $('fill-holes').hidden = true;
   $('repair-report').hidden = true;
   demo.repair = null;
   $('notice').hidden = true;
@@ -150,7 +151,7 @@ async function openModel(source) {
     setState('meshing');
     timing.meshStart = performance.now();
     const options = meshOptions();
-    if (source.repair) options.repair = true;
+    if (source.repair) options.repair = source.fillHoles ? { fillHoles: true } : true;
     const quality = qualityOption();
     if (quality) options.quality = quality;
     demo.quality = quality;
@@ -706,6 +707,7 @@ function showError(e, name) {
   $('error-hint').textContent = hint;
   $('error-hint').hidden = !hint;
   $('repair').hidden = !(REPAIRABLE.has(error.code) && current?.source && !current.source.repair);
+  $('fill-holes').hidden = !(error.code === 'open-boundary' && current?.source && !current.source.fillHoles);
   $('error').hidden = false;
   $('model-status').textContent = `Error: ${error.code}`;
 }
@@ -716,6 +718,10 @@ const REPAIRABLE = new Set(['self-intersection', 'duplicate', 'degenerate', 'non
 $('repair').addEventListener('click', () => {
   if (current?.source) openModel({ ...current.source, repair: true });
 });
+// An open surface: "Fill holes and mesh" closes its holes, then repairs.
+$('fill-holes').addEventListener('click', () => {
+  if (current?.source) openModel({ ...current.source, repair: true, fillHoles: true });
+});
 
 // What repair changed, counts per kind, and the changed input facets in red
 // on the (ghosted) input surface.
@@ -725,6 +731,8 @@ const REPAIR_ROWS = [
   ['degenerateFacets', 'zero-area facets dropped'],
   ['zeroAreaPolygons', 'zero-area polygons dropped'],
   ['repeatedVertices', 'repeated vertices dropped'],
+  ['filledHoles', 'holes filled'],
+  ['fillTriangles', 'triangles filling them'],
   ['nonplanarFacets', 'non-planar facets split'],
   ['tjunctionVertices', 'T-junction vertices'],
   ['crossingPairs', 'crossing facet pairs'],

@@ -464,10 +464,25 @@ test('invalid models: the error says what and where, named facets in red', { ski
   }
 });
 
-test('repair: an error repair can fix offers "Repair and mesh", then counts per kind and changed facets', { skip, timeout: 90_000 }, async () => {
-  // An open surface is no case for repair: no button.
+test('repair: an error repair can fix offers "Repair and mesh" (an open surface "Fill holes and mesh"), then counts per kind and changed facets', { skip, timeout: 90_000 }, async () => {
+  // An open surface offers "Fill holes and mesh" instead, which closes it.
   assert.equal(await openFile(OPEN), 'error');
-  assert.equal(await page.isVisible('#repair'), false, 'open-boundary offers no repair');
+  assert.equal(await page.isVisible('#repair'), false, 'open-boundary offers no plain repair');
+  assert.ok(await page.isVisible('#fill-holes'), 'open-boundary offers "Fill holes and mesh"');
+  {
+    const bytes = readFileSync(path.join(repoRoot, OPEN));
+    const fileName = path.basename(OPEN);
+    const filled = cdt.tetrahedralize({ bytes, fileName }, { ...PAGE_OPTIONS, repair: { fillHoles: true } });
+    const before = await page.evaluate(() => window.cdt3dDemo.timings.length);
+    await page.click('#fill-holes');
+    await page.waitForFunction((n) => window.cdt3dDemo.timings.length > n, before);
+    assert.equal(await waitForState(FINAL), 'done', OPEN);
+    const report = await page.evaluate(() => window.cdt3dDemo.repair);
+    assert.equal(report.filledHoles, filled.repair.filledHoles);
+    assert.ok(report.filledHoles > 0);
+    assert.equal(comparable(await pageStats()).tets, filled.stats.tets, `${OPEN}: tets`);
+    assert.equal(await page.isVisible('#fill-holes'), false);
+  }
   for (const rel of [INVALID, 'tests/data/tjunction_box.off', 'tests/data/nonplanar_quad.obj']) {
     const bytes = readFileSync(path.join(repoRoot, rel));
     const fileName = path.basename(rel);
