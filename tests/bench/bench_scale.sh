@@ -32,7 +32,7 @@
 #   SCALE_SIZES="1000000 3000000 10000000"   triangles per model
 #   SCALE_KINDS="torus steps"
 #   SCALE_DIR=/tmp/cdt3d-scale               where the models go (large files)
-#   TETGEN_MAX=3000000                       tetgen only up to this many triangles
+#   TETGEN_MAX=3500000                       tetgen only up to this many triangles (both 3M models)
 #   TETGEN_TIMEOUT=900  TIMEOUT=900          seconds before tetgen / cdt3d is killed
 #   SCALE_PHASES=1  SCALE_NODE=1  SCALE_DELAUNAY=1   0 skips those rows
 #   CDT3D_BIN=path                           the native CLI (default .build/native, built)
@@ -43,7 +43,7 @@ cd "$(dirname "$0")/../.."
 SIZES=${SCALE_SIZES:-"1000000 3000000 10000000"}
 KINDS=${SCALE_KINDS:-"torus steps"}
 DIR=${SCALE_DIR:-/tmp/cdt3d-scale}
-TG_MAX=${TETGEN_MAX:-3000000}
+TG_MAX=${TETGEN_MAX:-3500000}
 TG_TIMEOUT=${TETGEN_TIMEOUT:-900}
 TIMEOUT=${TIMEOUT:-900}
 TOOLS=.build/bench-scale
