@@ -17,6 +17,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <cstdio>
 #include <new>
 #include <vector>
 #include <cstdlib>
@@ -41,11 +42,34 @@ val vec3(const cdt3d::Vec3& p) {
   return a;
 }
 
-// {ok: false, error: {code, message, file, line, record, facet, vertex, otherFacet}}
+// What meshing needs of the heap at its peak, per input point: ~1.7 KB on
+// the bumpy torus of tests/bench/bench_scale.sh (the tets, the PLC, the
+// result copied out; the CAD-like models need less), with a margin. A
+// model that cannot fit is refused before the work, not minutes into it.
+constexpr double kHeapBytesPerPoint = 1800;
+
+// The 4 GiB heap (-sMAXIMUM_MEMORY) and the model sizes it holds, for the
+// error of a model that does not fit (too large up front, or out of memory).
+std::string heap_limit_text() {
+  const double heap = static_cast<double>(emscripten_get_heap_max());
+  const double points = heap / kHeapBytesPerPoint;
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "The WebAssembly heap is limited to %.1f GiB (wasm32); it holds models of up to "
+                "about %.1f million points (%.1f million triangles of a closed surface). Mesh "
+                "larger models with the native cdt3d.",
+                heap / (1024.0 * 1024 * 1024), points / 1e6, 2 * points / 1e6);
+  return text;
+}
+
+// {ok: false, error: {code, message, file, line, record, facet, vertex, otherFacet}};
+// an out-of-memory error also says what the heap holds.
 val failure(const cdt3d::Error& e) {
   val err = val::object();
   err.set("code", val(std::string(cdt3d::error_code_name(e.code))));
-  err.set("message", val(e.message));
+  err.set("message", val(e.code == cdt3d::ErrorCode::OutOfMemory
+                             ? e.message + " " + heap_limit_text()
+                             : e.message));
   err.set("file", val(e.file));
   err.set("line", number(e.line));
   err.set("record", number(e.record));
@@ -442,6 +466,19 @@ val repair_js(val input, bool fill_holes) {
   return out;
 }
 
+// The too-large error of a model that cannot fit the heap, or undefined.
+val too_large(const cdt3d::Plc& plc) {
+  const double need = kHeapBytesPerPoint * static_cast<double>(plc.points.size());
+  if (need <= static_cast<double>(emscripten_get_heap_max())) return val::undefined();
+  size_t triangles = 0;
+  for (const auto& f : plc.facets) triangles += f.loops.empty() ? 0 : f.loops[0].size() - 2;
+  char text[192];
+  std::snprintf(text, sizeof text,
+                "This model has %zu points and %zu triangles: meshing it needs about %.1f GiB. ",
+                plc.points.size(), triangles, need / (1024.0 * 1024 * 1024));
+  return failure(cdt3d::ErrorCode::TooLarge, text + heap_limit_text(), plc.file);
+}
+
 val tetrahedralize_js(val input, val options, val on_progress) {
   cdt3d::Options opt;
   // Options first: a bad one is the caller's error whatever the input.
@@ -455,6 +492,7 @@ val tetrahedralize_js(val input, val options, val on_progress) {
   const bool fix = options["repair"].as<bool>();
   st = plc_from_js(input, plc, &ms_read, false);
   if (!st.ok()) return failure(st.error);
+  if (val refused = too_large(plc); !refused.isUndefined()) return refused;
   cdt3d::RepairReport report;
   if (fix) {
     cdt3d::Plc fixed;
@@ -620,7 +658,8 @@ val guarded(F&& f) {
     return f();
   } catch (const std::bad_alloc&) {
     return failure(cdt3d::ErrorCode::OutOfMemory,
-                   "Out of WebAssembly memory (the 4 GiB limit or the browser's).", "");
+                   "Out of WebAssembly memory (the browser's limit, or the model is too large).",
+                   "");
   }
 }
 

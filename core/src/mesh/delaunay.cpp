@@ -386,9 +386,12 @@ void PointInserter::point_vertices_shared() {
 // by its holder. Publication: taking a word is an acquire, and the other
 // part's token is read with acquire before a word it wrote is taken, which
 // pairs with the release store that ended that attempt (after all its
-// writes). 30-bit attempt numbers never wrap within one build.
+// writes). 30-bit attempt numbers never wrap within one build. The lock
+// words are the tets' visit stamps, which step 1 does not use (a separate
+// array was 4 bytes a tet more at the peak), accessed through the
+// compiler's atomic builtins (C++17 has no std::atomic_ref).
 struct PointInserter::Shared {
-  std::atomic<uint32_t>* owner = nullptr;
+  uint32_t* owner = nullptr;
   std::atomic<uint32_t>* token = nullptr;        ///< this part's current token
   const std::atomic<uint32_t>* other = nullptr;  ///< the other part's
   uint32_t me = 0;                               ///< 1 or 2
@@ -405,7 +408,7 @@ TetId PointInserter::alloc_slot() {
   // before this attempt's tets are published, so a relaxed store takes it.
   const TetId t = shared_->next++;
   mesh_.tflag[t] = 0;
-  shared_->owner[t].store(shared_->current, std::memory_order_relaxed);
+  __atomic_store_n(&shared_->owner[t], shared_->current, __ATOMIC_RELAXED);
   ++shared_->live_delta;
   return t;
 }
@@ -425,14 +428,14 @@ void PointInserter::free_slot(TetId t) {
 // Takes tet t for this attempt; false when the other part's current
 // attempt holds it (or takes it meanwhile).
 bool PointInserter::lock(TetId t) {
-  std::atomic<uint32_t>& o = shared_->owner[t];
-  uint32_t cur = o.load(std::memory_order_relaxed);
+  uint32_t* o = &shared_->owner[t];
+  uint32_t cur = __atomic_load_n(o, __ATOMIC_RELAXED);
   if (cur == shared_->current) return true;
   if ((cur & 3) != 0 && (cur & 3) != shared_->me &&
       cur == shared_->other->load(std::memory_order_acquire))
     return false;
-  return o.compare_exchange_strong(cur, shared_->current, std::memory_order_acquire,
-                                   std::memory_order_relaxed);
+  return __atomic_compare_exchange_n(o, &cur, shared_->current, false, __ATOMIC_ACQUIRE,
+                                     __ATOMIC_RELAXED);
 }
 
 // Ends this part's attempt: publishes its writes and frees every tet it
@@ -791,39 +794,6 @@ inline VertexId newest_vertex(const VertexId* w) {
   return std::max(a, b);
 }
 
-// The tets of `w` in the order of `rec` (old slot, rotated vertex list),
-// their adjacency translated through `moved` (per old slot: new id << 4 |
-// rotation; Word is wide enough for the new ids).
-struct CanonicalRecord {
-  VertexId v[4];
-  TetId slot;
-};
-template <typename Word>
-void move_tets(TetMesh& w, const std::vector<CanonicalRecord>& rec,
-               const std::vector<uint8_t>& rot) {
-  const size_t live = rec.size();
-  std::vector<Word> moved(w.num_tet_slots(), 0);
-  for (size_t i = 0; i < live; ++i) moved[rec[i].slot] = Word(i) << 4 | rot[rec[i].slot];
-  std::vector<VertexId> tv;
-  std::vector<HalfFace> tadj;
-  tv.reserve(std::max(w.tv.capacity(), 4 * live));
-  tadj.reserve(std::max(w.tadj.capacity(), 4 * live));
-  tv.resize(4 * live);
-  tadj.resize(4 * live);
-  for (size_t i = 0; i < live; ++i) {
-    const size_t t = rec[i].slot;
-    const uint8_t* p = kEven[moved[t] & 15u];
-    for (int j = 0; j < 4; ++j) {
-      tv[4 * i + j] = rec[i].v[j];
-      const HalfFace hf = w.tadj[4 * t + p[j]];
-      const Word u = moved[hf_tet(hf)];
-      tadj[4 * i + j] = make_hf(TetId(u >> 4), kEvenInverse.at[u & 15u][hf_face(hf)]);
-    }
-  }
-  w.tv.swap(tv);
-  w.tadj.swap(tadj);
-}
-
 // Renumbers the live tets of `w` canonically: each listed from its smallest
 // vertex (canonical_rotation), all sorted by their newest vertex (the
 // largest real id: the insertion that made the tet, so the order stays
@@ -834,44 +804,94 @@ void move_tets(TetMesh& w, const std::vector<CanonicalRecord>& rec,
 // so the mesh is then the same whatever order its points went in, on one
 // thread or two (the later steps' results depend on tet numbers: walks
 // start at vtet, ties of equal candidates go to the first tet).
+// In place: besides the tets it needs a word per vertex, where a sorted
+// copy of every tet and its adjacency made it the peak of step 1, at 2.5x
+// the memory of the insertions. tstamp holds the new ids meanwhile (first
+// indexed by old slot, then by position in the bucket order) and tflag the
+// rotations.
 void canonicalize(TetMesh& w) {
   const size_t slots = w.num_tet_slots(), nv = w.num_vertices();
-  // Records of the rotated vertex lists, written in bucket order and
-  // sorted in place: the sort reads contiguous memory, not the slots.
-  using Rec = CanonicalRecord;
+  VertexId* tv = w.tv.data();
+  HalfFace* adj = w.tadj.data();
+  uint8_t* flag = w.tflag.data();
+  uint32_t* id = w.tstamp.data();
+  // Each live slot to its place in the order by newest vertex, then by slot
+  // (a counting sort; once filled, start[v] is the end of bucket v).
   std::vector<uint32_t> start(nv + 1, 0);
-  std::vector<uint8_t> rot(slots, 0);
   size_t live = 0;
   for (size_t t = 0; t < slots; ++t) {
-    if (w.tflag[t] & kTetDead) continue;
-    const VertexId* x = &w.tv[4 * t];
-    rot[t] = canonical_rotation(x);
-    ++start[newest_vertex(x) + 1];
+    if (flag[t] & kTetDead) continue;
+    ++start[newest_vertex(tv + 4 * t) + 1];
     ++live;
   }
   for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  std::vector<Rec> rec(live);
-  {
-    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
-    for (size_t t = 0; t < slots; ++t) {
-      if (w.tflag[t] & kTetDead) continue;
-      const VertexId* x = &w.tv[4 * t];
-      const uint8_t* p = kEven[rot[t]];
-      rec[fill[newest_vertex(x)]++] = Rec{{x[p[0]], x[p[1]], x[p[2]], x[p[3]]}, TetId(t)};
+  for (size_t t = 0; t < slots; ++t)
+    if (!(flag[t] & kTetDead)) id[t] = start[newest_vertex(tv + 4 * t)]++;
+  // The tets to those places along the permutation's paths: the tet carried
+  // out of a slot displaces the one at its new place, until a dead slot or
+  // one already emptied (kTaken) takes it. Then their neighbours likewise.
+  constexpr uint8_t kTaken = kTetInCavity;
+  for (size_t s = 0; s < slots; ++s) {
+    if (flag[s] & (kTetDead | kTaken)) continue;
+    VertexId cv[4];
+    HalfFace ca[4];
+    for (int j = 0; j < 4; ++j) cv[j] = tv[4 * s + j], ca[j] = adj[4 * s + j];
+    flag[s] |= kTaken;
+    for (size_t src = s;;) {
+      const size_t d = id[src];
+      const bool occupied = !(flag[d] & (kTetDead | kTaken));
+      for (int j = 0; j < 4; ++j) std::swap(cv[j], tv[4 * d + j]), std::swap(ca[j], adj[4 * d + j]);
+      if (!occupied) break;
+      flag[d] |= kTaken;
+      src = d;
     }
   }
-  auto less = [](const Rec& a, const Rec& b) {
-    for (int j = 0; j < 4; ++j)
-      if (a.v[j] != b.v[j]) return a.v[j] < b.v[j];
-    return false;
+  for (size_t k = 0; k < 4 * live; ++k) adj[k] = make_hf(id[hf_tet(adj[k])], hf_face(adj[k]));
+  // Within each bucket (a few tets, now side by side) the order of the
+  // rotated vertex lists: id[p] the final id of the tet at p, flag[p] its
+  // rotation.
+  struct Rotated {
+    VertexId v[4];
+    uint32_t at;
   };
-  for (size_t v = 0; v < nv; ++v) std::sort(rec.begin() + start[v], rec.begin() + start[v + 1], less);
-  // Per old slot: its new id and its rotation, in one word (one read per
-  // neighbour).
-  if (live < (size_t(1) << 28))
-    move_tets<uint32_t>(w, rec, rot);
-  else
-    move_tets<uint64_t>(w, rec, rot);
+  std::vector<Rotated> bucket;
+  for (size_t v = 0, b = 0; v < nv; b = start[v++]) {
+    const size_t e = start[v];
+    bucket.clear();
+    for (size_t p = b; p < e; ++p) {
+      const VertexId* x = tv + 4 * p;
+      flag[p] = canonical_rotation(x);
+      const uint8_t* r = kEven[flag[p]];
+      bucket.push_back(Rotated{{x[r[0]], x[r[1]], x[r[2]], x[r[3]]}, uint32_t(p)});
+    }
+    std::sort(bucket.begin(), bucket.end(), [](const Rotated& a, const Rotated& c) {
+      for (int j = 0; j < 4; ++j)
+        if (a.v[j] != c.v[j]) return a.v[j] < c.v[j];
+      return false;
+    });
+    for (size_t k = 0; k < bucket.size(); ++k) id[bucket[k].at] = uint32_t(b + k);
+  }
+  // Each bucket rotated and reordered through a small copy, its neighbours
+  // named by their final ids and faces.
+  std::vector<std::array<uint32_t, 8>> moved;
+  for (size_t v = 0, b = 0; v < nv; b = start[v++]) {
+    const size_t e = start[v];
+    moved.resize(e - b);
+    for (size_t p = b; p < e; ++p) {
+      const uint8_t* r = kEven[flag[p]];
+      std::array<uint32_t, 8>& m = moved[id[p] - b];
+      for (int j = 0; j < 4; ++j) {
+        m[j] = tv[4 * p + r[j]];
+        const HalfFace hf = adj[4 * p + r[j]];
+        const size_t q = hf_tet(hf);
+        m[4 + j] = make_hf(id[q], kEvenInverse.at[flag[q]][hf_face(hf)]);
+      }
+    }
+    for (size_t p = b; p < e; ++p)
+      for (int j = 0; j < 4; ++j) tv[4 * p + j] = moved[p - b][j], adj[4 * p + j] = moved[p - b][4 + j];
+  }
+  w.tv.resize(4 * live);
+  w.tadj.resize(4 * live);
   w.tflag.assign(live, 0);
   w.tstamp.assign(live, 0);
   w.free_tets.clear();
@@ -912,16 +932,18 @@ RoundResult insert_round_two_threads(TetMesh& w, PointInserter& ins, uint64_t se
                                      VertexId e, const VertexId first[4],
                                      std::vector<VertexId>& later, size_t& beside) {
   const VertexId mid = b + (e - b) / 2;
-  // Fresh slots: ~6.6 more tets per point; a part that runs out leaves its
-  // remaining points to the single-threaded pass.
+  // Fresh slots: ~6.75 more tets per point (a part that runs out leaves its
+  // remaining points to the single-threaded pass). Every slot is written
+  // here, so the unused ones cost memory until the tets are compacted: the
+  // margin is small.
   const size_t base = w.num_tet_slots();
-  const size_t per = 8 * size_t(e - mid) + 1024;
+  const size_t half = size_t(e - mid);
+  const size_t per = 7 * half + half / 4 + 1024;
   const size_t slots = base + 2 * per;
   w.tv.resize(4 * slots, kNone);
   w.tadj.resize(4 * slots, kNone);
-  w.tstamp.resize(slots, 0);
+  w.tstamp.resize(slots, 0);  // the lock words, all free (0) between rounds
   w.tflag.resize(slots, kTetDead);
-  std::unique_ptr<std::atomic<uint32_t>[]> owner(new std::atomic<uint32_t>[slots]());
   // Attempt 1 of each part; a cache line each (each thread writes its own
   // once per point).
   struct alignas(64) Token {
@@ -929,7 +951,7 @@ RoundResult insert_round_two_threads(TetMesh& w, PointInserter& ins, uint64_t se
   };
   Token token_a{{4 | 1}}, token_b{{4 | 2}};
   PointInserter::Shared pa, pb;
-  pa.owner = pb.owner = owner.get();
+  pa.owner = pb.owner = w.tstamp.data();
   pa.me = 1, pb.me = 2;
   pa.current = token_a.word.load(), pb.current = token_b.word.load();
   pa.token = &token_a.word, pa.other = &token_b.word;
@@ -989,7 +1011,7 @@ RoundResult insert_round_two_threads(TetMesh& w, PointInserter& ins, uint64_t se
   w.live_tets = size_t(int64_t(w.live_tets) + pa.live_delta + pb.live_delta);
   w.tv.resize(4 * size_t(pb.next));
   w.tadj.resize(4 * size_t(pb.next));
-  w.tstamp.resize(pb.next);
+  w.tstamp.assign(pb.next, 0);
   w.tflag.resize(pb.next);
   for (TetId t = pa.next; t < pa.end; ++t) w.free_tets.push_back(t);
   w.free_tets.insert(w.free_tets.end(), pa.freed.begin(), pa.freed.end());
