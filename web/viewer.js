@@ -243,9 +243,8 @@ export class Viewer {
       await this.renderer.compileAsync(scene, this.camera);
       // compileAsync waits for the programs only with KHR_parallel_shader_compile
       // (Chromium on SwiftShader has none): otherwise the first frame that uses
-      // a program blocks the main thread on its link (the first frame with the
-      // input surface took 144-661 ms in headless Chromium, while the model was
-      // meshing). So: a fence polled between tasks tells when the GPU process
+      // a program blocks the main thread on its link (a long stall in headless
+      // Chromium while the model is meshing). So: a fence polled between tasks tells when the GPU process
       // has got through the compiles, and only then does each program's first
       // use (a synchronous query) run, one per task, before the first job.
       if (!this.renderer.extensions.has('KHR_parallel_shader_compile')) {

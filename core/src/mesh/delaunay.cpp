@@ -273,8 +273,8 @@ Status PointInserter::fill_cavity(VertexId v) {
   const bool dense = L <= kDenseLocals;
   if (dense && !dense_) dense_.reset(new HalfFace[size_t(kDenseLocals) * kDenseLocals]);
   // Three pending faces per new tet, written by index: push_back of the
-  // small struct cost ~15% of a 1M-point run (a store-to-load forwarding
-  // stall on its two 32-bit halves, measured with perf).
+  // small struct stalls on store-to-load forwarding (its two 32-bit halves
+  // read back as one), on the hottest path of insertion.
   if (dense && pending_.size() < 3 * nb) pending_.resize(3 * nb);
   size_t npending = 0;
   recs_.clear();
@@ -359,9 +359,9 @@ void PointInserter::point_vertices_to_new_tets() {
 // not inserted yet (insert_vertex's check, kNone there) and as a walk
 // start that start_tet_shared checks. Both threads would write the
 // vertices of the border between their parts, so the stores had to be
-// atomic, and under Node every atomic store is an exchange: ~20 per point
-// made step 1 of nefertiti ~11% slower even when each vertex was written
-// once per point. The walk goes on from the last new real tet.
+// atomic, and under Node every atomic store is an exchange, so even one
+// store per vertex and point is a visible cost of step 1. The walk goes on
+// from the last new real tet.
 void PointInserter::point_vertices_shared() {
   for (auto it = new_tets_.rbegin(); it != new_tets_.rend(); ++it)
     if (mesh_.tv[4 * static_cast<size_t>(*it) + 3] != kInfinite) {
@@ -381,7 +381,7 @@ void PointInserter::point_vertices_shared() {
 // is held, any other word is free (a finished attempt's tets need no
 // unlocking). So an attempt ends with one store, the next token, instead of
 // one store per tet it took: under Node every atomic store is an exchange
-// (~60 per insertion), a plain move natively. Locks are only ever tried,
+// (an insertion takes dozens of tets), a plain move natively. Locks are only ever tried,
 // never waited for, so the two threads cannot deadlock; a tet is read only
 // by its holder. Publication: taking a word is an acquire, and the other
 // part's token is read with acquire before a word it wrote is taken, which
@@ -1067,13 +1067,10 @@ Status build(TetMesh& m, const std::vector<VertexId>& vertices, std::vector<Vert
   if (all) std::vector<double>().swap(m.coords);
   w.vkind.assign(n, kVertexNotInserted);
   w.vtet.assign(n, kNone);
-  // About 6.75 tets per point for uniform points, 6.7-6.9 (ghosts apart)
-  // for the points of the classic surface models; 10 leaves room for the
-  // Steiner points of steps 2-4 too (nefertiti adds a quarter of its points
-  // on segments, each making ~7 tets). A reserve only takes address space
-  // until a tet is written there, while each growth copies the arrays into
-  // fresh pages (igea: one 1.25x growth at the end of step 1, ~4% of its
-  // run; nefertiti: one in step 2, ~4%).
+  // About 6.75 tets per point, for uniform points and surface models alike;
+  // 10 leaves room for the Steiner points of steps 2-4 too (each makes
+  // about 7 tets). A reserve only takes address space until a tet is
+  // written there, while each growth copies the arrays into fresh pages.
   w.reserve(0, n * 10 + 1024);
 
   auto finish = [&](Status s) {

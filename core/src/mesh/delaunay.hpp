@@ -24,10 +24,10 @@ inline constexpr uint64_t kDefaultDelaunaySeed = 0x6364743364656c61ull;
 
 /// From this many points the bulk build inserts its later rounds on two
 /// threads (DelaunayOptions::threads) and numbers its tets canonically, on
-/// one thread too. Below it a second thread saved nothing on a 2-core
-/// machine where two threads of insertions run at ~1.5x one thread's
-/// throughput (the self-intersection test is better company for step 1
-/// there).
+/// one thread too. Below it a second thread saves nothing on a 2-core
+/// machine: two threads of insertions fall well short of twice one
+/// thread's throughput, and the self-intersection test is better company
+/// for step 1 there.
 inline constexpr size_t kMinTwoThreadDelaunayPoints = 20000;
 
 struct DelaunayOptions {
@@ -40,8 +40,7 @@ struct DelaunayOptions {
   /// Number the tets of a set of kMinTwoThreadDelaunayPoints or more
   /// canonically (always with `threads`): then the mesh depends on the
   /// points alone, not on the order of insertion nor on the threads. Costs
-  /// a pass of random memory accesses (armadillo's 43k points: ~25 ms, 1M
-  /// points: ~1.8 s), which the pipeline gets back from the memory locality
+  /// a pass of random memory accesses, which the pipeline gets back from the memory locality
   /// of the order (tets by their newest vertex); off only where the order of
   /// the tets does not matter (`cdt3d delaunay --one-thread`).
   bool canonical = true;
@@ -342,8 +341,8 @@ class PointInserter {
   std::vector<uint32_t> vlocal_;
   std::vector<VertexId> locals_;
   // Written before read (each directed boundary edge by its own new tet,
-  // read by its partner), so left uninitialized: zeroing its 36 KiB cost
-  // more than a whole Delaunay tetrahedralization of a few points.
+  // read by its partner), so left uninitialized: zeroing it would cost more
+  // than a small tetrahedralization's whole work.
   std::unique_ptr<HalfFace[]> dense_;
   std::vector<EdgeRec> recs_;
 };
