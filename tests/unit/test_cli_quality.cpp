@@ -237,7 +237,7 @@ TEST_CASE("cdt3d mesh --min-dihedral runs the improvement pass and reports it", 
   CHECK(mesh_json(kCube, {"--min-dihedral", "0"}).find("\"ok\":true") != std::string::npos);
 }
 
-TEST_CASE("--quality alone runs the improvement pass, --min-dihedral 0 keeps a CDT", "[cli][refine]") {
+TEST_CASE("The improvement pass runs by default with --quality, --min-dihedral 0 keeps a CDT", "[cli][refine]") {
   // The default, like tetgen -q's optimisation: slivers are removed.
   const std::string json = mesh_json(kBunny, {"--quality"});
   CHECK(count(json, "improveFlips") > 0);
