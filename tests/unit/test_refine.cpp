@@ -217,7 +217,9 @@ TEST_CASE("improvement pass: bunny's smallest dihedral angle rises, facets stay 
   CHECK(plain.stats.min_dihedral < 0.5);
   CHECK(s.min_dihedral > 2.0);
   CHECK(s.dihedral_histogram[0] == 0);  // no tet below 1 degree
-  CHECK(s.steiner_volume == plain.stats.steiner_volume + s.improve_points);
+  // With the pass on, split points go in unconditionally (refine.cpp), so
+  // refinement itself differs; the points the pass added are volume points.
+  CHECK(s.steiner_volume >= s.improve_points);
   // The flips gave up the Delaunay property: validate() would find it
   // missing if the result claimed it.
   Result claimed = r;

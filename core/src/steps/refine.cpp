@@ -32,6 +32,16 @@
 // max_points, remains as a guard). Bad tets that would need a closer
 // point are left (counted in refine_skipped); they are the ones near small
 // input angles and between coplanar facets, which TetGen leaves in part too.
+//
+// With the improvement pass on (the default), the result need not stay a
+// CDT, and split points of subsegments and subfaces go in unconditionally,
+// as in Shewchuk's and Si's algorithms: a cavity that is not star-shaped
+// from the point is cut down to one that is (shrink_to_star), the subfaces
+// it leaves encroached are split right after (split_encroached), and
+// Lawson flips restore local Delaunay faces around the new point
+// (flip_to_delaunay). Without it, thin facets side by side (the faceted
+// wall of a hole, the strips of a fillet) ask for cycles of splits that
+// each need the other first, and refinement gives up there.
 #include "refine.hpp"
 
 #include <algorithm>
@@ -210,6 +220,14 @@ class Refiner {
   void collect_boundary();
   Verdict check_constraints(const double* p, Where where, VertexId sa, VertexId sb);
   bool cavity_is_star(const double* p);
+  bool shrink_to_star(const double* p, size_t seeds);
+  void split_encroached();
+  // --- Lawson flips after an insertion that may leave faces not locally Delaunay ---
+  void flip_to_delaunay();
+  bool not_delaunay(HalfFace hf) const;
+  bool flip23(HalfFace hf);
+  bool flip32(HalfFace hf);
+  bool replace_tets(const std::vector<TetId>& old, const std::vector<std::array<VertexId, 4>>& fresh);
   void region_boundary(VertexId sa, VertexId sb);
   bool region_edges_on_boundary();
   // Whether edge `key` is an edge of the cavity's boundary.
@@ -316,6 +334,11 @@ class Refiner {
   Subface split_face_{};             // what check_constraints asks to split
   VertexId split_a_ = kNone, split_b_ = kNone;
   std::vector<TetId> queue_;       // tets to test (a stack: run())
+  // Split points of constraints go in unconditionally (shrink_to_star) when
+  // the result need not stay a CDT (the improvement pass follows).
+  bool unconditional_splits_ = false;
+  std::vector<std::array<VertexId, 3>> encroached_;  // subfaces left encroached (shrink_to_star)
+  std::vector<HalfFace> flip_queue_;                  // faces to check (flip_to_delaunay)
   struct SideRec {
     uint64_t key;
     uint32_t face;
@@ -628,6 +651,155 @@ bool Refiner::cavity_is_star(const double* p) {
   return true;
 }
 
+// A split point of a subsegment or subface whose cavity is not star-shaped
+// from it: the tets behind a face it does not see leave the cavity (the
+// seeds, which the split destroys, cannot), until the rest is. A constrained
+// face it does not see is encroached (p lies in its circumsphere's tet
+// and beyond or in its plane); it is kept in encroached_ and split right
+// after this insertion, which removes the tets left beside it. This is how
+// Shewchuk's and Si's algorithms insert split points unconditionally: a
+// cycle of subsegments that each encroach the other's neighbouring
+// subfaces (thin facets side by side, as on the faceted wall of a hole)
+// has no split that keeps a CDT at every step.
+bool Refiner::shrink_to_star(const double* p, size_t seeds) {
+  for (int round = 0; round < 64; ++round) {
+    bool cut = false;
+    for (const BoundaryFace& f : bnd_) {
+      if (pred::orient3d(pt(f.a), pt(f.b), pt(f.c), p) > 0 &&
+          !numerically_flat(pt(f.a), pt(f.b), pt(f.c), p))
+        continue;
+      if (!(m_.tflag[f.from] & kTetInCavity)) continue;  // already cut this round
+      if (std::find(cav_.begin(), cav_.begin() + static_cast<long>(seeds), f.from) !=
+          cav_.begin() + static_cast<long>(seeds))
+        return false;
+      if (f.tag != kNoTag) encroached_.push_back({f.a, f.b, f.c});
+      m_.tflag[f.from] &= static_cast<uint8_t>(~kTetInCavity);
+      cut = true;
+    }
+    if (!cut) return true;
+    cav_.erase(std::remove_if(cav_.begin() + static_cast<long>(seeds), cav_.end(),
+                              [&](TetId t) { return !(m_.tflag[t] & kTetInCavity); }),
+               cav_.end());
+    collect_boundary();
+  }
+  return false;
+}
+
+// ---------------------------------------------------------------------------
+// Lawson flips
+// ---------------------------------------------------------------------------
+
+// Face hf is not constrained, has a tet beyond, and that tet's far vertex
+// lies strictly inside the circumsphere of hf's tet (exact, unperturbed, as
+// validate() checks).
+bool Refiner::not_delaunay(HalfFace hf) const {
+  if (tag(hf) != kNoTag) return false;
+  const HalfFace nb = m_.adjacent(hf);
+  if (nb == kNoHalfFace) return false;
+  const VertexId* tv = m_.tet_vertices(hf_tet(hf));
+  return pred::insphere(pt(tv[0]), pt(tv[1]), pt(tv[2]), pt(tv[3]), pt(m_.opposite(nb))) > 0;
+}
+
+// Replaces live tets `old` by `fresh` (the same region, one region
+// attribute): constraint tags of the outer faces carry over, the new tets go
+// on the refinement queue and their faces on the flip queue.
+bool Refiner::replace_tets(const std::vector<TetId>& old,
+                           const std::vector<std::array<VertexId, 4>>& fresh) {
+  const double attribute = attr_[old[0]];
+  for (TetId t : old)
+    if (attr_[t] != attribute) return false;
+  std::vector<std::pair<std::array<VertexId, 3>, uint32_t>> outer;
+  for (TetId t : old)
+    for (int i = 0; i < 4; ++i) {
+      const HalfFace hf = make_hf(t, i);
+      const HalfFace nb = m_.adjacent(hf);
+      if (nb != kNoHalfFace && std::find(old.begin(), old.end(), hf_tet(nb)) != old.end()) continue;
+      if (tag(hf) != kNoTag) outer.push_back({sorted_triangle(face_of(hf)), tag(hf)});
+    }
+  std::sort(outer.begin(), outer.end());
+  std::vector<TetId> created;
+  if (!m_.replace_tets(old.data(), old.size(), fresh.data(), fresh.size(), &created)) return false;
+  cm_.sync_slots();
+  ++commits_;
+  touched_.resize(m_.num_vertices(), 0);
+  for (TetId t : created) {
+    attr_[t] = attribute;
+    for (int i = 0; i < 4; ++i) {
+      touched_[m_.vertex(t, i)] = commits_;
+      const HalfFace hf = make_hf(t, i);
+      const auto key = sorted_triangle(face_of(hf));
+      const auto it = std::lower_bound(outer.begin(), outer.end(), std::make_pair(key, uint32_t(0)));
+      hfc_[hf] = it != outer.end() && it->first == key ? it->second : kNoTag;
+      flip_queue_.push_back(hf);
+    }
+    queue_.push_back(t);
+  }
+  return true;
+}
+
+// The 2-3 flip of face hf: its two tets become three around the edge
+// joining their far vertices, when all three are positive and not flat.
+bool Refiner::flip23(HalfFace hf) {
+  const TetId t = hf_tet(hf);
+  const int face = static_cast<int>(hf & 3u);
+  const VertexId e = m_.opposite(m_.adjacent(hf));
+  const VertexId* tv = m_.tet_vertices(t);
+  std::vector<std::array<VertexId, 4>> fresh;
+  for (int k = 0; k < 3; ++k) {
+    std::array<VertexId, 4> n{tv[0], tv[1], tv[2], tv[3]};
+    n[kFaceVertex[face][k]] = e;
+    if (pred::orient3d(pt(n[0]), pt(n[1]), pt(n[2]), pt(n[3])) <= 0 ||
+        numerically_flat(pt(n[0]), pt(n[1]), pt(n[2]), pt(n[3])))
+      return false;
+    fresh.push_back(n);
+  }
+  return replace_tets({t, hf_tet(m_.adjacent(hf))}, fresh);
+}
+
+// The 3-2 flip: an edge xy of face hf with exactly three tets around it
+// (the two of hf and a third holding both far vertices d and e), no
+// subsegment and no constrained face through it, becomes the face (z d e)
+// between two tets, when both are positive and not flat.
+bool Refiner::flip32(HalfFace hf) {
+  const TetId t = hf_tet(hf);
+  const VertexId d = m_.opposite(hf), e = m_.opposite(m_.adjacent(hf));
+  const auto f = face_of(hf);
+  for (int k = 0; k < 3; ++k) {
+    const VertexId x = f[k], y = f[(k + 1) % 3], z = f[(k + 2) % 3];
+    if (is_subsegment(x, y)) continue;
+    bool closed = false;
+    if (!cm_.edge_ring(t, x, y, ring_, &closed) || !closed || ring_.size() != 3) continue;
+    bool free = true;
+    for (TetId u : ring_) {
+      const VertexId* uv = m_.tet_vertices(u);
+      for (int i = 0; i < 4; ++i)
+        if (uv[i] != x && uv[i] != y && tag(make_hf(u, i)) != kNoTag) free = false;
+    }
+    if (!free) continue;
+    std::array<VertexId, 4> a{z, d, e, x}, b{z, e, d, y};
+    if (pred::orient3d(pt(a[0]), pt(a[1]), pt(a[2]), pt(a[3])) < 0) std::swap(a[1], a[2]), std::swap(b[1], b[2]);
+    bool ok = true;
+    for (const auto& n : {a, b})
+      ok = ok && pred::orient3d(pt(n[0]), pt(n[1]), pt(n[2]), pt(n[3])) > 0 &&
+           !numerically_flat(pt(n[0]), pt(n[1]), pt(n[2]), pt(n[3]));
+    if (ok) return replace_tets(ring_, {a, b});
+  }
+  return false;
+}
+
+// Lawson's flips on the faces in flip_queue_ until each is locally
+// Delaunay or cannot be flipped (3D flips can get stuck; what is left is
+// counted at the end of refinement).
+void Refiner::flip_to_delaunay() {
+  for (size_t n = 0; !flip_queue_.empty() && n < kMaxWalk; ++n) {
+    const HalfFace hf = flip_queue_.back();
+    flip_queue_.pop_back();
+    if (m_.is_dead(hf_tet(hf)) || !not_delaunay(hf)) continue;
+    if (!flip23(hf)) flip32(hf);
+  }
+  flip_queue_.clear();
+}
+
 // The boundary edges of the split subfaces' region, per facet (edges in
 // one subface of the region only), but the split subsegment sa-sb: the new
 // subfaces are p with each of them.
@@ -853,6 +1025,9 @@ bool Refiner::insert(const double* p, Where where, int64_t parent, VertexId sa, 
     const TetId t = hf_tet(hf);
     if (!(m_.tflag[t] & kTetInCavity)) m_.tflag[t] |= kTetInCavity, cav_.push_back(t);
   }
+  const size_t seeds = cav_.size();
+  const size_t encroached_before = encroached_.size();
+  const bool unconditional = unconditional_splits_ && where != Where::Volume;
   if (!grow_cavity(p, pid, where)) {
     *verdict = Verdict::SplitSubface;
     clear_cavity();
@@ -862,22 +1037,35 @@ bool Refiner::insert(const double* p, Where where, int64_t parent, VertexId sa, 
   *verdict = check_constraints(p, where, sa, sb);
   if (*verdict == Verdict::Ok) {
     region_boundary(sa, sb);
-    if (!cavity_is_star(p))
+    if (!cavity_is_star(p) &&
+        !(unconditional && shrink_to_star(p, seeds) &&
+          (*verdict = check_constraints(p, where, sa, sb)) == Verdict::Ok))
       *verdict = fault_ ? Verdict::SplitSubface : Verdict::Reject;
     else if (!region_edges_on_boundary())
       *verdict = Verdict::Reject;
-    else if (!cone_is_delaunay(p))  // a constrained face of the cavity is encroached
+    else if (!cone_is_delaunay(p) && !unconditional)  // a constrained face is encroached
       *verdict = fault_ ? Verdict::SplitSubface : Verdict::Reject;
+    else if (unconditional && fault_ && (encroached_.push_back(split_face_.v), false)) {
+      // Not reached: a split point whose cone is not Delaunay at a
+      // constrained face goes in; the face is split after it.
+    }
     else if (const double near = nearest_vertex(p, scale);
              near < kFloorFactor * floor || near < kScaleFactor * scale)
       *verdict = Verdict::Reject, floor_rejected = true;
   }
   if (*verdict != Verdict::Ok) {
+    encroached_.resize(encroached_before);
     if (attempt_ != kNoAttempt && !floor_rejected) remember_failure(*verdict);
     clear_cavity();
     return false;
   }
+  const size_t first_new = queue_.size();
   commit(p, where, parent, sa, sb, scale);
+  if (unconditional) {  // the cone may hold faces that are not locally Delaunay
+    for (size_t i = first_new; i < queue_.size(); ++i)
+      for (int k = 0; k < 4; ++k) flip_queue_.push_back(make_hf(queue_[i], k));
+    flip_to_delaunay();
+  }
   return true;
 }
 
@@ -1005,6 +1193,28 @@ bool Refiner::split_subface(const Subface& s, double lmin, int depth) {
   return false;
 }
 
+// Splits the subfaces an insertion left encroached (shrink_to_star), and
+// those their splits leave, until none is left or none can be split. No
+// radius-rule floor (lmin 0): a subface left encroached has tets beside it
+// that hold the new point in their circumsphere, and only its split removes
+// them; the local scale's floor (kScaleFactor) still keeps points apart.
+void Refiner::split_encroached() {
+  std::vector<Subface> at;
+  for (size_t n = 0; !encroached_.empty() && n < kMaxWalk; ++n) {
+    const std::array<VertexId, 3> v = encroached_.back();
+    encroached_.pop_back();
+    const TetId t0 = m_.find_edge(v[0], v[1]);
+    if (t0 == kNone) continue;
+    subfaces_at_edge(v[0], v[1], t0, at);
+    const auto key = sorted_triangle(v);
+    for (const Subface& s : at)
+      if (sorted_triangle(s.v) == key) {
+        split_subface(s, 0);
+        break;
+      }
+  }
+}
+
 // A bad tet: its circumcentre goes in when it lies in the domain and
 // encroaches upon nothing; else the blocking or encroached constraint is
 // split (if the radius rule allows). True when the mesh changed.
@@ -1022,7 +1232,9 @@ bool Refiner::fix_bad_tet(TetId t, const TetShape& shape) {
     lmin = std::min(lmin, 0.5 * std::cbrt(6 * std::sqrt(2.0) * volume_limit(attr_[t])));
   if (w == Walk::Blocked) {
     if (tag(blocked) == kNoTag) return false;
-    return split_subface({blocked, tag(blocked), face_of(blocked)}, lmin);
+    const bool changed = split_subface({blocked, tag(blocked), face_of(blocked)}, lmin);
+    split_encroached();
+    return changed;
   }
   if (w != Walk::InTet) return false;
   const VertexId* tv = m_.tet_vertices(at);
@@ -1031,18 +1243,23 @@ bool Refiner::fix_bad_tet(TetId t, const TetShape& shape) {
   m_.tflag[at] |= kTetInCavity;
   cav_.assign(1, at);
   Verdict verdict;
+  bool changed = false;
   if (insert(c, Where::Volume, -1, kNone, kNone, lmin, &verdict)) {
     ++res_.stats.refine_volume;
-    return true;
+    changed = true;
+  } else if (verdict == Verdict::SplitSubface) {
+    changed = split_subface(split_face_, lmin);
+  } else if (verdict == Verdict::SplitSubsegment) {
+    changed = split_subsegment(split_a_, split_b_, lmin);
   }
-  if (verdict == Verdict::SplitSubface) return split_subface(split_face_, lmin);
-  if (verdict == Verdict::SplitSubsegment) return split_subsegment(split_a_, split_b_, lmin);
-  return false;
+  split_encroached();
+  return changed;
 }
 
 Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress) {
   Status st = cm_.build(plc_, res_);
   if (!st.ok()) return st;
+  unconditional_splits_ = q_.min_dihedral > 0;
   init_scales();
   // Per-region volume bounds (Region::max_volume), by attribute.
   for (const Region& r : plc_.regions)
@@ -1117,6 +1334,19 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
     if (!m_.is_dead(t) && is_bad(t, shape)) ++left;
   }
   res_.stats.refine_skipped = left;
+  // Unconditional splits may leave faces that are not locally Delaunay where
+  // flips got stuck: one more round over the whole mesh, and the result is
+  // not called Delaunay if any is left.
+  if (unconditional_splits_) {
+    for (TetId t = 0; t < m_.num_tet_slots(); ++t)
+      if (!m_.is_dead(t))
+        for (int k = 0; k < 4; ++k) flip_queue_.push_back(make_hf(t, k));
+    flip_to_delaunay();
+    for (TetId t = 0; t < m_.num_tet_slots() && res_.delaunay; ++t)
+      if (!m_.is_dead(t))
+        for (int k = 0; k < 4; ++k)
+          if (not_delaunay(make_hf(t, k))) res_.delaunay = false;
+  }
 
   if (q_.min_dihedral > 0) {
     ImproveCounts counts;
