@@ -111,6 +111,11 @@ constexpr double kSplitFloorFactor = 0.75;
 // plates and large scans (tests/bench/README.md has the runs).
 constexpr double kScaleFactor = 0.05;
 constexpr double kScaleSlope = 0.25;
+// The same floor for the split of a subface an unconditional insertion left
+// encroached (split_encroached), which has no radius-rule floor: near small
+// input angles those splits cascade, and on decimated scans they tripled
+// the tets for a small gain in quality below this (tests/bench/README.md).
+constexpr double kEncroachedScaleFactor = 0.2;
 
 // The share of the Refine phase's progress that refinement reports when the
 // improvement pass follows (which reports the rest).
@@ -339,6 +344,7 @@ class Refiner {
   bool unconditional_splits_ = false;
   std::vector<std::array<VertexId, 3>> encroached_;  // subfaces left encroached (shrink_to_star)
   std::vector<HalfFace> flip_queue_;                  // faces to check (flip_to_delaunay)
+  double scale_factor_ = kScaleFactor;                // the scale floor's factor now
   struct SideRec {
     uint64_t key;
     uint32_t face;
@@ -1050,7 +1056,7 @@ bool Refiner::insert(const double* p, Where where, int64_t parent, VertexId sa, 
       // constrained face goes in; the face is split after it.
     }
     else if (const double near = nearest_vertex(p, scale);
-             near < kFloorFactor * floor || near < kScaleFactor * scale)
+             near < kFloorFactor * floor || near < scale_factor_ * scale)
       *verdict = Verdict::Reject, floor_rejected = true;
   }
   if (*verdict != Verdict::Ok) {
@@ -1197,7 +1203,7 @@ bool Refiner::split_subface(const Subface& s, double lmin, int depth) {
 // those their splits leave, until none is left or none can be split. No
 // radius-rule floor (lmin 0): a subface left encroached has tets beside it
 // that hold the new point in their circumsphere, and only its split removes
-// them; the local scale's floor (kScaleFactor) still keeps points apart.
+// them; the local scale's floor (kEncroachedScaleFactor) keeps points apart.
 void Refiner::split_encroached() {
   std::vector<Subface> at;
   for (size_t n = 0; !encroached_.empty() && n < kMaxWalk; ++n) {
@@ -1209,7 +1215,9 @@ void Refiner::split_encroached() {
     const auto key = sorted_triangle(v);
     for (const Subface& s : at)
       if (sorted_triangle(s.v) == key) {
+        scale_factor_ = kEncroachedScaleFactor;
         split_subface(s, 0);
+        scale_factor_ = kScaleFactor;
         break;
       }
   }
