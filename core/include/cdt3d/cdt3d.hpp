@@ -278,7 +278,7 @@ struct QualityOptions {
   /// Delaunay one (Result::delaunay); 0 keeps it a CDT.
   double min_dihedral = 15;
   /// Stop refining after this many added points (0: 100 times the points
-  /// of the CDT plus 100000, plus 6 per smallest volume bound's worth of
+  /// of the CDT plus 1000000, plus 6 per smallest volume bound's worth of
   /// volume); reported in Statistics::refine_capped.
   size_t max_points = 0;
 };

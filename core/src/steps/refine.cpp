@@ -117,6 +117,11 @@ constexpr double kScaleSlope = 0.25;
 // the tets for a small gain in quality below this (tests/bench/README.md).
 constexpr double kEncroachedScaleFactor = 0.2;
 
+// The guard on added points beyond 100 per point of the CDT: a plate of
+// 242 points whose thickness is a thousandth of its width needs about 400k
+// points at that scale on its faces to meet the bound (TetGen adds 1M).
+constexpr size_t kBasePointCap = 1000000;
+
 // The share of the Refine phase's progress that refinement reports when the
 // improvement pass follows (which reports the rest).
 constexpr double kRefineShare = 0.8;
@@ -1285,7 +1290,7 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
         volume += tet_shape(pt(v[0]), pt(v[1]), pt(v[2]), pt(v[3])).volume;
       }
     const double by_volume = std::isfinite(limit) ? std::min(1e9, 6 * volume / limit) : 0;
-    cap = 100 * cm_.old_points + 100000 + static_cast<size_t>(by_volume);
+    cap = 100 * cm_.old_points + kBasePointCap + static_cast<size_t>(by_volume);
   }
 
   // Depth first: the CDT's tets in slot order, and after each insertion the
