@@ -24,6 +24,9 @@ struct Work {
   void mark(uint32_t input_facet) { changed[input_facet] = 1; }
 };
 
+/// Per point of `plc`: 1 when a facet loop or an explicit segment uses it.
+std::vector<uint8_t> used_points(const Plc& plc);
+
 /// A facet made from part of `from`: one loop, the same marker and source
 /// line or record, no facet holes (a part is a plain polygon).
 Facet part_of(const Facet& from, std::vector<VertexId> loop);
