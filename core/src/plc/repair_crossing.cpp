@@ -15,7 +15,8 @@
 // signs. The points where edges cross planes or edges are constructed and
 // ROUNDED, to a grid (snapped(): snap rounding after Greene & Yao 1986 and
 // Hobby 1999, iterated with an exact re-check as in the iterated snap
-// rounding of Packer 2008): before the first round every point of a PLC
+// rounding of Halperin & Packer 2002, here without its guarantee): before
+// the first round every point of a PLC
 // with improper pairs is snapped to the grid, then every constructed point
 // is. Points closer than the grid become one point instead of needles that
 // segment recovery cannot split. Rounding moves points off the lines they
