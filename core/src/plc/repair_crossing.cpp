@@ -414,6 +414,7 @@ class Crossings {
   static bool on_one_edge(int a, int b) { return (location_edges(a) & location_edges(b)) != 0; }
 
   void add_edge_point(VertexId a, VertexId b, VertexId v) {
+    if (v == a || v == b) return;
     auto& pts = edge_points_[{std::min(a, b), std::max(a, b)}];
     if (std::find(pts.begin(), pts.end(), v) == pts.end()) pts.push_back(v);
   }
@@ -449,12 +450,24 @@ class Crossings {
   }
 
   VertexId new_point(const Vec3& x, VertexId p, VertexId q) {
-    const VertexId id = static_cast<VertexId>(w_.plc.points.size());
-    w_.plc.points.push_back(snapped(x, grid_));
+    const VertexId id = point_at(snapped(x, grid_));
     add_edge_point(p, q, id);
-    ++report_.intersection_points;
     return id;
   }
+
+  // The point at x: the one already there (a constructed point that snaps
+  // onto a point is that point), or a new one.
+  VertexId point_at(const Vec3& x) {
+    if (at_.empty())
+      for (VertexId v = 0; v < w_.plc.points.size(); ++v) at_.emplace(key_of(w_.plc.points[v]), v);
+    const auto [it, added] = at_.emplace(key_of(x), static_cast<VertexId>(w_.plc.points.size()));
+    if (!added) return it->second;
+    w_.plc.points.push_back(x);
+    ++report_.intersection_points;
+    return it->second;
+  }
+
+  static std::array<double, 3> key_of(const Vec3& x) { return {x.x, x.y, x.z}; }
 
   // The constrained triangulation of triangle t with the inserted points and
   // segments, computed on the projection that drops the axis of t's largest
@@ -561,10 +574,7 @@ class Crossings {
     Vec3 x;
     if (!three_planes(tri(key[0]), tri(key[1]), tri(key[2]), x))
       x = line_crossing(xyz(w_.plc, s1.a), xyz(w_.plc, s1.b), xyz(w_.plc, s2.a), xyz(w_.plc, s2.b));
-    const VertexId id = static_cast<VertexId>(w_.plc.points.size());
-    w_.plc.points.push_back(snapped(x, grid_));
-    ++report_.intersection_points;
-    return triples_[key] = id;
+    return triples_[key] = point_at(snapped(x, grid_));
   }
 
   // The point common to the planes of three triangles (Cramer's rule in long
@@ -675,6 +685,7 @@ class Crossings {
   std::map<std::array<uint32_t, 3>, VertexId> triples_;
   std::map<uint32_t, Insert> inserts_;
   std::map<std::array<VertexId, 5>, VertexId> made_;
+  std::map<std::array<double, 3>, VertexId> at_;  ///< point by coordinates, built on first use
 };
 
 // Crossings, and touching contacts (an edge crossing the other facet's edge
