@@ -43,8 +43,9 @@ void drop_duplicate_facets(Work& w, RepairReport& report);
 /// may lie on an edge, which the PLC forbids for a free point).
 void drop_orphaned_points(Work& w, const Plc& input);
 
-// Step 1b (repair_holes.cpp, with RepairOptions::fill_holes): every
-// boundary loop closed by triangles of its vertices, of least total area.
+// Step 3b (repair_holes.cpp, with RepairOptions::fill_holes, after the
+// T-junctions): every boundary loop closed by triangles of its vertices, of
+// least total area.
 void fill_holes(Work& w, RepairReport& report);
 
 // Step 2 (repair_nonplanar.cpp): a facet whose vertices are not coplanar is

@@ -761,6 +761,31 @@ void drop_unused_points(Work& w, std::vector<Vec3> isolated) {
   renumber_vertices(plc, id);
 }
 
+// Flags in `out` the polygon facets (not triangles) that are `involved` or
+// share an edge with an involved facet. True when there is one.
+bool polygons_near(const Plc& plc, const std::vector<uint8_t>& involved, std::vector<uint8_t>& out) {
+  using Edge = std::pair<VertexId, VertexId>;
+  auto edge = [](VertexId a, VertexId b) { return a < b ? Edge{a, b} : Edge{b, a}; };
+  std::vector<Edge> edges;
+  for (size_t f = 0; f < involved.size(); ++f)
+    if (involved[f])
+      for (const auto& l : plc.facets[f].loops)
+        for (size_t i = 0; i < l.size(); ++i) edges.push_back(edge(l[i], l[(i + 1) % l.size()]));
+  std::sort(edges.begin(), edges.end());
+  out.assign(plc.facets.size(), 0);
+  bool any = false;
+  for (size_t f = 0; f < plc.facets.size(); ++f) {
+    if (is_triangle(plc.facets[f])) continue;
+    bool near = involved[f];
+    for (const auto& l : plc.facets[f].loops)
+      for (size_t i = 0; i < l.size() && !near; ++i)
+        near = std::binary_search(edges.begin(), edges.end(), edge(l[i], l[(i + 1) % l.size()]));
+    out[f] = near;
+    any |= near;
+  }
+  return any;
+}
+
 // Rounds of exact detection, snapping (first round), and resolution of
 // every handled pair, until nothing is left or kRounds.
 Status resolve_rounds(Work& w, RepairReport& report, std::vector<Intersection>& left) {
@@ -783,16 +808,12 @@ Status resolve_rounds(Work& w, RepairReport& report, std::vector<Intersection>& 
       if (!st.ok()) return st;
       continue;
     }
-    // Polygon facets in crossing pairs are triangulated first; the pairs are
-    // then found again between triangles.
-    std::vector<uint8_t> polygon(facets, 0);
-    bool any_polygon = false;
-    for (uint32_t f = 0; f < facets; ++f)
-      if (involved[f] && !is_triangle(w.plc.facets[f])) {
-        polygon[f] = 1;
-        any_polygon = true;
-      }
-    if (any_polygon) {
+    // Polygon facets in improper pairs, or with an edge of one, are
+    // triangulated first (a polygon that took rounded points on its edges
+    // could stop being simple); the pairs are then found again between
+    // triangles.
+    std::vector<uint8_t> polygon;
+    if (polygons_near(w.plc, involved, polygon)) {
       Status st = triangulate_in_place(w, polygon);
       if (!st.ok()) return st;
       find_self_intersections(w.plc, left);

@@ -1,11 +1,11 @@
-// Repair step 1b (RepairOptions::fill_holes): every boundary loop of an open
+// Repair step 3b (RepairOptions::fill_holes, after the T-junctions): every boundary loop of an open
 // surface is closed by triangles. A boundary edge is a polygon edge that one
 // facet alone uses; the loops are traced against the facets' orientation, so
 // the patch continues the surface's sides. Each loop is triangulated with the
 // smallest total area (the dynamic programme of Liepa 2003, "Filling holes in
 // meshes", with area as the weight; no triangle of three collinear points),
-// from the loop's own vertices: no point is constructed. The later steps then
-// treat the patch like any other facets (a patch that crosses the surface is
+// from the loop's own vertices: no point is constructed. The T-junction step
+// and step 4 then treat the patch like any other facets (a patch that crosses the surface is
 // cut along the crossing in step 4).
 #include <algorithm>
 #include <cmath>
@@ -42,18 +42,26 @@ struct FillEdge {
 };
 
 // The boundary edges of the PLC, reversed: one facet uses the edge and no
-// explicit segment is along it.
+// explicit segment is along it (a facet standing on a segment is closed
+// there, as the self-intersection test treats it).
 std::vector<FillEdge> boundary_edges(const Plc& plc) {
   std::unordered_map<uint64_t, uint32_t> uses;
   for (const Facet& f : plc.facets)
     for (const auto& loop : f.loops)
       for (size_t i = 0; i < loop.size(); ++i) ++uses[undirected(loop[i], loop[(i + 1) % loop.size()])];
+  std::vector<uint64_t> segments;
+  for (const auto& s : plc.segments) segments.push_back(undirected(s[0], s[1]));
+  std::sort(segments.begin(), segments.end());
   std::vector<FillEdge> out;
   for (uint32_t fi = 0; fi < plc.facets.size(); ++fi)
     for (const auto& loop : plc.facets[fi].loops)
       for (size_t i = 0; i < loop.size(); ++i) {
         const VertexId a = loop[i], b = loop[(i + 1) % loop.size()];
-        if (uses[undirected(a, b)] == 1) out.push_back({b, a, fi});
+        const uint64_t key = undirected(a, b);
+        const auto it = uses.find(key);
+        if (it == uses.end() || it->second != 1) continue;
+        if (std::binary_search(segments.begin(), segments.end(), key)) continue;
+        out.push_back({b, a, fi});
       }
   return out;
 }
