@@ -174,8 +174,8 @@ class Crossings {
   /// in one segment of the line common to their planes: its points in order
   /// along it, chained. Coplanar triangles overlap in a convex polygon
   /// bounded by pieces of both triangles' edges: each triangle takes the
-  /// pieces of the other's edges that run inside it, and the two copies of
-  /// the overlap are then duplicate facets dropped (tidy_after_rounding).
+  /// pieces of the other's edges that run inside it, and the facet of
+  /// higher id drops its copy of the overlap (is_covered).
   /// False when the pair adds nothing.
   bool add_contact(uint32_t f, uint32_t g) {
     const Tri tri_of[2] = {tri(f), tri(g)};
@@ -187,6 +187,12 @@ class Crossings {
     for (int j = 0; j < 3 && coplanar; ++j)
       coplanar = pred::orient3d(xyz(w_.plc, tri_of[0][0]), xyz(w_.plc, tri_of[0][1]),
                                 xyz(w_.plc, tri_of[0][2]), xyz(w_.plc, tri_of[1][j])) == 0;
+    if (coplanar) {
+      std::vector<VertexId> overlap;
+      for (const ContactPoint& c : pts) overlap.push_back(c.v);
+      std::sort(overlap.begin(), overlap.end());
+      covered_[std::max(f, g)].push_back(std::move(overlap));
+    }
     bool any = false;
     for (int side = 0; side < 2; ++side) {
       const Tri& host = tri_of[side];
@@ -244,6 +250,7 @@ class Crossings {
       ++split;
       w_.mark(src);
       for (const Tri& t : tris) {
+        if (is_covered(static_cast<uint32_t>(f), t)) continue;
         facets.push_back(part_of(facet, {t[0], t[1], t[2]}));
         source.push_back(src);
       }
@@ -453,6 +460,22 @@ class Crossings {
     const VertexId id = point_at(snapped(x, grid_));
     add_edge_point(p, q, id);
     return id;
+  }
+
+  // A triangle of facet f's retriangulation that lies in the overlap of f
+  // with a coplanar facet of lower id: its corners are all corners of that
+  // (convex) overlap, decided by ids, not by the rounded coordinates. That
+  // facet keeps the overlap and f drops its copy, so two differently
+  // triangulated copies cannot overlap again in the next round.
+  bool is_covered(uint32_t f, const Tri& t) const {
+    const auto it = covered_.find(f);
+    if (it == covered_.end()) return false;
+    for (const auto& overlap : it->second) {
+      bool all = true;
+      for (VertexId v : t) all = all && std::binary_search(overlap.begin(), overlap.end(), v);
+      if (all) return true;
+    }
+    return false;
   }
 
   // The point at x: the one already there (a constructed point that snaps
@@ -685,7 +708,9 @@ class Crossings {
   std::map<std::array<uint32_t, 3>, VertexId> triples_;
   std::map<uint32_t, Insert> inserts_;
   std::map<std::array<VertexId, 5>, VertexId> made_;
-  std::map<std::array<double, 3>, VertexId> at_;  ///< point by coordinates, built on first use
+  std::map<std::array<double, 3>, VertexId> at_;
+  /// Per facet: the corners of its coplanar overlaps with facets of lower id.
+  std::map<uint32_t, std::vector<std::vector<VertexId>>> covered_;  ///< point by coordinates, built on first use
 };
 
 // Crossings, and touching contacts (an edge crossing the other facet's edge
