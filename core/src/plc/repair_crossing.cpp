@@ -551,10 +551,45 @@ class Crossings {
       }
     }
     if (ids.size() != flat.points.size()) return false;
+    split_at_points(flat);
     std::vector<uint32_t> tris, tri_facet;
     if (!triangulate_surface(flat, tris, tri_facet).ok() || tris.empty()) return false;
     for (size_t k = 0; k + 2 < tris.size(); k += 3) out.push_back({ids[tris[k]], ids[tris[k + 1]], ids[tris[k + 2]]});
     return true;
+  }
+
+  // Every segment of the flat PLC split at the flat points lying on it
+  // (orient2d exactly 0, strictly between its ends): the end of one contact
+  // segment on another (three triangles meeting where one's contact ends on
+  // another's), or a rounded point that landed on one. Collinear overlaps
+  // become shared pieces, kept once.
+  static void split_at_points(Plc& flat) {
+    std::vector<std::array<VertexId, 2>> pieces;
+    for (const auto& seg : flat.segments) {
+      const double *a = &flat.points[seg[0]].x, *b = &flat.points[seg[1]].x;
+      std::vector<VertexId> on;
+      for (VertexId v = 0; v < flat.points.size(); ++v) {
+        if (v == seg[0] || v == seg[1]) continue;
+        const double* p = &flat.points[v].x;
+        if (pred::orient2d_projected(a, b, p, 2) == 0 && strictly_between(a, b, p)) on.push_back(v);
+      }
+      // Along the segment by a coordinate on which its ends differ (exact).
+      const int k = a[0] != b[0] ? 0 : 1;
+      const bool up = b[k] > a[k];
+      std::sort(on.begin(), on.end(), [&](VertexId x, VertexId y) {
+        const double cx = (&flat.points[x].x)[k], cy = (&flat.points[y].x)[k];
+        return up ? cx < cy : cx > cy;
+      });
+      VertexId from = seg[0];
+      for (VertexId v : on) {
+        pieces.push_back({std::min(from, v), std::max(from, v)});
+        from = v;
+      }
+      pieces.push_back({std::min(from, seg[1]), std::max(from, seg[1])});
+    }
+    std::sort(pieces.begin(), pieces.end());
+    pieces.erase(std::unique(pieces.begin(), pieces.end()), pieces.end());
+    flat.segments = std::move(pieces);
   }
 
   // Where three triangles meet: inside triangle t the intersection segments
