@@ -553,7 +553,17 @@ class Crossings {
     if (ids.size() != flat.points.size()) return false;
     split_at_points(flat);
     std::vector<uint32_t> tris, tri_facet;
-    if (!triangulate_surface(flat, tris, tri_facet).ok() || tris.empty()) return false;
+    if (!triangulate_surface(flat, tris, tri_facet).ok() || tris.empty()) {
+      // Rounded points can make two contact segments cross without a
+      // triple point, or a point lie on a segment in the projection: the
+      // points alone are triangulated instead, and the contacts those
+      // triangles still have are found exactly in the next round.
+      if (flat.segments.empty()) return false;
+      flat.segments.clear();
+      tris.clear();
+      tri_facet.clear();
+      if (!triangulate_surface(flat, tris, tri_facet).ok() || tris.empty()) return false;
+    }
     for (size_t k = 0; k + 2 < tris.size(); k += 3) out.push_back({ids[tris[k]], ids[tris[k + 1]], ids[tris[k + 2]]});
     return true;
   }
