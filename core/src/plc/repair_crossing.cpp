@@ -39,6 +39,9 @@ namespace repair_steps {
 namespace {
 
 constexpr size_t kRounds = 8;
+/// A round with more than kGrowth times the first round's pairs (plus a
+/// few) ends the rounds.
+constexpr size_t kGrowth = 4;
 
 const double* xyz(const Plc& plc, VertexId v) { return &plc.points[v].x; }
 
@@ -872,6 +875,9 @@ Status resolve_rounds(Work& w, RepairReport& report, std::vector<Intersection>& 
     }
     if (round == 0) report.crossing_pairs = crossing;
     if (crossing == 0 || round == kRounds) return Status::success();
+    // Rounds that multiply the pairs do not converge (rounding keeps
+    // cutting what it cut before): stop, and the pairs left are reported.
+    if (round > 1 && crossing > kGrowth * report.crossing_pairs + 64) return Status::success();
     report.rounds = round + 1;
     if (round == 0) {
       Status st = snap_all(w, grid);
