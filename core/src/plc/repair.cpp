@@ -144,8 +144,12 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOption
   // Holes are filled after the T-junctions are split: a crack along a
   // T-junction is no hole (its edges become shared), and a patch over it
   // would overlap the surface.
-  if (st.ok() && options.fill_holes) {
-    repair_steps::fill_holes(w, report);
+  if (st.ok() && options.fill_holes && repair_steps::has_boundary(w.plc)) {
+    // Snapped first: a crack narrower than the grid (CAD noise: a wall
+    // ending at z = -2.7e-16 beside a face at z = 0) closes by welding
+    // instead of taking a patch that would overlap the face.
+    st = repair_steps::snap_to_grid(w);
+    if (st.ok()) repair_steps::fill_holes(w, report);
     st = repair_steps::split_at_tjunctions(w, report);
     tidy_after_tjunctions(w, report);
   }

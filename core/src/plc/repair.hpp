@@ -47,6 +47,8 @@ void drop_orphaned_points(Work& w, const Plc& input);
 // T-junctions): every boundary loop closed by triangles of its vertices, of
 // least total area.
 void fill_holes(Work& w, RepairReport& report);
+/// Some edge is used by one facet alone (and no explicit segment).
+bool has_boundary(const Plc& plc);
 
 // Step 2 (repair_nonplanar.cpp): a facet whose vertices are not coplanar is
 // split into triangles.
@@ -65,6 +67,9 @@ Status triangulate_in_place(Work& w, const std::vector<uint8_t>& which);
 // segments as edges. `left` receives the improper pairs (in the numbering of
 // w.plc) that remain after the last round; empty when the PLC is clean.
 Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection>& left);
+/// Every point snapped to step 4's grid (2^-40 below the binary order of the
+/// largest coordinate), then steps 1 and 3 again on what moved.
+Status snap_to_grid(Work& w);
 
 }  // namespace repair_steps
 }  // namespace cdt3d

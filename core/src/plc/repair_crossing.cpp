@@ -922,5 +922,7 @@ Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection
   return st;
 }
 
+Status snap_to_grid(Work& w) { return snap_all(w, snap_grid(w.plc)); }
+
 }  // namespace repair_steps
 }  // namespace cdt3d

@@ -227,6 +227,8 @@ std::vector<std::array<VertexId, 3>> planar_triangulation(const Plc& plc,
 
 }  // namespace
 
+bool has_boundary(const Plc& plc) { return !boundary_edges(plc).empty(); }
+
 void fill_holes(Work& w, RepairReport& report) {
   for (const std::vector<FillEdge>& loop : trace_loops(boundary_edges(w.plc))) {
     std::vector<VertexId> v;
