@@ -504,10 +504,10 @@ struct RepairReport {
 /// `out` then holds the PLC as far as it got. An open surface is left open
 /// unless `options.fill_holes`.
 struct RepairOptions {
-  /// After step 1, close every boundary loop (edges of one facet only) with
+  /// After step 3 (T-junctions), close every boundary loop (edges of one facet only) with
   /// triangles of its own vertices, of least total area (CLI --fill-holes,
   /// JS repair: { fillHoles: true }); the patch takes the marker and
-  /// provenance of the facet along the loop and goes through steps 2-4.
+  /// provenance of the facet along the loop and goes through steps 3-4.
   bool fill_holes = false;
 };
 Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOptions& options = {});

@@ -107,6 +107,15 @@ std::vector<Intersection> input_pairs(const std::vector<Intersection>& left, con
   return pairs;
 }
 
+// Facets triangulated at T-junctions can repeat one another where the input
+// overlapped: those copies are duplicates like any other.
+void tidy_after_tjunctions(repair_steps::Work& w, RepairReport& report) {
+  RepairReport again;
+  repair_steps::clean_polygons(w, again);
+  repair_steps::drop_duplicate_facets(w, again);
+  report.duplicate_facets += again.duplicate_facets;
+}
+
 }  // namespace
 
 Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOptions& options) {
@@ -129,16 +138,20 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOption
   repair_steps::clean_polygons(w, report);
   repair_steps::drop_duplicate_facets(w, report);
   repair_steps::drop_orphaned_points(w, plc);
-  if (options.fill_holes) repair_steps::fill_holes(w, report);
   repair_steps::split_nonplanar_facets(w, report);
   st = repair_steps::split_at_tjunctions(w, report);
-  {
-    // Facets triangulated at T-junctions can repeat one another where the
-    // input overlapped: those copies are duplicates like any other.
-    RepairReport again;
-    repair_steps::clean_polygons(w, again);
-    repair_steps::drop_duplicate_facets(w, again);
-    report.duplicate_facets += again.duplicate_facets;
+  tidy_after_tjunctions(w, report);
+  // Holes are filled after the T-junctions are split: a crack along a
+  // T-junction is no hole (its edges become shared), and a patch over it
+  // would overlap the surface.
+  if (st.ok() && options.fill_holes && repair_steps::has_boundary(w.plc)) {
+    // Snapped first: a crack narrower than the grid (CAD noise: a wall
+    // ending at z = -2.7e-16 beside a face at z = 0) closes by welding
+    // instead of taking a patch that would overlap the face.
+    st = repair_steps::snap_to_grid(w);
+    if (st.ok()) repair_steps::fill_holes(w, report);
+    st = repair_steps::split_at_tjunctions(w, report);
+    tidy_after_tjunctions(w, report);
   }
   std::vector<Intersection> left;
   if (st.ok()) st = check_plc(w.plc);

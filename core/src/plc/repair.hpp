@@ -24,6 +24,9 @@ struct Work {
   void mark(uint32_t input_facet) { changed[input_facet] = 1; }
 };
 
+/// Per point of `plc`: 1 when a facet loop or an explicit segment uses it.
+std::vector<uint8_t> used_points(const Plc& plc);
+
 /// A facet made from part of `from`: one loop, the same marker and source
 /// line or record, no facet holes (a part is a plain polygon).
 Facet part_of(const Facet& from, std::vector<VertexId> loop);
@@ -40,9 +43,12 @@ void drop_duplicate_facets(Work& w, RepairReport& report);
 /// may lie on an edge, which the PLC forbids for a free point).
 void drop_orphaned_points(Work& w, const Plc& input);
 
-// Step 1b (repair_holes.cpp, with RepairOptions::fill_holes): every
-// boundary loop closed by triangles of its vertices, of least total area.
+// Step 3b (repair_holes.cpp, with RepairOptions::fill_holes, after the
+// T-junctions): every boundary loop closed by triangles of its vertices, of
+// least total area.
 void fill_holes(Work& w, RepairReport& report);
+/// Some edge is used by one facet alone (and no explicit segment).
+bool has_boundary(const Plc& plc);
 
 // Step 2 (repair_nonplanar.cpp): a facet whose vertices are not coplanar is
 // split into triangles.
@@ -61,6 +67,9 @@ Status triangulate_in_place(Work& w, const std::vector<uint8_t>& which);
 // segments as edges. `left` receives the improper pairs (in the numbering of
 // w.plc) that remain after the last round; empty when the PLC is clean.
 Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection>& left);
+/// Every point snapped to step 4's grid (2^-40 below the binary order of the
+/// largest coordinate), then steps 1 and 3 again on what moved.
+Status snap_to_grid(Work& w);
 
 }  // namespace repair_steps
 }  // namespace cdt3d

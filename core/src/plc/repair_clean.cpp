@@ -12,6 +12,15 @@
 namespace cdt3d {
 namespace repair_steps {
 
+std::vector<uint8_t> used_points(const Plc& plc) {
+  std::vector<uint8_t> used(plc.points.size(), 0);
+  for (const Facet& f : plc.facets)
+    for (const auto& l : f.loops)
+      for (VertexId v : l) used[v] = 1;
+  for (const auto& s : plc.segments) used[s[0]] = used[s[1]] = 1;
+  return used;
+}
+
 Facet part_of(const Facet& from, std::vector<VertexId> loop) {
   Facet f;
   f.loops.push_back(std::move(loop));
@@ -203,11 +212,7 @@ void drop_duplicate_facets(Work& w, RepairReport& report) {
 
 void drop_orphaned_points(Work& w, const Plc& input) {
   Plc& plc = w.plc;
-  std::vector<uint8_t> used(plc.points.size(), 0);
-  for (const Facet& f : plc.facets)
-    for (const auto& l : f.loops)
-      for (VertexId v : l) used[v] = 1;
-  for (const auto& s : plc.segments) used[s[0]] = used[s[1]] = 1;
+  const std::vector<uint8_t> used = used_points(plc);
   // Only points that a facet used in the input and none uses now go: an
   // isolated input point is part of the PLC and stays.
   std::vector<uint8_t> keep(plc.points.size(), 1);

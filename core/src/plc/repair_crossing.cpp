@@ -1,29 +1,31 @@
-// Repair step 4: crossing facets. Two triangles whose interiors cross meet
-// in a segment whose ends are where an edge of one pierces the other. Both
-// ends become vertices of both triangles and the segment an edge of both:
-// each affected triangle is replaced by the constrained triangulation of its
-// corners, the new points on its edges and inside it, and the intersection
-// segments (one facet per triangle, provenance kept). Where the segments of
-// two crossings cross inside a triangle, three triangles meet in one point
-// (the common point of their planes), which splits the segments in all
-// three. A new point on an edge goes into every facet that has the edge.
+// Repair step 4: the arrangement of the triangles that meet improperly. For
+// every such pair, in any configuration (crossing, touching at a point or
+// along a segment, an edge in the other's plane or through its corner,
+// coplanar overlap of any shape), the points that bound the contact are
+// found (contact_points) and go into both triangles where they lie, and the
+// segments between them become edges: each affected triangle is replaced by
+// the constrained triangulation of its corners, the new points on its edges
+// and inside it, and the contact segments (one facet per triangle,
+// provenance kept). Where the segments of two contacts cross inside a
+// triangle, three triangles meet in one point (the common point of their
+// planes), which splits the segments in all three. A new point on an edge
+// goes into every facet that has the edge.
 //
-// Exactness: which edges pierce which triangle is decided by orient3d signs.
-// The piercing point itself is a constructed point, rounded to doubles (see
-// pierce_point), so it lies near, not exactly on, both triangles. The
+// Exactness: where the contact lies is decided by orient3d and orient2d
+// signs. The points where edges cross planes or edges are constructed and
+// ROUNDED, to a grid (snapped(): snap rounding after Greene & Yao 1986 and
+// Hobby 1999, iterated with an exact re-check as in the iterated snap
+// rounding of Halperin & Packer 2002, here without its guarantee): before
+// the first round every point of a PLC
+// with improper pairs is snapped to the grid, then every constructed point
+// is. Points closer than the grid become one point instead of needles that
+// segment recovery cannot split. Rounding moves points off the lines they
+// were made on, so the result is checked exactly again
+// (find_self_intersections) and the step repeats on what rounding broke, at
+// most kRounds times; whatever still intersects is reported by facet. The
 // triangulation of a triangle is done in the coordinate plane that drops one
-// axis (exact), as a flat PLC handed to triangulate_surface. Because of the
-// rounding the result is checked exactly again (find_self_intersections) and
-// the step repeats on what rounding broke, at most kRounds times; whatever
-// still intersects is reported by facet.
-//
-// Handled: triangle pairs whose contact is cut out by piercing points (an
-// edge crossing the other triangle or one of its edges), with no vertex on
-// the other's plane: crossings, and touching contacts at one point; and
-// coplanar overlaps, where each triangle is cut along the other's edges and
-// the two copies of the overlap are then one duplicate facet dropped.
-// Contacts through a vertex, in-plane contacts other than overlaps and
-// explicit segments are left and reported.
+// axis (exact), as a flat PLC handed to triangulate_surface. Explicit
+// segments are left and reported.
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -36,9 +38,10 @@ namespace cdt3d {
 namespace repair_steps {
 namespace {
 
-constexpr size_t kRounds = 4;
-/// An end of an intersection segment that is a vertex of both triangles.
-constexpr int kExisting = -2;
+constexpr size_t kRounds = 8;
+/// A round with more than kGrowth times the first round's pairs (plus a
+/// few) ends the rounds.
+constexpr size_t kGrowth = 4;
 
 const double* xyz(const Plc& plc, VertexId v) { return &plc.points[v].x; }
 
@@ -119,97 +122,106 @@ Vec3 line_crossing(const double* p, const double* q, const double* a, const doub
   return along(p, q, (m[0] * n[0] + m[1] * n[1] + m[2] * n[2]) / nn);
 }
 
+// The snap grid: a power of two kSnapBits binary orders below the largest
+// coordinate magnitude of the points in use, so that x / grid and back is
+// exact and the same in every build.
+constexpr int kSnapBits = 40;
+
+double snap_grid(const Plc& plc) {
+  double big = 0;
+  for (const Facet& f : plc.facets)
+    for (const auto& l : f.loops)
+      for (VertexId v : l) big = std::max({big, std::fabs(plc.points[v].x), std::fabs(plc.points[v].y),
+                                           std::fabs(plc.points[v].z)});
+  if (big == 0) return 0;
+  return std::ldexp(1.0, std::ilogb(big) - kSnapBits);
+}
+
+// x ROUNDED to the nearest multiple of the grid (each coordinate; a grid of
+// 0 leaves it as it is). Snap rounding (Hobby 1999; Greene & Yao 1986): the
+// points that end in one grid cell become one point, so two features closer
+// than the grid are made to meet instead of crossing again a few ulps apart.
+Vec3 snapped(Vec3 x, double grid) {
+  if (grid == 0) return x;
+  for (double* c : {&x.x, &x.y, &x.z}) *c = std::nearbyint(*c / grid) * grid;
+  return x;
+}
+
+// Where a contact point lies in a triangle: on edge i (0..2), at vertex k
+// (at_vertex(k)), inside, or outside.
+constexpr int kInside = -1;
+constexpr int kOutside = -2;
+constexpr int at_vertex(int k) { return 3 + k; }
+
+struct ContactPoint {
+  VertexId v;
+  int at[2];  ///< where v lies in the first and the second triangle
+};
+
+// For x on the line through p != q: x strictly between them. Along the line
+// any axis on which p and q differ orders the points exactly.
+bool strictly_between(const double* p, const double* q, const double* x) {
+  int k = 0;
+  while (k < 2 && p[k] == q[k]) ++k;
+  return std::min(p[k], q[k]) < x[k] && x[k] < std::max(p[k], q[k]);
+}
+
 class Crossings {
  public:
-  explicit Crossings(Work& w, RepairReport& report) : w_(w), report_(report) {}
+  Crossings(Work& w, RepairReport& report, double grid) : w_(w), report_(report), grid_(grid) {}
 
-  /// Records what the overlap of the coplanar triangles f and g adds to
-  /// each: every edge of one cuts the other where it runs inside it (its
-  /// ends: its own vertices inside the other, exact, and its crossings with
-  /// the other's edges, constructed). Both then hold the overlap with the
-  /// same vertices and edges; the copies of it are dropped as duplicate
-  /// facets afterwards (tidy_after_rounding). False on a configuration this
-  /// does not handle (a vertex on the other's edge without being its vertex).
-  bool add_coplanar_pair(uint32_t f, uint32_t g) {
-    const Tri t = tri(f), u = tri(g);
-    const int drop = projection_axis(t);
+  /// Records what the contact of triangles f and g adds to each, in every
+  /// configuration: the points of the contact (see contact_points) go into
+  /// both triangles where they lie (a vertex, an edge, the inside), and the
+  /// segments between them become edges. Crossing or touching triangles meet
+  /// in one segment of the line common to their planes: its points in order
+  /// along it, chained. Coplanar triangles overlap in a convex polygon
+  /// bounded by pieces of both triangles' edges: each triangle takes the
+  /// pieces of the other's edges that run inside it, and the facet of
+  /// higher id drops its copy of the overlap (is_covered).
+  /// False when the pair adds nothing.
+  bool add_contact(uint32_t f, uint32_t g) {
+    const Tri tri_of[2] = {tri(f), tri(g)};
+    const uint32_t facet_of[2] = {f, g};
+    std::vector<ContactPoint> pts;
+    contact_points(tri_of[0], tri_of[1], pts);
+    if (pts.empty()) return false;
+    bool coplanar = true;
+    for (int j = 0; j < 3 && coplanar; ++j)
+      coplanar = pred::orient3d(xyz(w_.plc, tri_of[0][0]), xyz(w_.plc, tri_of[0][1]),
+                                xyz(w_.plc, tri_of[0][2]), xyz(w_.plc, tri_of[1][j])) == 0;
+    if (coplanar) {
+      std::vector<VertexId> overlap;
+      for (const ContactPoint& c : pts) overlap.push_back(c.v);
+      std::sort(overlap.begin(), overlap.end());
+      covered_[std::max(f, g)].push_back(std::move(overlap));
+    }
     bool any = false;
     for (int side = 0; side < 2; ++side) {
-      const Tri& host = side == 0 ? t : u;
-      const Tri& cutter = side == 0 ? u : t;
-      const uint32_t host_f = side == 0 ? f : g, cutter_f = side == 0 ? g : f;
-      for (int i = 0; i < 3; ++i) {
-        std::vector<VertexId> on;  // points of the edge inside the closed host
-        const VertexId a = cutter[i], b = cutter[(i + 1) % 3];
-        for (VertexId v : {a, b}) {
-          const int where = locate_in(host, v, drop);
-          if (where < 0) return false;  // on an edge of host without being its vertex
-          if (where == 1) {
-            on.push_back(v);
-            if (std::find(host.begin(), host.end(), v) == host.end()) inserts_[host_f].inside.push_back(v);
-          }
-        }
-        for (int j = 0; j < 3; ++j) {
-          const VertexId c = host[j], d = host[(j + 1) % 3];
-          if (a == c || a == d || b == c || b == d) continue;
-          const double *pa = xyz(w_.plc, a), *pb = xyz(w_.plc, b);
-          const double *pc = xyz(w_.plc, c), *pd = xyz(w_.plc, d);
-          const int o1 = pred::orient2d_projected(pa, pb, pc, drop);
-          const int o2 = pred::orient2d_projected(pa, pb, pd, drop);
-          const int o3 = pred::orient2d_projected(pc, pd, pa, drop);
-          const int o4 = pred::orient2d_projected(pc, pd, pb, drop);
-          if (o1 * o2 < 0 && o3 * o4 < 0) on.push_back(point_on_edges(a, b, c, d));
-          else if ((o1 == 0 || o2 == 0) && o3 * o4 < 0) return false;  // through a corner
-        }
-        std::sort(on.begin(), on.end());
-        on.erase(std::unique(on.begin(), on.end()), on.end());
-        if (on.size() > 2) return false;
-        if (on.size() == 2) {
-          inserts_[host_f].segments.push_back({on[0], on[1], cutter_f});
+      const Tri& host = tri_of[side];
+      Insert& in = inserts_[facet_of[side]];
+      for (const ContactPoint& c : pts) {
+        if (c.at[side] == kInside) {
+          in.inside.push_back(c.v);
+          any = true;
+        } else if (c.at[side] >= 0 && c.at[side] < 3) {
+          add_edge_point(host[c.at[side]], host[(c.at[side] + 1) % 3], c.v);
           any = true;
         }
       }
+      std::vector<std::pair<size_t, size_t>> pieces;
+      if (coplanar) {
+        for (int j = 0; j < 3; ++j) chain_along(pts, 1 - side, j, tri_of[1 - side], pieces);
+      } else {
+        chain_along(pts, -1, -1, host, pieces);
+      }
+      for (const auto& [a, b] : pieces) {
+        if (pts[a].v == pts[b].v || on_one_edge(pts[a].at[side], pts[b].at[side])) continue;
+        in.segments.push_back({pts[a].v, pts[b].v, facet_of[1 - side]});
+        any = true;
+      }
     }
     return any;
-  }
-
-  // Where point v lies relative to the triangle t (projection `drop`): 1 in
-  // the closed triangle at a vertex or strictly inside, 0 outside, -1 on an
-  // edge without being one of its vertices.
-  int locate_in(const Tri& t, VertexId v, int drop) const {
-    if (std::find(t.begin(), t.end(), v) != t.end()) return 1;
-    const double* p = xyz(w_.plc, v);
-    int o[3];
-    for (int i = 0; i < 3; ++i) o[i] = pred::orient2d_projected(xyz(w_.plc, t[i]), xyz(w_.plc, t[(i + 1) % 3]), p, drop);
-    const bool nonneg = o[0] >= 0 && o[1] >= 0 && o[2] >= 0;
-    const bool nonpos = o[0] <= 0 && o[1] <= 0 && o[2] <= 0;
-    if (!nonneg && !nonpos) return 0;
-    return (o[0] != 0 && o[1] != 0 && o[2] != 0) ? 1 : -1;
-  }
-
-  /// Records what the crossing of facets f and g (both triangles) adds to
-  /// each. False when the pair is not in general position.
-  bool add_pair(uint32_t f, uint32_t g) {
-    const Tri t = tri(f), u = tri(g);
-    std::vector<std::pair<int, VertexId>> ends_f, ends_g;  // (own edge or -1, point)
-    if (!pierce(t, u, ends_f, ends_g) || !pierce(u, t, ends_g, ends_f)) return false;
-    for (auto* ends : {&ends_f, &ends_g}) {
-      std::sort(ends->begin(), ends->end(), [](const auto& x, const auto& y) {
-        return x.second != y.second ? x.second < y.second : x.first > y.first;
-      });
-      ends->erase(std::unique(ends->begin(), ends->end(),
-                              [](const auto& x, const auto& y) { return x.second == y.second; }),
-                  ends->end());
-    }
-    if (ends_f.empty() || ends_f.size() > 2) return false;
-    for (int side = 0; side < 2; ++side) {
-      Insert& in = inserts_[side == 0 ? f : g];
-      const auto& ends = side == 0 ? ends_f : ends_g;
-      for (const auto& e : ends)
-        if (e.first == -1) in.inside.push_back(e.second);
-      if (ends.size() == 2) in.segments.push_back({ends[0].second, ends[1].second, side == 0 ? g : f});
-    }
-    return true;
   }
 
   /// Re-triangulates every triangle that got something, on its edges (from
@@ -241,6 +253,7 @@ class Crossings {
       ++split;
       w_.mark(src);
       for (const Tri& t : tris) {
+        if (is_covered(static_cast<uint32_t>(f), t)) continue;
         facets.push_back(part_of(facet, {t[0], t[1], t[2]}));
         source.push_back(src);
       }
@@ -256,57 +269,164 @@ class Crossings {
     return {l[0], l[1], l[2]};
   }
 
-  // Edges of t that cross the closed triangle u away from u's corners: the
-  // piercing points, as (edge of t, point) for t and (edge of u or -1 when
-  // inside u, point) for u. An edge of t crossing an edge of u (exactly:
-  // orient3d of the two edges is 0) meets it in one point for both. False
-  // on a degeneracy this step does not handle (a vertex on the other's
-  // plane, an edge through a corner of the other).
-  bool pierce(const Tri& t, const Tri& u, std::vector<std::pair<int, VertexId>>& ends_t,
-              std::vector<std::pair<int, VertexId>>& ends_u) {
-    const Plc& plc = w_.plc;
-    // Copies: a new point may grow plc.points and move its storage.
-    double uc[3][3];
+  // Where point z of the plane of triangle o lies in it (projection
+  // `drop`): at(vertex k), edge j, kInside, or kOutside.
+  int where_in(const Tri& o, VertexId z, int drop) const {
+    for (int k = 0; k < 3; ++k)
+      if (o[k] == z) return at_vertex(k);
+    int s[3];
     for (int j = 0; j < 3; ++j)
-      for (int k = 0; k < 3; ++k) uc[j][k] = xyz(plc, u[j])[k];
-    const double *u0 = uc[0], *u1 = uc[1], *u2 = uc[2];
-    for (int i = 0; i < 3; ++i) {
-      const VertexId p = t[i], q = t[(i + 1) % 3];
-      const int sp = pred::orient3d(u0, u1, u2, xyz(plc, p));
-      const int sq = pred::orient3d(u0, u1, u2, xyz(plc, q));
-      if (sp == 0 && sq == 0) return false;  // the edge lies in u's plane
-      if (sp == 0 || sq == 0) {
-        // One end on u's plane. After step 3 a vertex of t in the closed
-        // triangle u is a vertex of u: then the contact starts there (an
-        // existing point, kExisting); otherwise that end is outside u.
-        const VertexId z = sp == 0 ? p : q;
-        if (std::find(u.begin(), u.end(), z) != u.end()) {
-          ends_t.push_back({kExisting, z});
-          ends_u.push_back({kExisting, z});
+      s[j] = pred::orient2d_projected(xyz(w_.plc, o[j]), xyz(w_.plc, o[(j + 1) % 3]), xyz(w_.plc, z), drop);
+    const bool nonneg = s[0] >= 0 && s[1] >= 0 && s[2] >= 0;
+    const bool nonpos = s[0] <= 0 && s[1] <= 0 && s[2] <= 0;
+    if (!nonneg && !nonpos) return kOutside;
+    const int zeros = (s[0] == 0) + (s[1] == 0) + (s[2] == 0);
+    if (zeros == 0) return kInside;
+    if (zeros == 1) return s[0] == 0 ? 0 : (s[1] == 0 ? 1 : 2);
+    return kOutside;  // two welded-apart points with one projection: not on o
+  }
+
+  // The points of the closed triangles t and u in common that bound their
+  // contact, with where each lies in both (ContactPoint::at). Every end of
+  // the contact is a vertex of one lying in the other, or where an edge of
+  // one meets the other: crossing its plane (inside it, across one of its
+  // edges, or through one of its corners), or, for an edge in the other's
+  // plane, crossing its edges or passing its corners. Every decision is an
+  // orient3d or orient2d sign; only the crossing points are constructed
+  // (point_in_triangle, point_on_edges: ROUNDED).
+  void contact_points(const Tri& t, const Tri& u, std::vector<ContactPoint>& pts) {
+    const Tri tris[2] = {t, u};
+    for (int side = 0; side < 2; ++side) {
+      const Tri& h = tris[side];
+      const Tri& o = tris[1 - side];
+      const int drop = projection_axis(o);
+      for (int i = 0; i < 3; ++i) {
+        const VertexId p = h[i], q = h[(i + 1) % 3];
+        // Copies: a new point may grow plc.points and move its storage.
+        double oc[3][3], pq[2][3];
+        for (int k = 0; k < 3; ++k) {
+          for (int j = 0; j < 3; ++j) oc[j][k] = xyz(w_.plc, o[j])[k];
+          pq[0][k] = xyz(w_.plc, p)[k];
+          pq[1][k] = xyz(w_.plc, q)[k];
         }
-        continue;
+        const int sp = pred::orient3d(oc[0], oc[1], oc[2], pq[0]);
+        const int sq = pred::orient3d(oc[0], oc[1], oc[2], pq[1]);
+        if (sp == 0) add_point(pts, side, p, at_vertex(i), where_in(o, p, drop));
+        if (sq == 0) add_point(pts, side, q, at_vertex((i + 1) % 3), where_in(o, q, drop));
+        if (sp != 0 && sq != 0 && sp != sq) edge_through_plane(pts, side, i, p, q, pq, o, oc);
+        if (sp == 0 && sq == 0) edge_in_plane(pts, side, i, p, q, o, drop);
       }
-      if (sp == sq) continue;
-      int s[3];
-      for (int j = 0; j < 3; ++j)
-        s[j] = pred::orient3d(xyz(plc, p), xyz(plc, q), uc[j], uc[(j + 1) % 3]);
-      const bool nonneg = s[0] >= 0 && s[1] >= 0 && s[2] >= 0;
-      const bool nonpos = s[0] <= 0 && s[1] <= 0 && s[2] <= 0;
-      if (!nonneg && !nonpos) continue;  // the line passes beside u
-      const int zeros = (s[0] == 0) + (s[1] == 0) + (s[2] == 0);
-      if (zeros > 1) return false;       // through a corner of u
-      if (zeros == 0) {
-        const VertexId x = point_in_triangle(p, q, u);
-        ends_t.push_back({i, x});
-        ends_u.push_back({-1, x});
-        continue;
-      }
-      const int j = s[0] == 0 ? 0 : (s[1] == 0 ? 1 : 2);
-      const VertexId x = point_on_edges(p, q, u[j], u[(j + 1) % 3]);
-      ends_t.push_back({i, x});
-      ends_u.push_back({j, x});
     }
-    return true;
+  }
+
+  // Edge i = (p, q) of the triangle of `side` crosses the plane of o (its
+  // ends strictly on either side): where, if inside the closed o.
+  void edge_through_plane(std::vector<ContactPoint>& pts, int side, int i, VertexId p, VertexId q,
+                          const double (&pq)[2][3], const Tri& o, const double (&oc)[3][3]) {
+    int s[3];
+    for (int j = 0; j < 3; ++j) s[j] = pred::orient3d(pq[0], pq[1], oc[j], oc[(j + 1) % 3]);
+    const bool nonneg = s[0] >= 0 && s[1] >= 0 && s[2] >= 0;
+    const bool nonpos = s[0] <= 0 && s[1] <= 0 && s[2] <= 0;
+    if (!nonneg && !nonpos) return;  // the line passes beside o
+    const int zeros = (s[0] == 0) + (s[1] == 0) + (s[2] == 0);
+    if (zeros == 0) {
+      add_point(pts, side, point_in_triangle(p, q, o), i, kInside);
+    } else if (zeros == 1) {
+      const int j = s[0] == 0 ? 0 : (s[1] == 0 ? 1 : 2);
+      add_point(pts, side, point_on_edges(p, q, o[j], o[(j + 1) % 3]), i, j);
+    } else {
+      // Through a corner of o: the edge not through it is the nonzero one.
+      const int m = s[0] != 0 ? 0 : (s[1] != 0 ? 1 : 2);
+      const int k = (m + 2) % 3;
+      add_point(pts, side, o[k], i, at_vertex(k));
+    }
+  }
+
+  // Edge i = (p, q) of the triangle of `side` lies in the plane of o: where
+  // it crosses o's edges and which corners of o it passes through (its own
+  // ends are placed by contact_points).
+  void edge_in_plane(std::vector<ContactPoint>& pts, int side, int i, VertexId p, VertexId q,
+                     const Tri& o, int drop) {
+    for (int j = 0; j < 3; ++j) {
+      const VertexId c = o[j], d = o[(j + 1) % 3];
+      if (c != p && c != q &&
+          pred::orient2d_projected(xyz(w_.plc, p), xyz(w_.plc, q), xyz(w_.plc, c), drop) == 0 &&
+          strictly_between(xyz(w_.plc, p), xyz(w_.plc, q), xyz(w_.plc, c)))
+        add_point(pts, side, c, i, at_vertex(j));
+      if (c == p || c == q || d == p || d == q) continue;
+      const int o1 = pred::orient2d_projected(xyz(w_.plc, p), xyz(w_.plc, q), xyz(w_.plc, c), drop);
+      const int o2 = pred::orient2d_projected(xyz(w_.plc, p), xyz(w_.plc, q), xyz(w_.plc, d), drop);
+      const int o3 = pred::orient2d_projected(xyz(w_.plc, c), xyz(w_.plc, d), xyz(w_.plc, p), drop);
+      const int o4 = pred::orient2d_projected(xyz(w_.plc, c), xyz(w_.plc, d), xyz(w_.plc, q), drop);
+      if (o1 * o2 < 0 && o3 * o4 < 0) add_point(pts, side, point_on_edges(p, q, c, d), i, j);
+    }
+  }
+
+  // Adds v (where it lies: at_side in the triangle of `side`, at_other in
+  // the other) unless it is outside the other or already there.
+  static void add_point(std::vector<ContactPoint>& pts, int side, VertexId v, int at_side, int at_other) {
+    if (at_other == kOutside) return;
+    for (const ContactPoint& c : pts)
+      if (c.v == v) return;
+    ContactPoint c;
+    c.v = v;
+    c.at[side] = at_side;
+    c.at[1 - side] = at_other;
+    pts.push_back(c);
+  }
+
+  // Pieces between consecutive contact points, in order along a line: for
+  // side < 0 all the points (they lie on the line common to two planes),
+  // else those on edge j of `tri` (the triangle of `side`), along that edge.
+  // The order is by the coordinate on which the points spread most (they
+  // are collinear up to rounding), ties by id.
+  void chain_along(const std::vector<ContactPoint>& pts, int side, int j, const Tri& tri,
+                   std::vector<std::pair<size_t, size_t>>& pieces) const {
+    std::vector<size_t> on;
+    for (size_t k = 0; k < pts.size(); ++k)
+      if (side < 0 || (location_edges(pts[k].at[side]) & (1 << j))) on.push_back(k);
+    if (on.size() < 2) return;
+    int axis = 0;
+    double spread = -1;
+    for (int k = 0; k < 3; ++k) {
+      double lo = xyz(w_.plc, pts[on[0]].v)[k], hi = lo;
+      if (side >= 0) {
+        lo = std::min(xyz(w_.plc, tri[j])[k], xyz(w_.plc, tri[(j + 1) % 3])[k]);
+        hi = std::max(xyz(w_.plc, tri[j])[k], xyz(w_.plc, tri[(j + 1) % 3])[k]);
+      } else {
+        for (size_t x : on) {
+          lo = std::min(lo, xyz(w_.plc, pts[x].v)[k]);
+          hi = std::max(hi, xyz(w_.plc, pts[x].v)[k]);
+        }
+      }
+      if (hi - lo > spread) {
+        spread = hi - lo;
+        axis = k;
+      }
+    }
+    std::sort(on.begin(), on.end(), [&](size_t a, size_t b) {
+      const double xa = xyz(w_.plc, pts[a].v)[axis], xb = xyz(w_.plc, pts[b].v)[axis];
+      return xa != xb ? xa < xb : pts[a].v < pts[b].v;
+    });
+    for (size_t k = 0; k + 1 < on.size(); ++k) pieces.push_back({on[k], on[k + 1]});
+  }
+
+  // The edges of a triangle a location touches, as bits: edge i, a vertex's
+  // two edges, none inside.
+  static int location_edges(int at) {
+    if (at >= 0 && at < 3) return 1 << at;
+    if (at >= 3) return (1 << (at - 3)) | (1 << ((at - 3 + 2) % 3));
+    return 0;
+  }
+
+  // Two points on one edge of the triangle: the piece between them runs
+  // along its boundary, which is already an edge.
+  static bool on_one_edge(int a, int b) { return (location_edges(a) & location_edges(b)) != 0; }
+
+  void add_edge_point(VertexId a, VertexId b, VertexId v) {
+    if (v == a || v == b) return;
+    auto& pts = edge_points_[{std::min(a, b), std::max(a, b)}];
+    if (std::find(pts.begin(), pts.end(), v) == pts.end()) pts.push_back(v);
   }
 
   // The point where edge (p, q) pierces the inside of triangle u: one id per
@@ -335,17 +455,45 @@ class Crossings {
     const VertexId id = new_point(line_crossing(xyz(w_.plc, p), xyz(w_.plc, q), xyz(w_.plc, a),
                                                 xyz(w_.plc, b)),
                                   p, q);
-    edge_points_[{a, b}].push_back(id);
+    add_edge_point(a, b, id);
     return made_[key] = id;
   }
 
   VertexId new_point(const Vec3& x, VertexId p, VertexId q) {
-    const VertexId id = static_cast<VertexId>(w_.plc.points.size());
-    w_.plc.points.push_back(x);
-    edge_points_[{p, q}].push_back(id);
-    ++report_.intersection_points;
+    const VertexId id = point_at(snapped(x, grid_));
+    add_edge_point(p, q, id);
     return id;
   }
+
+  // A triangle of facet f's retriangulation that lies in the overlap of f
+  // with a coplanar facet of lower id: its corners are all corners of that
+  // (convex) overlap, decided by ids, not by the rounded coordinates. That
+  // facet keeps the overlap and f drops its copy, so two differently
+  // triangulated copies cannot overlap again in the next round.
+  bool is_covered(uint32_t f, const Tri& t) const {
+    const auto it = covered_.find(f);
+    if (it == covered_.end()) return false;
+    for (const auto& overlap : it->second) {
+      bool all = true;
+      for (VertexId v : t) all = all && std::binary_search(overlap.begin(), overlap.end(), v);
+      if (all) return true;
+    }
+    return false;
+  }
+
+  // The point at x: the one already there (a constructed point that snaps
+  // onto a point is that point), or a new one.
+  VertexId point_at(const Vec3& x) {
+    if (at_.empty())
+      for (VertexId v = 0; v < w_.plc.points.size(); ++v) at_.emplace(key_of(w_.plc.points[v]), v);
+    const auto [it, added] = at_.emplace(key_of(x), static_cast<VertexId>(w_.plc.points.size()));
+    if (!added) return it->second;
+    w_.plc.points.push_back(x);
+    ++report_.intersection_points;
+    return it->second;
+  }
+
+  static std::array<double, 3> key_of(const Vec3& x) { return {x.x, x.y, x.z}; }
 
   // The constrained triangulation of triangle t with the inserted points and
   // segments, computed on the projection that drops the axis of t's largest
@@ -406,10 +554,55 @@ class Crossings {
       }
     }
     if (ids.size() != flat.points.size()) return false;
+    split_at_points(flat);
     std::vector<uint32_t> tris, tri_facet;
-    if (!triangulate_surface(flat, tris, tri_facet).ok() || tris.empty()) return false;
+    if (!triangulate_surface(flat, tris, tri_facet).ok() || tris.empty()) {
+      // Rounded points can make two contact segments cross without a
+      // triple point, or a point lie on a segment in the projection: the
+      // points alone are triangulated instead, and the contacts those
+      // triangles still have are found exactly in the next round.
+      if (flat.segments.empty()) return false;
+      flat.segments.clear();
+      tris.clear();
+      tri_facet.clear();
+      if (!triangulate_surface(flat, tris, tri_facet).ok() || tris.empty()) return false;
+    }
     for (size_t k = 0; k + 2 < tris.size(); k += 3) out.push_back({ids[tris[k]], ids[tris[k + 1]], ids[tris[k + 2]]});
     return true;
+  }
+
+  // Every segment of the flat PLC split at the flat points lying on it
+  // (orient2d exactly 0, strictly between its ends): the end of one contact
+  // segment on another (three triangles meeting where one's contact ends on
+  // another's), or a rounded point that landed on one. Collinear overlaps
+  // become shared pieces, kept once.
+  static void split_at_points(Plc& flat) {
+    std::vector<std::array<VertexId, 2>> pieces;
+    for (const auto& seg : flat.segments) {
+      const double *a = &flat.points[seg[0]].x, *b = &flat.points[seg[1]].x;
+      std::vector<VertexId> on;
+      for (VertexId v = 0; v < flat.points.size(); ++v) {
+        if (v == seg[0] || v == seg[1]) continue;
+        const double* p = &flat.points[v].x;
+        if (pred::orient2d_projected(a, b, p, 2) == 0 && strictly_between(a, b, p)) on.push_back(v);
+      }
+      // Along the segment by a coordinate on which its ends differ (exact).
+      const int k = a[0] != b[0] ? 0 : 1;
+      const bool up = b[k] > a[k];
+      std::sort(on.begin(), on.end(), [&](VertexId x, VertexId y) {
+        const double cx = (&flat.points[x].x)[k], cy = (&flat.points[y].x)[k];
+        return up ? cx < cy : cx > cy;
+      });
+      VertexId from = seg[0];
+      for (VertexId v : on) {
+        pieces.push_back({std::min(from, v), std::max(from, v)});
+        from = v;
+      }
+      pieces.push_back({std::min(from, seg[1]), std::max(from, seg[1])});
+    }
+    std::sort(pieces.begin(), pieces.end());
+    pieces.erase(std::unique(pieces.begin(), pieces.end()), pieces.end());
+    flat.segments = std::move(pieces);
   }
 
   // Where three triangles meet: inside triangle t the intersection segments
@@ -452,10 +645,7 @@ class Crossings {
     Vec3 x;
     if (!three_planes(tri(key[0]), tri(key[1]), tri(key[2]), x))
       x = line_crossing(xyz(w_.plc, s1.a), xyz(w_.plc, s1.b), xyz(w_.plc, s2.a), xyz(w_.plc, s2.b));
-    const VertexId id = static_cast<VertexId>(w_.plc.points.size());
-    w_.plc.points.push_back(x);
-    ++report_.intersection_points;
-    return triples_[key] = id;
+    return triples_[key] = point_at(snapped(x, grid_));
   }
 
   // The point common to the planes of three triangles (Cramer's rule in long
@@ -560,11 +750,15 @@ class Crossings {
 
   Work& w_;
   RepairReport& report_;
+  double grid_;
   std::map<std::pair<VertexId, VertexId>, std::vector<VertexId>> edge_points_;
   std::map<std::pair<uint32_t, uint32_t>, std::vector<VertexId>> splits_;  ///< (facet, other) -> triple points
   std::map<std::array<uint32_t, 3>, VertexId> triples_;
   std::map<uint32_t, Insert> inserts_;
   std::map<std::array<VertexId, 5>, VertexId> made_;
+  std::map<std::array<double, 3>, VertexId> at_;
+  /// Per facet: the corners of its coplanar overlaps with facets of lower id.
+  std::map<uint32_t, std::vector<std::vector<VertexId>>> covered_;  ///< point by coordinates, built on first use
 };
 
 // Crossings, and touching contacts (an edge crossing the other facet's edge
@@ -596,7 +790,79 @@ Status tidy_after_rounding(Work& w) {
 
 }  // namespace
 
-Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection>& left) {
+// Before the first round, on a PLC with improper pairs, every point is
+// snapped to the grid (snapped()): CAD exports carry noise far below their
+// precision (a coordinate of 1e-33 where its neighbour has 0), and points
+// that close make constructed points land among them and segment recovery
+// split needles without end. The exact steps then weld, clean and split
+// what the snapping moved. Valid models never get here: they have no pairs.
+Status snap_all(Work& w, double grid) {
+  for (Vec3& p : w.plc.points) p = snapped(p, grid);
+  return tidy_after_rounding(w);
+}
+
+// The points no facet or segment uses, by coordinates.
+std::vector<Vec3> unused_points(const Plc& plc) {
+  const std::vector<uint8_t> used = used_points(plc);
+  std::vector<Vec3> out;
+  for (VertexId v = 0; v < used.size(); ++v)
+    if (!used[v]) out.push_back(plc.points[v]);
+  return out;
+}
+
+bool lex_less(const Vec3& a, const Vec3& b) {
+  return a.x != b.x ? a.x < b.x : (a.y != b.y ? a.y < b.y : a.z < b.z);
+}
+
+// Drops the points that the rounds left unused (a constructed point whose
+// triangle was not retriangulated, a vertex merged or cut away), keeping
+// the isolated points of the input (`isolated`): a free point is part of
+// the PLC, and one left behind on a facet or an edge would make it invalid.
+void drop_unused_points(Work& w, std::vector<Vec3> isolated) {
+  std::sort(isolated.begin(), isolated.end(), lex_less);
+  Plc& plc = w.plc;
+  const std::vector<uint8_t> used = used_points(plc);
+  std::vector<VertexId> id(plc.points.size(), kNone);
+  std::vector<Vec3> kept;
+  for (VertexId v = 0; v < plc.points.size(); ++v) {
+    if (!used[v] && !std::binary_search(isolated.begin(), isolated.end(), plc.points[v], lex_less)) continue;
+    id[v] = static_cast<VertexId>(kept.size());
+    kept.push_back(plc.points[v]);
+  }
+  if (kept.size() == plc.points.size()) return;
+  plc.points = std::move(kept);
+  renumber_vertices(plc, id);
+}
+
+// Flags in `out` the polygon facets (not triangles) that are `involved` or
+// share an edge with an involved facet. True when there is one.
+bool polygons_near(const Plc& plc, const std::vector<uint8_t>& involved, std::vector<uint8_t>& out) {
+  using Edge = std::pair<VertexId, VertexId>;
+  auto edge = [](VertexId a, VertexId b) { return a < b ? Edge{a, b} : Edge{b, a}; };
+  std::vector<Edge> edges;
+  for (size_t f = 0; f < involved.size(); ++f)
+    if (involved[f])
+      for (const auto& l : plc.facets[f].loops)
+        for (size_t i = 0; i < l.size(); ++i) edges.push_back(edge(l[i], l[(i + 1) % l.size()]));
+  std::sort(edges.begin(), edges.end());
+  out.assign(plc.facets.size(), 0);
+  bool any = false;
+  for (size_t f = 0; f < plc.facets.size(); ++f) {
+    if (is_triangle(plc.facets[f])) continue;
+    bool near = involved[f];
+    for (const auto& l : plc.facets[f].loops)
+      for (size_t i = 0; i < l.size() && !near; ++i)
+        near = std::binary_search(edges.begin(), edges.end(), edge(l[i], l[(i + 1) % l.size()]));
+    out[f] = near;
+    any |= near;
+  }
+  return any;
+}
+
+// Rounds of exact detection, snapping (first round), and resolution of
+// every handled pair, until nothing is left or kRounds.
+Status resolve_rounds(Work& w, RepairReport& report, std::vector<Intersection>& left) {
+  const double grid = snap_grid(w.plc);
   for (size_t round = 0;; ++round) {
     find_self_intersections(w.plc, left);
     const uint32_t facets = static_cast<uint32_t>(w.plc.facets.size());
@@ -609,28 +875,31 @@ Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection
     }
     if (round == 0) report.crossing_pairs = crossing;
     if (crossing == 0 || round == kRounds) return Status::success();
+    // Rounds that multiply the pairs do not converge (rounding keeps
+    // cutting what it cut before): stop, and the pairs left are reported.
+    if (round > 1 && crossing > kGrowth * report.crossing_pairs + 64) return Status::success();
     report.rounds = round + 1;
-    // Polygon facets in crossing pairs are triangulated first; the pairs are
-    // then found again between triangles.
-    std::vector<uint8_t> polygon(facets, 0);
-    bool any_polygon = false;
-    for (uint32_t f = 0; f < facets; ++f)
-      if (involved[f] && !is_triangle(w.plc.facets[f])) {
-        polygon[f] = 1;
-        any_polygon = true;
-      }
-    if (any_polygon) {
+    if (round == 0) {
+      Status st = snap_all(w, grid);
+      if (!st.ok()) return st;
+      continue;
+    }
+    // Polygon facets in improper pairs, or with an edge of one, are
+    // triangulated first (a polygon that took rounded points on its edges
+    // could stop being simple); the pairs are then found again between
+    // triangles.
+    std::vector<uint8_t> polygon;
+    if (polygons_near(w.plc, involved, polygon)) {
       Status st = triangulate_in_place(w, polygon);
       if (!st.ok()) return st;
       find_self_intersections(w.plc, left);
     }
-    Crossings c(w, report);
+    Crossings c(w, report, grid);
     size_t added = 0;
     for (const Intersection& x : left) {
       if (!handled(x) || x.b >= w.plc.facets.size()) continue;
       if (!is_triangle(w.plc.facets[x.a]) || !is_triangle(w.plc.facets[x.b])) continue;
-      added += x.kind == IntersectionKind::CoplanarOverlap ? c.add_coplanar_pair(x.a, x.b)
-                                                          : c.add_pair(x.a, x.b);
+      added += c.add_contact(x.a, x.b);
     }
     if (added == 0) {
       find_self_intersections(w.plc, left);
@@ -641,6 +910,19 @@ Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection
     if (!st.ok()) return st;
   }
 }
+
+// The rounds, then the unused points go.
+Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection>& left) {
+  const std::vector<Vec3> isolated = unused_points(w.plc);
+  Status st = resolve_rounds(w, report, left);
+  if (st.ok() && report.rounds > 0) {
+    drop_unused_points(w, isolated);
+    find_self_intersections(w.plc, left);
+  }
+  return st;
+}
+
+Status snap_to_grid(Work& w) { return snap_all(w, snap_grid(w.plc)); }
 
 }  // namespace repair_steps
 }  // namespace cdt3d

@@ -1,11 +1,12 @@
-// Repair step 1b (RepairOptions::fill_holes): every boundary loop of an open
+// Repair step 3b (RepairOptions::fill_holes, after the T-junctions): every boundary loop of an open
 // surface is closed by triangles. A boundary edge is a polygon edge that one
 // facet alone uses; the loops are traced against the facets' orientation, so
 // the patch continues the surface's sides. Each loop is triangulated with the
 // smallest total area (the dynamic programme of Liepa 2003, "Filling holes in
 // meshes", with area as the weight; no triangle of three collinear points),
-// from the loop's own vertices: no point is constructed. The later steps then
-// treat the patch like any other facets (a patch that crosses the surface is
+// from the loop's own vertices: no point is constructed. A planar loop is
+// triangulated as the polygon it is (planar_triangulation). The T-junction step
+// and step 4 then treat the patch like any other facets (a patch that crosses the surface is
 // cut along the crossing in step 4).
 #include <algorithm>
 #include <cmath>
@@ -42,18 +43,26 @@ struct FillEdge {
 };
 
 // The boundary edges of the PLC, reversed: one facet uses the edge and no
-// explicit segment is along it.
+// explicit segment is along it (a facet standing on a segment is closed
+// there, as the self-intersection test treats it).
 std::vector<FillEdge> boundary_edges(const Plc& plc) {
   std::unordered_map<uint64_t, uint32_t> uses;
   for (const Facet& f : plc.facets)
     for (const auto& loop : f.loops)
       for (size_t i = 0; i < loop.size(); ++i) ++uses[undirected(loop[i], loop[(i + 1) % loop.size()])];
+  std::vector<uint64_t> segments;
+  for (const auto& s : plc.segments) segments.push_back(undirected(s[0], s[1]));
+  std::sort(segments.begin(), segments.end());
   std::vector<FillEdge> out;
   for (uint32_t fi = 0; fi < plc.facets.size(); ++fi)
     for (const auto& loop : plc.facets[fi].loops)
       for (size_t i = 0; i < loop.size(); ++i) {
         const VertexId a = loop[i], b = loop[(i + 1) % loop.size()];
-        if (uses[undirected(a, b)] == 1) out.push_back({b, a, fi});
+        const uint64_t key = undirected(a, b);
+        const auto it = uses.find(key);
+        if (it == uses.end() || it->second != 1) continue;
+        if (std::binary_search(segments.begin(), segments.end(), key)) continue;
+        out.push_back({b, a, fi});
       }
   return out;
 }
@@ -167,15 +176,67 @@ std::vector<std::array<VertexId, 3>> ear_triangulation(const Plc& plc, std::vect
   return tris;
 }
 
+// A loop whose vertices are exactly coplanar: its constrained triangulation
+// as a polygon (triangulate_surface), each triangle turned like the loop.
+// A least-area set of triangles of a non-convex planar loop can fold over
+// itself; the polygon's own triangulation cannot. Empty when the loop is
+// not planar or not a simple polygon in its plane.
+std::vector<std::array<VertexId, 3>> planar_triangulation(const Plc& plc,
+                                                          const std::vector<VertexId>& v) {
+  const double* a = &plc.points[v[0]].x;
+  size_t ib = 1, ic = 0;
+  for (; ib < v.size() && plc.points[v[ib]] == plc.points[v[0]]; ++ib) {
+  }
+  if (ib >= v.size()) return {};
+  const double* b = &plc.points[v[ib]].x;
+  for (size_t i = ib + 1; i < v.size() && ic == 0; ++i)
+    if (!pred::collinear3d(a, b, &plc.points[v[i]].x)) ic = i;
+  if (ic == 0) return {};
+  const double* c = &plc.points[v[ic]].x;
+  for (VertexId x : v)
+    if (pred::orient3d(a, b, c, &plc.points[x].x) != 0) return {};
+  int drop = 0;
+  while (drop < 2 && pred::orient2d_projected(a, b, c, drop) == 0) ++drop;
+  // The loop's turn: at its lowest vertex (in the projection) it is convex.
+  const int ua = (drop + 1) % 3, va = (drop + 2) % 3;
+  size_t low = 0;
+  for (size_t i = 1; i < v.size(); ++i) {
+    const double *p = &plc.points[v[i]].x, *q = &plc.points[v[low]].x;
+    if (p[ua] < q[ua] || (p[ua] == q[ua] && p[va] < q[va])) low = i;
+  }
+  const size_t n = v.size();
+  const int turn = pred::orient2d_projected(&plc.points[v[(low + n - 1) % n]].x, &plc.points[v[low]].x,
+                                            &plc.points[v[(low + 1) % n]].x, drop);
+  if (turn == 0) return {};
+  Plc part;
+  part.points = plc.points;
+  Facet f;
+  f.loops.push_back(v);
+  part.facets.push_back(f);
+  std::vector<uint32_t> tris, tri_facet;
+  if (!triangulate_surface(part, tris, tri_facet).ok()) return {};
+  std::vector<std::array<VertexId, 3>> out;
+  for (size_t k = 0; k + 2 < tris.size(); k += 3) {
+    std::array<VertexId, 3> t{tris[k], tris[k + 1], tris[k + 2]};
+    if (pred::orient2d_projected(&plc.points[t[0]].x, &plc.points[t[1]].x, &plc.points[t[2]].x, drop) != turn)
+      std::swap(t[1], t[2]);
+    out.push_back(t);
+  }
+  return out;
+}
+
 }  // namespace
+
+bool has_boundary(const Plc& plc) { return !boundary_edges(plc).empty(); }
 
 void fill_holes(Work& w, RepairReport& report) {
   for (const std::vector<FillEdge>& loop : trace_loops(boundary_edges(w.plc))) {
     std::vector<VertexId> v;
     for (const FillEdge& e : loop) v.push_back(e.from);
     if (v.size() < 3) continue;  // two facets' edges on one line: nothing to fill
-    const std::vector<std::array<VertexId, 3>> tris =
-        v.size() <= kMaxOptimalLoop ? min_area_triangulation(w.plc, v) : ear_triangulation(w.plc, v);
+    std::vector<std::array<VertexId, 3>> tris = planar_triangulation(w.plc, v);
+    if (tris.empty())
+      tris = v.size() <= kMaxOptimalLoop ? min_area_triangulation(w.plc, v) : ear_triangulation(w.plc, v);
     if (tris.empty()) {
       ++report.unfilled_holes;
       continue;

@@ -27,11 +27,7 @@ const double* xyz(const Plc& plc, VertexId v) { return &plc.points[v].x; }
 class PointGrid {
  public:
   explicit PointGrid(const Plc& plc) {
-    std::vector<uint8_t> used(plc.points.size(), 0);
-    for (const Facet& f : plc.facets)
-      for (const auto& l : f.loops)
-        for (VertexId v : l) used[v] = 1;
-    for (const auto& s : plc.segments) used[s[0]] = used[s[1]] = 1;
+    const std::vector<uint8_t> used = used_points(plc);
     std::vector<VertexId> pts;
     for (VertexId v = 0; v < used.size(); ++v)
       if (used[v]) pts.push_back(v);
