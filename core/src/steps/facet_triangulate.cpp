@@ -355,6 +355,10 @@ std::string Cdt2::build_delaunay() {
   constrained_.clear();
   flipped_ = false;
   ghost_ = n;
+  // The walk decides which side of an edge a point on it is inserted from,
+  // and so the order of the triangles: it depends on this facet alone,
+  // whichever facets this triangulator saw before (one thread or two).
+  walk_turn_ = 0;
   vtri_.assign(n + 1, -1);
   uint32_t k = 0;
   std::string msg = sweep_order(k);
