@@ -303,6 +303,35 @@ TEST_CASE("an interior vertex splits the triangulation", "[subfaces]") {
   check_facet(plc, segs, mesh, sf, 0);
 }
 
+TEST_CASE("a lattice facet large enough for point insertion", "[subfaces]") {
+  // 17 x 17 lattice points (more than the sweep takes): rows and columns of
+  // collinear points, split hull edges, every unit square cocircular.
+  const int n = 16;
+  Plc plc;
+  plc.points = {{0, 0, 3}, {n, 0, 3}, {n, n, 3}, {0, n, 3}};
+  std::vector<VertexId> interior;
+  for (int i = 1; i < n; ++i)
+    for (int j = 1; j < n; ++j) {
+      interior.push_back(VertexId(plc.points.size()));
+      plc.points.push_back({double(i), double(j), 3});
+    }
+  plc.facets.resize(1);
+  plc.facets[0].loops = {{0, 1, 2, 3}};
+  TetMesh mesh;
+  coords_mesh(plc, mesh);
+  SegmentSet segs;
+  init_segments(plc, segs);
+  std::vector<double> ts;
+  for (int k = 1; k < n; ++k) ts.push_back(double(k) / n);  // exact: n is a power of 2
+  for (int e = 0; e < 4; ++e) split_segment(mesh, segs, VertexId(e), VertexId((e + 1) % 4), ts);
+  Subfaces sf;
+  Status st = run(plc, segs, mesh, sf, {interior});
+  INFO(st.error.to_string());
+  REQUIRE(st.ok());
+  CHECK(sf.tri.size() == size_t(2 * n * n));
+  check_facet(plc, segs, mesh, sf, 0, double(n * n));
+}
+
 TEST_CASE("cocircular vertices give one triangulation, whatever the loop order", "[subfaces]") {
   // A regular 12-gon (cocircular up to rounding; the square corners exactly).
   const double pi = 3.14159265358979323846;

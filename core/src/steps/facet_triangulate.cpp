@@ -18,11 +18,14 @@
 //     incircle on the projected points are exact; they agree with
 //     pred::orient2d_projected (same cyclic axis order). Steiner vertices are
 //     rounded and only nearly coplanar, so no 3D test is used at all.
-//  3. A triangulation of the projected points by a lexicographic sweep, then
-//     every constraint edge inserted by flipping the edges it crosses (a
+//  3. The Delaunay triangulation of the projected points: on small facets a
+//     lexicographic sweep then Lawson flips, on large ones (kMinVerticesInserted)
+//     insertion along a Hilbert curve with ghost triangles outside the hull;
+//     then every constraint edge inserted by flipping the edges it crosses (a
 //     crossed edge whose quadrilateral is strictly convex is flipped, the
-//     others wait in a queue; this always terminates), then Lawson flips of
-//     the unconstrained edges until every one is locally Delaunay.
+//     others wait in a queue; this always terminates), then, if that flipped
+//     anything, Lawson flips of the unconstrained edges until every one is
+//     locally Delaunay.
 //  4. Cocircular ties: incircle is perturbed like insphere_sos (the lifted
 //     coordinate of the vertex with the larger mesh id counts as slightly
 //     higher), so the triangulation is unique, independent of any order.
@@ -48,6 +51,7 @@
 #include "beside.hpp"
 #include "geometry.hpp"
 #include "predicates.hpp"
+#include "spatial_sort.hpp"
 #include "status.hpp"
 #include "subfaces.hpp"
 
@@ -58,6 +62,11 @@ namespace {
 // a facet costs a few thousand instructions, so half of these far outweigh
 // starting a thread.
 constexpr size_t kMinFacetsBeside = 2000;
+
+// From this many vertices a facet is triangulated by point insertion
+// (Cdt2::build_delaunay); smaller ones by the sweep and Lawson's flips, which
+// cost less there and keep their triangles in the order they always had.
+constexpr size_t kMinVerticesInserted = 256;
 
 // Lawson's flips (Cdt2::make_delaunay) reach the constrained Delaunay
 // triangulation of n points after O(n^2) flips; more than this bound means
@@ -90,6 +99,17 @@ class Cdt2 {
   /// Triangulates the points, replacing the previous triangulation. Empty
   /// string on success, else what failed.
   std::string build();
+  /// The Delaunay triangulation of the points (perturbed as incircle_sos),
+  /// replacing the previous one, by insertion along a Hilbert curve. For
+  /// large facets: build()'s sweep makes a fan from each new point to the
+  /// collinear column before it (a lattice face is made of such columns),
+  /// which make_delaunay() then flips in time quadratic in the column, while
+  /// an insertion here touches only the triangles around its point. The
+  /// triangulation is unique, so the two ways give the same triangles.
+  std::string build_delaunay();
+  /// Whether insert_constraint() flipped an edge since the last build
+  /// (otherwise a Delaunay triangulation is still one).
+  bool flipped() const { return flipped_; }
   /// Inserts the constraint edge (a, b).
   std::string insert_constraint(uint32_t a, uint32_t b);
   /// Lawson flips of unconstrained edges until all are locally Delaunay.
@@ -132,6 +152,35 @@ class Cdt2 {
     tris_[t].n[i] = u;
     if (u >= 0) tris_[u].n[j] = t;
   }
+  /// Sorts order_ lexicographically and checks the points: none projects
+  /// twice and not all are collinear. Sets k: order_[0], order_[1] and
+  /// order_[k] are the first three not collinear.
+  std::string sweep_order(uint32_t& k);
+  /// build_delaunay()'s steps. A ghost triangle has the vertex ghost_ (one past
+  /// the last point) in place of its third corner: (a, b, ghost_) stands for
+  /// the outside of the hull edge (a, b), whose inside is on its right.
+  bool is_ghost(int32_t t) const {
+    const Tri& T = tris_[t];
+    return T.v[0] == ghost_ || T.v[1] == ghost_ || T.v[2] == ghost_;
+  }
+  /// p lies in the circumcircle of t, for a ghost t: beyond its hull edge
+  /// or on the edge between its ends.
+  bool in_conflict(int32_t t, uint32_t p) const;
+  /// Triangle holding p (edge index in `edge` when p lies on an edge, else -1)
+  /// by a visibility walk from `t`; -1 if the walk does not end.
+  int32_t locate(int32_t t, uint32_t p, int& edge);
+  void insert_point(int32_t t, int edge, uint32_t p);
+  void drop_ghosts();
+  /// The neighbour nb of `from` sees `to` there instead (nothing for -1).
+  void relink(int32_t nb, int32_t from, int32_t to) {
+    if (nb < 0) return;
+    Tri& N = tris_[nb];
+    for (int k = 0; k < 3; ++k)
+      if (N.n[k] == from) {
+        N.n[k] = to;
+        return;
+      }
+  }
   /// Triangles incident to v (explicit breadth-first walk over its star).
   void star(uint32_t v, std::vector<int32_t>& out);
   /// Flips the edge opposite v[i] of t (quadrilateral must be strictly convex).
@@ -158,6 +207,10 @@ class Cdt2 {
   std::vector<uint32_t> tstamp_;
   uint32_t epoch_ = 0;
   std::vector<int32_t> star_buf_;
+  uint32_t ghost_ = 0;
+  uint32_t walk_turn_ = 0;  // varies the first edge a walk step tests
+  bool flipped_ = false;
+  std::vector<std::pair<uint64_t, uint32_t>> hkey_;  // Hilbert key, point
   // Scratch of build() (sweep order, hull links, new fan), make_delaunay()
   // (edges to check) and insert_constraint() (crossed edges, flip queue).
   std::vector<uint32_t> order_, hnext_, hprev_, stack_;
@@ -184,11 +237,8 @@ int Cdt2::incircle_sos(uint32_t a, uint32_t b, uint32_t c, uint32_t d) const {
   return o > 0 ? 1 : -1;
 }
 
-std::string Cdt2::build() {
+std::string Cdt2::sweep_order(uint32_t& k) {
   const uint32_t n = static_cast<uint32_t>(ids_.size());
-  tris_.clear();
-  constrained_.clear();
-  vtri_.assign(n, -1);
   if (n < 3) return "fewer than 3 vertices";
   std::vector<uint32_t>& order = order_;
   order.resize(n);
@@ -206,9 +256,22 @@ std::string Cdt2::build() {
       return "vertices " + std::to_string(ids_[order[i - 1]]) + " and " +
              std::to_string(ids_[order[i]]) + " have the same projection";
   }
-  uint32_t k = 2;
+  k = 2;
   while (k < n && orient(order[0], order[1], order[k]) == 0) ++k;
   if (k == n) return "all vertices are collinear in the projection";
+  return std::string();
+}
+
+std::string Cdt2::build() {
+  const uint32_t n = static_cast<uint32_t>(ids_.size());
+  tris_.clear();
+  constrained_.clear();
+  vtri_.assign(n, -1);
+  flipped_ = false;
+  uint32_t k = 0;
+  const std::string msg = sweep_order(k);
+  if (!msg.empty()) return msg;
+  const std::vector<uint32_t>& order = order_;
 
   // Initial fan from order[k] to the collinear run order[0..k-1].
   const uint32_t apex = order[k];
@@ -286,6 +349,191 @@ std::string Cdt2::build() {
   return std::string();
 }
 
+std::string Cdt2::build_delaunay() {
+  const uint32_t n = static_cast<uint32_t>(ids_.size());
+  tris_.clear();
+  constrained_.clear();
+  flipped_ = false;
+  ghost_ = n;
+  // The walk decides which side of an edge a point on it is inserted from,
+  // and so the order of the triangles: it depends on this facet alone,
+  // whichever facets this triangulator saw before (one thread or two).
+  walk_turn_ = 0;
+  vtri_.assign(n + 1, -1);
+  uint32_t k = 0;
+  std::string msg = sweep_order(k);
+  if (!msg.empty()) return msg;
+  uint32_t a = order_[0], b = order_[1];
+  const uint32_t c = order_[k];
+  if (orient(a, b, c) < 0) std::swap(a, b);
+  // The first triangle and the ghosts of its three edges.
+  new_tri(a, b, c);
+  new_tri(b, a, ghost_);
+  new_tri(c, b, ghost_);
+  new_tri(a, c, ghost_);
+  for (int32_t t = 0; t < 4; ++t)
+    for (int i = 0; i < 3; ++i)
+      for (int32_t u = 0; u < 4 && tris_[t].n[i] < 0; ++u) {
+        if (u == t) continue;
+        const int ib = index_of(u, tris_[t].v[next3(i)]), ic = index_of(u, tris_[t].v[prev3(i)]);
+        if (ib >= 0 && ic >= 0) tris_[t].n[i] = u;
+      }
+
+  // The other points along a Hilbert curve over their bounding box, so each
+  // walk starts next to its point.
+  double lo[2] = {xy_[0], xy_[1]}, hi[2] = {xy_[0], xy_[1]};
+  for (uint32_t v = 1; v < n; ++v)
+    for (int d = 0; d < 2; ++d)
+      lo[d] = std::min(lo[d], xy_[2 * v + d]), hi[d] = std::max(hi[d], xy_[2 * v + d]);
+  constexpr int kBits = 16;
+  const double scale[2] = {hi[0] > lo[0] ? 65535.0 / (hi[0] - lo[0]) : 0.0,
+                           hi[1] > lo[1] ? 65535.0 / (hi[1] - lo[1]) : 0.0};
+  hkey_.clear();
+  for (uint32_t v = 0; v < n; ++v) {
+    if (v == a || v == b || v == c) continue;
+    const uint32_t x = static_cast<uint32_t>((xy_[2 * v] - lo[0]) * scale[0]);
+    const uint32_t y = static_cast<uint32_t>((xy_[2 * v + 1] - lo[1]) * scale[1]);
+    hkey_.push_back({hilbert_key(std::min(x, 65535u), std::min(y, 65535u), 0, kBits), v});
+  }
+  std::sort(hkey_.begin(), hkey_.end());
+  int32_t t = 0;
+  for (const auto& key : hkey_) {
+    const uint32_t p = key.second;
+    int edge = -1;
+    t = locate(t, p, edge);
+    if (t < 0) return "the point location walk does not end";
+    insert_point(t, edge, p);
+    t = vtri_[p];
+  }
+  drop_ghosts();
+  return std::string();
+}
+
+bool Cdt2::in_conflict(int32_t t, uint32_t p) const {
+  const Tri& T = tris_[t];
+  for (int g = 0; g < 3; ++g) {
+    if (T.v[g] != ghost_) continue;
+    const uint32_t a = T.v[next3(g)], b = T.v[prev3(g)];
+    const int o = orient(a, b, p);
+    return o > 0 || (o == 0 && on_ray(a, b, p) && on_ray(b, a, p));
+  }
+  return incircle_sos(T.v[0], T.v[1], T.v[2], p) > 0;
+}
+
+int32_t Cdt2::locate(int32_t t, uint32_t p, int& edge) {
+  edge = -1;
+  for (size_t steps = 0; steps < 4 * tris_.size() + 8; ++steps) {
+    const Tri& T = tris_[t];
+    int g = -1;
+    for (int i = 0; i < 3; ++i)
+      if (T.v[i] == ghost_) g = i;
+    if (g >= 0) {
+      const uint32_t a = T.v[next3(g)], b = T.v[prev3(g)];
+      const int o = orient(a, b, p);
+      if (o > 0) return t;
+      if (o < 0) {
+        t = T.n[g];
+        continue;
+      }
+      // On the line of the hull edge: on it, or beyond one of its ends,
+      // where the next ghost along the hull lies.
+      const bool past_a = !on_ray(a, b, p), past_b = !on_ray(b, a, p);
+      if (!past_a && !past_b) {
+        edge = g;
+        return t;
+      }
+      t = past_b ? T.n[next3(g)] : T.n[prev3(g)];
+      continue;
+    }
+    const uint32_t turn = walk_turn_++ % 3;
+    int zero = -1, zeros = 0;
+    bool moved = false;
+    for (uint32_t e = 0; e < 3 && !moved; ++e) {
+      const int i = static_cast<int>((turn + e) % 3);
+      const int o = orient(T.v[next3(i)], T.v[prev3(i)], p);
+      if (o < 0) {
+        t = T.n[i];
+        moved = true;
+      } else if (o == 0) {
+        zero = i, ++zeros;
+      }
+    }
+    if (moved) continue;
+    if (zeros > 1) return -1;  // p is a vertex: sweep_order rules that out
+    edge = zero;
+    return t;
+  }
+  return -1;
+}
+
+void Cdt2::insert_point(int32_t t, int edge, uint32_t p) {
+  stack_.clear();
+  if (edge < 0) {
+    // Split t = (v0, v1, v2) into (v0, v1, p), (v1, v2, p), (v2, v0, p).
+    const Tri T = tris_[t];
+    const int32_t t2 = static_cast<int32_t>(tris_.size()), t3 = t2 + 1;
+    tris_[t] = Tri{{T.v[0], T.v[1], p}, {t2, t3, T.n[2]}};
+    tris_.push_back(Tri{{T.v[1], T.v[2], p}, {t3, t, T.n[0]}});
+    tris_.push_back(Tri{{T.v[2], T.v[0], p}, {t, t2, T.n[1]}});
+    relink(T.n[0], t, t2);
+    relink(T.n[1], t, t3);
+    vtri_[T.v[0]] = t, vtri_[T.v[1]] = t2, vtri_[T.v[2]] = t3, vtri_[p] = t;
+    stack_.insert(stack_.end(), {static_cast<uint32_t>(t), static_cast<uint32_t>(t2),
+                                 static_cast<uint32_t>(t3)});
+  } else {
+    // p on the edge (b, c) of t = (a, b, c) (a = v[edge]) and of u = (x, c, b):
+    // t -> (a, b, p), t2 = (a, p, c), u -> (x, c, p), u2 = (x, p, b).
+    const Tri T = tris_[t];
+    const int32_t u = T.n[edge];
+    const int j = index_of_nbr(u, t);
+    const Tri U = tris_[u];
+    const uint32_t a = T.v[edge], b = T.v[next3(edge)], c = T.v[prev3(edge)], x = U.v[j];
+    const int32_t t2 = static_cast<int32_t>(tris_.size()), u2 = t2 + 1;
+    tris_[t] = Tri{{a, b, p}, {u2, t2, T.n[prev3(edge)]}};
+    tris_.push_back(Tri{{a, p, c}, {u, T.n[next3(edge)], t}});
+    tris_[u] = Tri{{x, c, p}, {t2, u2, U.n[prev3(j)]}};
+    tris_.push_back(Tri{{x, p, b}, {t, U.n[next3(j)], u}});
+    relink(T.n[next3(edge)], t, t2);
+    relink(U.n[next3(j)], u, u2);
+    vtri_[a] = t, vtri_[b] = t, vtri_[c] = t2, vtri_[x] = u, vtri_[p] = t;
+    stack_.insert(stack_.end(), {static_cast<uint32_t>(t), static_cast<uint32_t>(t2),
+                                 static_cast<uint32_t>(u), static_cast<uint32_t>(u2)});
+  }
+  // Lawson's flips of the edges opposite p: those whose far triangle has p
+  // in its circle, which in a Delaunay triangulation are only these.
+  while (!stack_.empty()) {
+    const int32_t s = static_cast<int32_t>(stack_.back());
+    stack_.pop_back();
+    const int i = index_of(s, p);
+    const int32_t u = tris_[s].n[i];
+    if (!in_conflict(u, p)) continue;
+    flip(s, i);  // s = (p, b, x), u = (x, c, p)
+    stack_.push_back(static_cast<uint32_t>(s));
+    stack_.push_back(static_cast<uint32_t>(u));
+  }
+}
+
+// Removes the ghost triangles (their neighbours then see the hull, -1) and
+// renumbers the others in their order.
+void Cdt2::drop_ghosts() {
+  std::vector<int32_t>& id = created_;
+  id.assign(tris_.size(), -1);
+  int32_t m = 0;
+  for (size_t t = 0; t < tris_.size(); ++t)
+    if (!is_ghost(static_cast<int32_t>(t))) id[t] = m++;
+  for (size_t t = 0; t < tris_.size(); ++t) {
+    if (id[t] < 0) continue;
+    Tri T = tris_[t];
+    for (int i = 0; i < 3; ++i) T.n[i] = id[T.n[i]];
+    tris_[id[t]] = T;
+  }
+  tris_.resize(static_cast<size_t>(m));
+  vtri_.resize(ghost_);
+  for (size_t t = 0; t < tris_.size(); ++t)
+    for (uint32_t v : tris_[t].v) vtri_[v] = static_cast<int32_t>(t);
+  tstamp_.assign(tris_.size(), 0);
+}
+
 void Cdt2::star(uint32_t v, std::vector<int32_t>& out) {
   out.clear();
   if (vtri_[v] < 0) return;
@@ -339,15 +587,6 @@ void Cdt2::flip(int32_t t, int i) {
   // In u = (x, c, b) at positions j, j+1, j+2: (b, x) is opposite c, (x, c) opposite b.
   const int32_t u_bx = tris_[u].n[next3(j)];
   const int32_t u_xc = tris_[u].n[prev3(j)];
-  auto relink = [this](int32_t nb, int32_t from, int32_t to) {
-    if (nb < 0) return;
-    Tri& N = tris_[nb];
-    for (int k = 0; k < 3; ++k)
-      if (N.n[k] == from) {
-        N.n[k] = to;
-        return;
-      }
-  };
   tris_[t] = Tri{{a, b, x}, {u_bx, u, t_ab}};
   tris_[u] = Tri{{x, c, a}, {t_ca, t, u_xc}};
   relink(u_bx, u, t);
@@ -420,6 +659,7 @@ std::string Cdt2::insert_constraint(uint32_t a, uint32_t b) {
       continue;
     }
     flip(f.first, f.second);
+    flipped_ = true;
     // New diagonal: v[2] of t (x) and v[0] (the old apex).
     const Tri& T = tris_[f.first];
     const uint32_t w = T.v[0], x = T.v[2];
@@ -953,14 +1193,17 @@ Status FacetTriangulator::run(size_t f, const std::vector<VertexId>* interior, S
   if (!st.ok()) return st;
 
   Cdt2& cdt = cdt_;
-  std::string msg = cdt.build();
-  if (!msg.empty()) return facet_error(f, msg);
   // Delaunay first: subsegments are then usually edges already or cross few.
-  msg = cdt.make_delaunay();
+  std::string msg = "sweep";
+  if (verts_.size() >= kMinVerticesInserted) msg = cdt.build_delaunay();
+  if (!msg.empty()) {
+    msg = cdt.build();
+    if (msg.empty()) msg = cdt.make_delaunay();
+  }
   if (!msg.empty()) return facet_error(f, msg);
   st = insert_constraints(f, cdt);
   if (!st.ok()) return st;
-  msg = cdt.make_delaunay();
+  if (cdt.flipped()) msg = cdt.make_delaunay();
   if (!msg.empty()) return facet_error(f, msg);
 
   const std::vector<Tri>& T = cdt.tris();
