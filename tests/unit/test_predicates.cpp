@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "double_double.hpp"
 #include "predicates.hpp"
 
 namespace {
@@ -1344,4 +1345,18 @@ TEST_CASE("small_integer_points rejects fractions, wide spreads and huge integer
   pts = {0, 0, nan};
   CHECK_FALSE(pred::small_integer_points(pts.data(), 1));
   CHECK_FALSE(pred::small_integer_points(pts.data(), 0));
+}
+
+TEST_CASE("double-double: sums, products and quotients keep about 106 bits", "[predicates]") {
+  // 1 + 2^-80 is not a double; its double-double is, and the 1 cancels.
+  const DoubleDouble x = DoubleDouble(1) + std::ldexp(1.0, -80);
+  CHECK((x - 1).value() == std::ldexp(1.0, -80));
+  // (1 + 2^-30)^2 = 1 + 2^-29 + 2^-60: the last term is lost in doubles.
+  const DoubleDouble y = DoubleDouble(1 + std::ldexp(1.0, -30));
+  CHECK(((y * y) - 1 - std::ldexp(1.0, -29)).value() == std::ldexp(1.0, -60));
+  // 1/3 times 3 is 1 within a few units of 2^-104.
+  const DoubleDouble third = DoubleDouble(1) / 3;
+  CHECK(std::fabs((third * 3 - 1).value()) < std::ldexp(1.0, -100));
+  CHECK(third.hi == 1.0 / 3);
+  CHECK(DoubleDouble(2) < DoubleDouble(2, 1e-300));
 }

@@ -30,6 +30,7 @@
 #include <cmath>
 #include <map>
 
+#include "double_double.hpp"
 #include "geometry.hpp"
 #include "predicates.hpp"
 #include "repair.hpp"
@@ -65,13 +66,13 @@ struct Insert {
 // not finite (planes or lines parallel in floating point), is brought back
 // into [0, 1] (the midpoint when not finite), and the exact re-check judges
 // the result like any other rounded point.
-Vec3 along(const double* p, const double* q, long double s) {
-  if (!std::isfinite(static_cast<double>(s))) s = 0.5L;
-  s = std::min(1.0L, std::max(0.0L, s));
+Vec3 along(const double* p, const double* q, DoubleDouble s) {
+  if (!std::isfinite(s.hi) || !std::isfinite(s.lo)) s = 0.5;
+  if (s < DoubleDouble(0)) s = 0;
+  if (DoubleDouble(1) < s) s = 1;
   Vec3 x;
   double* out = &x.x;
-  for (int k = 0; k < 3; ++k)
-    out[k] = static_cast<double>(p[k] + s * (static_cast<long double>(q[k]) - p[k]));
+  for (int k = 0; k < 3; ++k) out[k] = (p[k] + s * (DoubleDouble(q[k]) - p[k])).value();
   return x;
 }
 
@@ -81,7 +82,9 @@ Vec3 along(const double* p, const double* q, long double s) {
 // Always computed from the same inputs in the same order (the key sorts
 // them), so every triangle that needs this point gets the same coordinates.
 Vec3 pierce_point(const double* p, const double* q, const Tri& t, const Plc& plc) {
-  using LD = long double;  // a little more precision where the planes are nearly parallel
+  // Double-double: more precision where the planes are nearly parallel, and
+  // the same result in every build (double_double.hpp).
+  using LD = DoubleDouble;
   const double* a = xyz(plc, t[0]);
   const double* b = xyz(plc, t[1]);
   const double* c = xyz(plc, t[2]);
@@ -104,7 +107,7 @@ Vec3 pierce_point(const double* p, const double* q, const Tri& t, const Plc& plc
 // The crossing point of the coplanar segments pq and ab (known to cross),
 // constructed like pierce_point and ROUNDED the same way.
 Vec3 line_crossing(const double* p, const double* q, const double* a, const double* b) {
-  using LD = long double;
+  using LD = DoubleDouble;
   LD d[3], e[3], w[3], n[3], m[3];
   for (int k = 0; k < 3; ++k) {
     d[k] = LD(q[k]) - p[k];
@@ -648,11 +651,11 @@ class Crossings {
     return triples_[key] = point_at(snapped(x, grid_));
   }
 
-  // The point common to the planes of three triangles (Cramer's rule in long
-  // double, then ROUNDED to doubles). False when the planes are (nearly)
+  // The point common to the planes of three triangles (Cramer's rule in
+  // double-double, then ROUNDED to doubles). False when the planes are (nearly)
   // parallel in floating point.
   bool three_planes(const Tri& t1, const Tri& t2, const Tri& t3, Vec3& out) const {
-    using LD = long double;
+    using LD = DoubleDouble;
     LD n[3][3], d[3];
     const Tri* ts[3] = {&t1, &t2, &t3};
     for (int i = 0; i < 3; ++i) {
@@ -679,8 +682,9 @@ class Crossings {
     const LD det = n[0][0] * c23[0] + n[0][1] * c23[1] + n[0][2] * c23[2];
     double* o = &out.x;
     for (int k = 0; k < 3; ++k) {
-      o[k] = static_cast<double>((d[0] * c23[k] + d[1] * c31[k] + d[2] * c12[k]) / det);
-      if (!std::isfinite(o[k])) return false;
+      const LD x = (d[0] * c23[k] + d[1] * c31[k] + d[2] * c12[k]) / det;
+      o[k] = x.value();
+      if (!std::isfinite(o[k]) || !std::isfinite(x.lo)) return false;
     }
     return true;
   }
@@ -695,8 +699,8 @@ class Crossings {
       mid.erase(std::unique(mid.begin(), mid.end()), mid.end());
       const double *a = xyz(w_.plc, s.a), *b = xyz(w_.plc, s.b);
       auto param = [&](VertexId x) {  // only orders points along the segment
-        long double t = 0;
-        for (int k = 0; k < 3; ++k) t += (static_cast<long double>(xyz(w_.plc, x)[k]) - a[k]) * (static_cast<long double>(b[k]) - a[k]);
+        DoubleDouble t = 0;
+        for (int k = 0; k < 3; ++k) t = t + (DoubleDouble(xyz(w_.plc, x)[k]) - a[k]) * (DoubleDouble(b[k]) - a[k]);
         return t;
       };
       std::sort(mid.begin(), mid.end(), [&](VertexId x, VertexId y) { return param(x) < param(y); });
