@@ -449,7 +449,10 @@ export class Viewer {
   async setOrder(order) {
     const tets = this.tets;
     if (!tets) return;
-    const index = await this.upload(order.index, 1, 'ELEMENT_ARRAY_BUFFER', () => this.tets !== tets);
+    // Uploads of two orders can overlap (the user turned the cut twice); the
+    // older one must not land last, or the tets keep the older order.
+    const seq = (this.orderSeq = (this.orderSeq ?? 0) + 1);
+    const index = await this.upload(order.index, 1, 'ELEMENT_ARRAY_BUFFER', () => this.tets !== tets || this.orderSeq !== seq);
     if (index === null) return;
     const g = tets.mesh.geometry;
     const old = g.index;

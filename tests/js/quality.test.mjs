@@ -157,7 +157,9 @@ describe('the statistics', () => {
     assert.ok(plain.stats.minDihedral < 0.5, `without the pass ${plain.stats.minDihedral}`);
     assert.ok(s.minDihedral > 2, `with it ${s.minDihedral}`);
     assert.equal(s.flatTets, 0);
-    assert.equal(s.steinerVolume, plain.stats.steinerVolume + s.improvePoints);
+    // With the pass, split points go in unconditionally (refine.cpp), so refinement itself
+    // differs; the points the pass added are volume points.
+    assert.ok(s.steinerVolume >= s.improvePoints);
     // Facets and segments still covered (validate skips the Delaunay check for such a result) ...
     assert.deepEqual(r.validation, { ok: true, message: '' });
     assert.equal(cdt.validate(input(BUNNY), r).ok, true);
