@@ -79,6 +79,36 @@ void ConstrainedMesh::sync_slots() {
   }
 }
 
+bool ConstrainedMesh::replace_region(const std::vector<TetId>& old,
+                                     const std::vector<std::array<VertexId, 4>>& fresh,
+                                     std::vector<TetId>& created) {
+  const double attribute = attr[old[0]];
+  for (TetId t : old)
+    if (attr[t] != attribute) return false;
+  outer_.clear();
+  for (TetId t : old)
+    for (int i = 0; i < 4; ++i) {
+      const HalfFace hf = make_hf(t, i);
+      const HalfFace nb = m.adjacent(hf);
+      if (nb != kNoHalfFace && std::find(old.begin(), old.end(), hf_tet(nb)) != old.end()) continue;
+      if (tag(hf) != kNoTag) outer_.push_back({sorted_triangle(face_of(hf)), tag(hf)});
+    }
+  std::sort(outer_.begin(), outer_.end());
+  created.clear();
+  if (!m.replace_tets(old.data(), old.size(), fresh.data(), fresh.size(), &created)) return false;
+  sync_slots();
+  for (TetId t : created) {
+    attr[t] = attribute;
+    for (int i = 0; i < 4; ++i) {
+      const HalfFace hf = make_hf(t, i);
+      const auto key = sorted_triangle(face_of(hf));
+      const auto it = std::lower_bound(outer_.begin(), outer_.end(), std::make_pair(key, uint32_t(0)));
+      hfc[hf] = it != outer_.end() && it->first == key ? it->second : kNoTag;
+    }
+  }
+  return true;
+}
+
 void ConstrainedMesh::drop_last_vertex() {
   m.coords.resize(m.coords.size() - 3);
   m.vkind.pop_back();

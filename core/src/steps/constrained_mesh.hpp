@@ -95,6 +95,13 @@ struct ConstrainedMesh {
   /// Grows the per-slot arrays after TetMesh calls that allocate by
   /// themselves (replace_tets); new slots get kNoTag.
   void sync_slots();
+  /// Replaces the live tets `old`, all of one region, by `fresh`, which
+  /// fill the same region: the tags of its outer faces carry over, the fresh
+  /// tets (in `created`) inherit the region attribute. False, with nothing
+  /// changed, across a region border or when the TetMesh refuses.
+  bool replace_region(const std::vector<TetId>& old,
+                      const std::vector<std::array<VertexId, 4>>& fresh,
+                      std::vector<TetId>& created);
   VertexId new_vertex(const double* p, Where w, int64_t parent_id);
   /// Takes back the last new_vertex() while no tet uses it yet.
   void drop_last_vertex();
@@ -123,6 +130,7 @@ struct ConstrainedMesh {
                  bool* closed = nullptr) const;
 
  private:
+  std::vector<std::pair<std::array<VertexId, 3>, uint32_t>> outer_;  // replace_region's scratch
   void tag_hull_planes(const std::vector<std::pair<std::array<VertexId, 3>, HalfFace>>& keys);
 };
 

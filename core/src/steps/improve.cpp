@@ -128,7 +128,6 @@ class Improver {
   std::vector<TetId> ring_, star_, created_, cavity_;
   std::vector<std::array<VertexId, 3>> faces_;
   std::vector<Tet> fresh_;
-  std::vector<std::pair<std::array<VertexId, 3>, uint32_t>> outer_;
 };
 
 double Improver::quality(const Tet& t) const {
@@ -153,33 +152,13 @@ double Improver::quality(TetId t) const {
 // of the region's outer faces are carried over, the fresh tets inherit the
 // region attribute and go on the queue.
 bool Improver::replace(const std::vector<TetId>& old, const std::vector<Tet>& fresh) {
-  const double attribute = cm_.attr[old[0]];
-  for (TetId t : old)
-    if (cm_.attr[t] != attribute) return false;  // across a region border: keep it
-  outer_.clear();
-  for (TetId t : old)
-    for (int i = 0; i < 4; ++i) {
-      const HalfFace hf = make_hf(t, i);
-      const HalfFace nb = m_.adjacent(hf);
-      if (nb != kNoHalfFace && std::find(old.begin(), old.end(), hf_tet(nb)) != old.end()) continue;
-      outer_.push_back({sorted_triangle(cm_.face_of(hf)), cm_.tag(hf)});
-    }
-  std::sort(outer_.begin(), outer_.end());
-  if (!m_.replace_tets(old.data(), old.size(), fresh.data(), fresh.size(), &created_)) return false;
-  cm_.sync_slots();
+  if (!cm_.replace_region(old, fresh, created_)) return false;  // across a region border: keep it
   ++ops_;
   for (const Tet& f : fresh) touch(f.data(), 4);
   for (TetId t : created_) {
     if (failed_.size() <= t) failed_.resize(m_.num_tet_slots(), kNever);
     failed_[t] = kNever;
     forget_quality(t);
-    cm_.attr[t] = attribute;
-    for (int i = 0; i < 4; ++i) {
-      const HalfFace hf = make_hf(t, i);
-      const auto key = sorted_triangle(cm_.face_of(hf));
-      auto it = std::lower_bound(outer_.begin(), outer_.end(), std::make_pair(key, uint32_t(0)));
-      cm_.hfc[hf] = it != outer_.end() && it->first == key ? it->second : kNoTag;
-    }
     queue_.push_back(t);
   }
   return true;

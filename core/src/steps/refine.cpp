@@ -349,6 +349,7 @@ class Refiner {
   bool unconditional_splits_ = false;
   std::vector<std::array<VertexId, 3>> encroached_;  // subfaces left encroached (shrink_to_star)
   std::vector<HalfFace> flip_queue_;                  // faces to check (flip_to_delaunay)
+  std::vector<TetId> created_;                        // replace_tets' new tets
   double scale_factor_ = kScaleFactor;                // the scale floor's factor now
   struct SideRec {
     uint64_t key;
@@ -716,32 +717,13 @@ bool Refiner::not_delaunay(HalfFace hf) const {
 // on the refinement queue and their faces on the flip queue.
 bool Refiner::replace_tets(const std::vector<TetId>& old,
                            const std::vector<std::array<VertexId, 4>>& fresh) {
-  const double attribute = attr_[old[0]];
-  for (TetId t : old)
-    if (attr_[t] != attribute) return false;
-  std::vector<std::pair<std::array<VertexId, 3>, uint32_t>> outer;
-  for (TetId t : old)
-    for (int i = 0; i < 4; ++i) {
-      const HalfFace hf = make_hf(t, i);
-      const HalfFace nb = m_.adjacent(hf);
-      if (nb != kNoHalfFace && std::find(old.begin(), old.end(), hf_tet(nb)) != old.end()) continue;
-      if (tag(hf) != kNoTag) outer.push_back({sorted_triangle(face_of(hf)), tag(hf)});
-    }
-  std::sort(outer.begin(), outer.end());
-  std::vector<TetId> created;
-  if (!m_.replace_tets(old.data(), old.size(), fresh.data(), fresh.size(), &created)) return false;
-  cm_.sync_slots();
+  if (!cm_.replace_region(old, fresh, created_)) return false;
   ++commits_;
   touched_.resize(m_.num_vertices(), 0);
-  for (TetId t : created) {
-    attr_[t] = attribute;
+  for (TetId t : created_) {
     for (int i = 0; i < 4; ++i) {
       touched_[m_.vertex(t, i)] = commits_;
-      const HalfFace hf = make_hf(t, i);
-      const auto key = sorted_triangle(face_of(hf));
-      const auto it = std::lower_bound(outer.begin(), outer.end(), std::make_pair(key, uint32_t(0)));
-      hfc_[hf] = it != outer.end() && it->first == key ? it->second : kNoTag;
-      flip_queue_.push_back(hf);
+      flip_queue_.push_back(make_hf(t, i));
     }
     queue_.push_back(t);
   }
@@ -1056,13 +1038,12 @@ bool Refiner::insert(const double* p, Where where, int64_t parent, VertexId sa, 
       *verdict = Verdict::Reject;
     else if (!cone_is_delaunay(p) && !unconditional)  // a constrained face is encroached
       *verdict = fault_ ? Verdict::SplitSubface : Verdict::Reject;
-    else if (unconditional && fault_ && (encroached_.push_back(split_face_.v), false)) {
-      // Not reached: a split point whose cone is not Delaunay at a
-      // constrained face goes in; the face is split after it.
-    }
     else if (const double near = nearest_vertex(p, scale);
              near < kFloorFactor * floor || near < scale_factor_ * scale)
       *verdict = Verdict::Reject, floor_rejected = true;
+    // An unconditional split point whose cone is not Delaunay at a
+    // constrained face goes in; that face is split after it.
+    if (*verdict == Verdict::Ok && unconditional && fault_) encroached_.push_back(split_face_.v);
   }
   if (*verdict != Verdict::Ok) {
     encroached_.resize(encroached_before);
