@@ -6,9 +6,11 @@
 #include <malloc.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cstdint>
 #include <cstdlib>
+#include <vector>
 #endif
 
 #include "cli.hpp"
@@ -45,7 +47,7 @@ void print_usage(std::FILE* out) {
 void keep_freed_memory() {
 #if defined(__GLIBC__)
   mallopt(M_MMAP_THRESHOLD, 1 << 30);
-  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  mallopt(M_TRIM_THRESHOLD, -1);  // never: the CLI exits when its run ends
   mallopt(M_ARENA_MAX, 1);
 #endif
 }
@@ -55,7 +57,7 @@ void keep_freed_memory() {
 // whole peak at least once. glibc asks for huge pages only under its
 // start-up tunable (glibc.malloc.hugetlb=1), so the CLI does it itself: it
 // grows the heap by a reserve once (malloc and free; with the thresholds
-// above the top is neither given back nor served by mmap), and marks the
+// above the top is never given back, and blocks below 1 GiB are not served by mmap), and marks the
 // reserve MADV_HUGEPAGE, so the later allocations there fault 2 MiB at a
 // time. Untouched, the reserve costs address space only. Only for inputs
 // of 2 MiB and more: a huge page rounds the resident memory up by up to
@@ -71,15 +73,26 @@ void huge_pages_for_big_inputs(int argc, char** argv) {
   }
   if (input < kMinInput) return;
   // Sized from the input file, with room above the peak memory a model of
-  // that size reaches; the reserve stays below the trim threshold (1 GiB),
-  // or free() returns it.
-  const uint64_t reserve = std::min<uint64_t>(48 * input, 960u << 20);
-  void* block = std::malloc(reserve);
-  if (!block) return;
-  const uintptr_t lo = reinterpret_cast<uintptr_t>(block);
-  std::free(block);
-  const uintptr_t a = (lo + kHuge - 1) & ~(kHuge - 1), b = (lo + reserve) & ~(kHuge - 1);
-  if (b > a) madvise(reinterpret_cast<void*>(a), b - a, MADV_HUGEPAGE);
+  // that size reaches (about 14x an OFF file's size on the 10M-triangle
+  // torus), at most half the machine's memory: only the pages touched
+  // count, but the heap must be able to grow that far at once.
+  const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGESIZE);
+  const uint64_t half_ram = pages > 0 && page_size > 0 ? uint64_t(pages) * uint64_t(page_size) / 2 : 960u << 20;
+  const uint64_t reserve = std::min<uint64_t>(24 * input, half_ram);
+  // In blocks below the mmap threshold, so that each comes from the heap
+  // top; freed in reverse order they merge into one free top chunk.
+  constexpr uint64_t kBlock = 768u << 20;
+  std::vector<void*> blocks;
+  for (uint64_t grown = 0; grown < reserve; grown += kBlock) {
+    void* block = std::malloc(std::min(kBlock, reserve - grown));
+    if (!block) break;
+    const uintptr_t lo = reinterpret_cast<uintptr_t>(block);
+    const uintptr_t a = (lo + kHuge - 1) & ~(kHuge - 1);
+    const uintptr_t b = (lo + std::min(kBlock, reserve - grown)) & ~(kHuge - 1);
+    if (b > a) madvise(reinterpret_cast<void*>(a), b - a, MADV_HUGEPAGE);
+    blocks.push_back(block);
+  }
+  for (auto it = blocks.rbegin(); it != blocks.rend(); ++it) std::free(*it);
 #else
   (void)argc, (void)argv;
 #endif
