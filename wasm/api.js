@@ -160,6 +160,7 @@ function checkOptions(options) {
     keepTriangles: options.keepTriangles ?? (options.mergeCoplanarFacets === false),
     repair: repair !== null,
     fillHoles: repair?.fillHoles ?? false,
+    unionOfParts: repair?.union ?? false,
     degeneracy,
     verbosity,
     stopAfter,
@@ -169,21 +170,25 @@ function checkOptions(options) {
   };
 }
 
-// options.repair: true or {fillHoles?: boolean} repairs first; false, null
-// or undefined do not. Returns null (no repair) or {fillHoles}.
+// options.repair: true or {fillHoles?: boolean, union?: boolean} repairs
+// first; false, null or undefined do not. Returns null (no repair) or
+// {fillHoles, union}.
+const REPAIR_FIELDS = ['fillHoles', 'union'];
 function checkRepair(repair, what) {
   if (repair === undefined || repair === null || repair === false) return null;
-  if (repair === true) return { fillHoles: false };
+  if (repair === true) return { fillHoles: false, union: false };
   if (typeof repair !== 'object' || Array.isArray(repair)) {
-    throw invalidArgument(`${what} must be true or an object {fillHoles?: boolean}, got ${describe(repair)}.`, '');
+    throw invalidArgument(`${what} must be true or an object {fillHoles?: boolean, union?: boolean}, got ${describe(repair)}.`, '');
   }
   for (const [key, value] of Object.entries(repair)) {
-    if (key !== 'fillHoles') throw invalidArgument(`${what}: unknown field "${key}" (known: fillHoles).`, '');
+    if (!REPAIR_FIELDS.includes(key)) {
+      throw invalidArgument(`${what}: unknown field "${key}" (known: ${REPAIR_FIELDS.join(', ')}).`, '');
+    }
     if (value !== undefined && typeof value !== 'boolean') {
-      throw invalidArgument(`${what}: fillHoles must be a boolean, got ${describe(value)}.`, '');
+      throw invalidArgument(`${what}: ${key} must be a boolean, got ${describe(value)}.`, '');
     }
   }
-  return { fillHoles: repair.fillHoles ?? false };
+  return { fillHoles: repair.fillHoles ?? false, union: repair.union ?? false };
 }
 
 // options.quality: true or an object turns quality refinement on (every
@@ -414,6 +419,7 @@ function wrap(mod, abortReason) {
             keepTriangles: opts.keepTriangles,
             repair: opts.repair,
             fillHoles: opts.fillHoles,
+            unionOfParts: opts.unionOfParts,
             degeneracy: opts.degeneracy,
             verbosity: opts.verbosity,
             stopAfter: opts.stopAfter,
@@ -435,7 +441,7 @@ function wrap(mod, abortReason) {
     repair(input, options) {
       const plc = normalizeInput(input, 'repair');
       const opts = checkRepair(options ?? {}, 'repair(input, options): options');
-      const raw = call(() => mod._repair(plc, opts.fillHoles));
+      const raw = call(() => mod._repair(plc, opts.fillHoles, opts.union));
       if (!raw.ok) throw errorFromRaw(raw);
       // The repaired PLC in the {points, facets, ...} input shape, so that it
       // can go straight to tetrahedralize().

@@ -431,7 +431,9 @@ val repair_report_js(const cdt3d::RepairReport& r) {
   n("tjunctionVertices", r.tjunction_vertices), n("tjunctionFacets", r.tjunction_facets);
   n("crossingPairs", r.crossing_pairs), n("crossingFacets", r.crossing_facets);
   n("intersectionPoints", r.intersection_points), n("rounds", r.rounds);
-  n("unresolvedPairs", r.unresolved_pairs), n("ms", r.ms);
+  n("unresolvedPairs", r.unresolved_pairs), n("innerFacets", r.inner_facets);
+  o.set("unionSkipped", val(r.union_skipped != 0));
+  n("ms", r.ms);
   o.set("changedFacets", to_js(r.changed_facets));
   return o;
 }
@@ -439,13 +441,14 @@ val repair_report_js(const cdt3d::RepairReport& r) {
 // repair(input) -> {ok, report, facetSources, the repaired PLC as flat arrays
 // (the shape plc_from_js reads), poly: its TetGen .poly text} or an error.
 // The input is read without check_plc(): what it rejects is what repair fixes.
-val repair_js(val input, bool fill_holes) {
+val repair_js(val input, bool fill_holes, bool union_of_parts) {
   cdt3d::Plc plc, fixed;
   cdt3d::Status st = plc_from_js(input, plc, nullptr, false);
   if (!st.ok()) return failure(st.error);
   cdt3d::RepairReport report;
   cdt3d::RepairOptions repair_options;
   repair_options.fill_holes = fill_holes;
+  repair_options.union_of_parts = union_of_parts;
   st = cdt3d::repair(plc, fixed, report, repair_options);
   if (!st.ok()) return failure(st.error);
   std::vector<double> xyz, hole_points, holes, regions;
@@ -517,6 +520,7 @@ val tetrahedralize_js(val input, val options, val on_progress) {
     cdt3d::Plc fixed;
     cdt3d::RepairOptions repair_options;
     repair_options.fill_holes = options["fillHoles"].as<bool>();
+    repair_options.union_of_parts = options["unionOfParts"].as<bool>();
     st = cdt3d::repair(plc, fixed, report, repair_options);
     if (!st.ok()) return failure(st.error);
     plc = std::move(fixed);
@@ -713,8 +717,8 @@ EMSCRIPTEN_BINDINGS(cdt3d) {
   emscripten::function("_tetrahedralize", +[](val input, val options, val progress) {
     return guarded([&] { return tetrahedralize_js(input, options, progress); });
   });
-  emscripten::function("_repair", +[](val input, bool fill_holes) {
-    return guarded([&] { return repair_js(input, fill_holes); });
+  emscripten::function("_repair", +[](val input, bool fill_holes, bool union_of_parts) {
+    return guarded([&] { return repair_js(input, fill_holes, union_of_parts); });
   });
   emscripten::function("_validate", +[](val input, val result) {
     return guarded([&] { return validate_js(input, result); });

@@ -14,7 +14,7 @@ namespace {
 
 void repair_usage(std::FILE* out) {
   std::fprintf(out,
-               "usage: cdt3d repair MODEL [-o PREFIX] [--fill-holes] [--json] [-q]\n"
+               "usage: cdt3d repair MODEL [-o PREFIX] [--fill-holes] [--union] [--json] [-q]\n"
                "\n"
                "Repairs MODEL (.stl .off .obj .ply .poly .smesh) exactly: welds identical points,\n"
                "drops repeated vertices, zero-area polygons and duplicate facets, splits\n"
@@ -23,6 +23,8 @@ void repair_usage(std::FILE* out) {
                "  -o PREFIX   write the repaired PLC as PREFIX.poly (TetGen format)\n"
                "  --fill-holes  close every boundary loop of an open surface with triangles of\n"
                "              its vertices (least total area) before the other steps\n"
+               "  --union     after crossings: the domain is the union of the parts (cells of\n"
+               "              winding number >= 1); facets inside it are dropped\n"
                "  --json      print the report as one JSON object on stdout\n"
                "  -q          quiet: print nothing but errors\n"
                "exit codes: 0 repaired (or nothing to repair), 1 input error or what repair\n"
@@ -48,7 +50,13 @@ std::string repair_summary(const RepairReport& r) {
       r.duplicate_facets, r.filled_holes, r.fill_triangles, r.unfilled_holes, r.nonplanar_facets,
       r.tjunction_vertices, r.tjunction_facets, r.crossing_pairs, r.crossing_facets,
       r.intersection_points, r.rounds, r.unresolved_pairs);
-  return buf;
+  std::string text = buf;
+  if (r.union_skipped) {
+    text += "    union of the parts: not formed (the facets, oriented like their input facets, do not close up)\n";
+  } else if (r.inner_facets > 0) {
+    text += "    union of the parts: " + std::to_string(r.inner_facets) + " inner facets dropped\n";
+  }
+  return text;
 }
 
 std::string repair_json(const RepairReport& r) {
@@ -61,13 +69,13 @@ std::string repair_json(const RepairReport& r) {
       "\"filledHoles\":%zu,\"fillTriangles\":%zu,\"unfilledHoles\":%zu,"
       "\"nonplanarFacets\":%zu,\"tjunctionVertices\":%zu,\"tjunctionFacets\":%zu,"
       "\"crossingPairs\":%zu,\"crossingFacets\":%zu,\"intersectionPoints\":%zu,\"rounds\":%zu,"
-      "\"unresolvedPairs\":%zu,\"ms\":%.3f}",
+      "\"unresolvedPairs\":%zu,\"innerFacets\":%zu,\"unionSkipped\":%s,\"ms\":%.3f}",
       r.changed() ? "true" : "false", r.input_points, r.points, r.input_facets, r.facets,
       r.changed_facets.size(), r.welded_points, r.repeated_vertices, r.zero_area_polygons,
       r.degenerate_facets, r.duplicate_facets, r.filled_holes, r.fill_triangles, r.unfilled_holes,
       r.nonplanar_facets, r.tjunction_vertices,
       r.tjunction_facets, r.crossing_pairs, r.crossing_facets, r.intersection_points, r.rounds,
-      r.unresolved_pairs, r.ms);
+      r.unresolved_pairs, r.inner_facets, r.union_skipped ? "true" : "false", r.ms);
   return buf;
 }
 
@@ -86,6 +94,8 @@ int run_repair(int argc, char** argv) {
       quiet = true;
     } else if (a == "--fill-holes") {
       options.fill_holes = true;
+    } else if (a == "--union") {
+      options.union_of_parts = true;
     } else if (a == "-o" && i + 1 < argc) {
       prefix = argv[++i];
     } else if (!a.empty() && a[0] != '-' && input.empty()) {

@@ -92,6 +92,29 @@ test('what repair cannot fix throws a Cdt3dError naming the input', () => {
   assert.throws(() => cdt.tetrahedralize(input('cube_ascii.stl'), { repair: 1 }), (e) => e.code === 'invalid-argument');
 });
 
+test('union: crossing parts become their union, as the native --union', () => {
+  const file = 'intersecting_cubes.off';
+  const arrangement = cdt.tetrahedralize(input(file), { repair: true, validate: true });
+  const united = cdt.tetrahedralize(input(file), { repair: { union: true }, validate: true });
+  assert.equal(arrangement.repair.innerFacets, 0);
+  assert.equal(united.repair.innerFacets, 12);
+  assert.equal(united.repair.unionSkipped, false);
+  // The overlap is no cell of its own any more: fewer constrained faces.
+  assert.ok(united.stats.faces < arrangement.stats.faces, `${united.stats.faces} vs ${arrangement.stats.faces}`);
+  const r = cdt.repair(input(file), { union: true });
+  assert.equal(r.report.innerFacets, 12);
+  assert.equal(r.facets.length, r.report.facets);
+  if (!skipNative) {
+    const native = spawnSync(requireNativeCli(), ['repair', path.join('tests', 'data', file), '--union', '--json'], {
+      cwd: repoRoot,
+      encoding: 'utf8',
+    });
+    const report = JSON.parse(native.stdout).repair;
+    for (const key of ['innerFacets', 'unionSkipped', 'facets', 'points']) assert.equal(r.report[key], report[key], key);
+  }
+  assert.throws(() => cdt.repair(input(file), { union: 1 }), (e) => e.code === 'invalid-argument' && /union must be a boolean/.test(e.message));
+});
+
 test('fillHoles closes the holes of open surfaces, as the native --fill-holes', () => {
   for (const file of ['open_cube.off', 'bunny_holes.off']) {
     const r = cdt.repair(input(file), { fillHoles: true });

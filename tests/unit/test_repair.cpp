@@ -422,3 +422,102 @@ TEST_CASE("repair --fill-holes: every boundary loop closed, oriented like the su
   REQUIRE(repair(from_text(kCube, "cube.off"), out, rep, options).ok());
   CHECK_FALSE(rep.changed());
 }
+
+namespace {
+
+// Sum of the tets' volumes, and the constrained faces with a tet on both
+// sides (facets inside the domain).
+struct DomainShape {
+  double volume = 0;
+  size_t inner_faces = 0;
+};
+
+DomainShape domain_shape(const Result& r) {
+  DomainShape d;
+  const auto& p = r.mesh.points;
+  std::vector<std::array<uint32_t, 3>> tet_faces;
+  for (size_t t = 0; t < r.mesh.tets.size() / 4; ++t) {
+    const uint32_t* v = &r.mesh.tets[4 * t];
+    auto at = [&](int i, int k) { return p[3 * size_t(v[i]) + k] - p[3 * size_t(v[0]) + k]; };
+    d.volume += std::fabs(at(1, 0) * (at(2, 1) * at(3, 2) - at(2, 2) * at(3, 1)) -
+                          at(1, 1) * (at(2, 0) * at(3, 2) - at(2, 2) * at(3, 0)) +
+                          at(1, 2) * (at(2, 0) * at(3, 1) - at(2, 1) * at(3, 0))) / 6;
+    for (int i = 0; i < 4; ++i) {
+      std::array<uint32_t, 3> k{};
+      for (int j = 0, m = 0; j < 4; ++j)
+        if (j != i) k[m++] = v[j];
+      std::sort(k.begin(), k.end());
+      tet_faces.push_back(k);
+    }
+  }
+  std::sort(tet_faces.begin(), tet_faces.end());
+  for (size_t i = 0; i < r.mesh.faces.size() / 3; ++i) {
+    std::array<uint32_t, 3> k = {r.mesh.faces[3 * i], r.mesh.faces[3 * i + 1], r.mesh.faces[3 * i + 2]};
+    std::sort(k.begin(), k.end());
+    const auto range = std::equal_range(tet_faces.begin(), tet_faces.end(), k);
+    if (range.second - range.first == 2) ++d.inner_faces;
+  }
+  return d;
+}
+
+Plc reversed(Plc plc, size_t first, size_t last) {
+  for (size_t f = first; f < last; ++f)
+    for (auto& loop : plc.facets[f].loops) std::reverse(loop.begin(), loop.end());
+  return plc;
+}
+
+DomainShape repaired_domain(const Plc& in, bool union_of_parts, RepairReport& rep) {
+  Plc out;
+  RepairOptions options;
+  options.union_of_parts = union_of_parts;
+  const Status st = repair(in, out, rep, options);
+  INFO(st.error.to_string());
+  REQUIRE(st.ok());
+  require_meshable(out);
+  Result r = tetrahedralize(out);
+  REQUIRE(r.status.ok());
+  return domain_shape(r);
+}
+
+}  // namespace
+
+TEST_CASE("repair step 5 (--union): interpenetrating parts become their union", "[repair]") {
+  Plc cubes;
+  REQUIRE(read_plc_file(corpus::kData + "/intersecting_cubes.off", cubes, false).ok());
+  REQUIRE(cubes.facets.size() == 24);
+  RepairReport rep;
+  // Two cubes of side 2 overlapping in a unit cube: union volume 8 + 8 - 1.
+  const DomainShape arrangement = repaired_domain(cubes, false, rep);
+  CHECK(rep.inner_facets == 0);
+  CHECK(std::fabs(arrangement.volume - 15) < 1e-12);
+  CHECK(arrangement.inner_faces > 0);  // the overlap is a cell of its own
+  const DomainShape united = repaired_domain(cubes, true, rep);
+  CHECK(rep.union_skipped == 0);
+  CHECK(rep.inner_facets == 12);
+  CHECK(std::fabs(united.volume - 15) < 1e-12);
+  CHECK(united.inner_faces == 0);
+  // Turned inside out (every normal inwards): the same union.
+  const DomainShape inverted = repaired_domain(reversed(cubes, 0, 24), true, rep);
+  CHECK(rep.union_skipped == 0);
+  CHECK(rep.inner_facets == 12);
+  CHECK(inverted.inner_faces == 0);
+  // One cube's normals reversed: it winds -1 around its inside, so the
+  // cells of winding >= 1 are the other cube minus the overlap (8 - 1).
+  const DomainShape difference = repaired_domain(reversed(cubes, 0, 12), true, rep);
+  CHECK(rep.union_skipped == 0);
+  CHECK(difference.inner_faces == 0);
+  CHECK(std::fabs(difference.volume - 7) < 1e-12);
+  // Half of one cube reversed: the facets do not close up; all are kept.
+  const DomainShape broken = repaired_domain(reversed(cubes, 0, 6), true, rep);
+  CHECK(rep.union_skipped == 1);
+  CHECK(rep.inner_facets == 0);
+  CHECK(broken.inner_faces == arrangement.inner_faces);
+
+  Plc tets;
+  REQUIRE(read_plc_file(corpus::kData + "/crossing_tets.off", tets, false).ok());
+  const DomainShape tets_arrangement = repaired_domain(tets, false, rep);
+  const DomainShape tets_union = repaired_domain(tets, true, rep);
+  CHECK(rep.inner_facets > 0);
+  CHECK(tets_union.inner_faces == 0);
+  CHECK(std::fabs(tets_union.volume - tets_arrangement.volume) < 1e-9 * tets_arrangement.volume);
+}

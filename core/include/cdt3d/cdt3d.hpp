@@ -481,6 +481,13 @@ struct RepairReport {
   size_t intersection_points = 0; ///< new points (constructed, rounded to doubles)
   size_t rounds = 0;              ///< rounds of step 4 (each re-checks exactly)
   size_t unresolved_pairs = 0;    ///< facet pairs still intersecting at the end
+  // Step 5: the union of interpenetrating parts (after crossings were resolved).
+  size_t inner_facets = 0;        ///< facets dropped as inside the union (or outside every part; RepairOptions::union_of_parts)
+  /// 1 when crossings were resolved but the union was not formed (the
+  /// facets, oriented like their input facets, do not close up: open
+  /// pieces, inconsistent normals, coincident faces of two parts); every
+  /// facet is then kept.
+  size_t union_skipped = 0;
   size_t input_points = 0, input_facets = 0, points = 0, facets = 0;
   double ms = 0;
   /// Per output facet: the input facet it comes from (provenance).
@@ -496,7 +503,9 @@ struct RepairReport {
 /// vertex lying on another facet's edge or inside it becomes a vertex of
 /// that facet (no new coordinates); (4) crossing facets get their
 /// intersection segments as edges (new points rounded to doubles, checked
-/// again exactly, a bounded number of rounds). Every output facet keeps the
+/// again exactly, a bounded number of rounds); (5) with
+/// RepairOptions::union_of_parts, where (4) resolved crossings, the facets
+/// inside the union of the parts are dropped. Every output facet keeps the
 /// marker and source line/record of its input facet (report.facet_source).
 /// `plc` may fail check_plc() (read it with read_plc(..., check = false)).
 /// Errors: what repair cannot fix (non-finite coordinates, indices out of
@@ -509,6 +518,16 @@ struct RepairOptions {
   /// JS repair: { fillHoles: true }); the patch takes the marker and
   /// provenance of the facet along the loop and goes through steps 3-4.
   bool fill_holes = false;
+  /// After crossings were resolved, make the domain the union of the parts
+  /// (CLI --union, JS repair: { union: true }): the cells of winding number
+  /// at least 1 of the input surfaces, oriented by their facets' vertex
+  /// order (right-hand rule, normals outwards; a model whose normals all
+  /// point inwards counts as turned inside out). Facets with the union on
+  /// both sides, or on neither, are dropped. It meshes the arrangement once
+  /// to find the winding numbers, so repair then takes about as long as
+  /// meshing. Off (the default): every cell of the arrangement is meshed,
+  /// bounded by internal facets.
+  bool union_of_parts = false;
 };
 Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOptions& options = {});
 
