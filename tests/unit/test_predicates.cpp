@@ -597,6 +597,36 @@ TEST_CASE("collinear3d matches the exact oracle", "[predicates]") {
   }
 }
 
+TEST_CASE("orient2d_centroid_projected matches the exact oracle, centroids on the line included",
+          "[predicates]") {
+  Rng r(19);
+  for (int it = 0; it < 20000; ++it) {
+    const Frame f = random_frame(r);
+    // Lattice points; every third case puts the centroid on the line ab
+    // (c2 = 3m - c0 - c1 for a lattice point m on it).
+    auto lattice = [&] { return P3{double(r.range(-9, 9)), double(r.range(-9, 9)), double(r.range(-9, 9))}; };
+    const P3 a0 = lattice(), d = lattice(), c0 = lattice(), c1 = lattice();
+    P3 c2 = lattice();
+    if (it % 3 == 0) {
+      const int t = r.range(-3, 3);
+      for (int k = 0; k < 3; ++k) c2[k] = 3 * (a0[k] + t * d[k]) - c0[k] - c1[k];
+    }
+    const P3 b0 = {a0[0] + d[0], a0[1] + d[1], a0[2] + d[2]};
+    P3 a = place(a0, f.base, f.k), b = place(b0, f.base, f.k);
+    P3 c[3] = {place(c0, f.base, f.k), place(c1, f.base, f.k), place(c2, f.base, f.k)};
+    if (it % 2) maybe_bump(r, c[r.range(0, 2)]);
+    if (it % 7 == 0) c[0] = {mixed_coordinate(r), mixed_coordinate(r), mixed_coordinate(r)};
+    const int drop = r.range(0, 2);
+    const int i = (drop + 1) % 3, j = (drop + 2) % 3;
+    mpq_class sum = 0;
+    for (const P3& x : c)
+      sum += (Q(b[i]) - Q(a[i])) * (Q(x[j]) - Q(a[j])) - (Q(b[j]) - Q(a[j])) * (Q(x[i]) - Q(a[i]));
+    const double* cs[3] = {c[0].data(), c[1].data(), c[2].data()};
+    INFO(hex(a) << " " << hex(b) << " " << hex(c[0]) << " " << hex(c[1]) << " " << hex(c[2]));
+    CHECK(pred::orient2d_centroid_projected(a.data(), b.data(), cs, drop) == sgn_q(sum));
+  }
+}
+
 TEST_CASE("dot_sign matches the exact oracle, right angles included", "[predicates]") {
   Rng r(17);
   for (int it = 0; it < 20000; ++it) {

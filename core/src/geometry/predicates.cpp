@@ -1001,6 +1001,27 @@ int orient2d_projected(const double* a, const double* b, const double* c, int dr
   return detail::orient2d_xy(a[i], a[j], b[i], b[j], c[i], c[j]);
 }
 
+int orient2d_centroid_projected(const double* a, const double* b, const double* const c[3], int drop) {
+  const int i = drop == 0 ? 1 : drop == 1 ? 2 : 0;
+  const int j = drop == 0 ? 2 : drop == 1 ? 0 : 1;
+  double xy[5][2] = {{a[i], a[j]}, {b[i], b[j]}};
+  for (int k = 0; k < 3; ++k) xy[2 + k][0] = c[k][i], xy[2 + k][1] = c[k][j];
+  const double* p[5] = {xy[0], xy[1], xy[2], xy[3], xy[4]};
+  // One power-of-two scale for all five points keeps every product exact; a
+  // sum of three determinants stays far from overflow within orient2d's range.
+  double q[5][3];
+  load_scaled(p, 5, 2, kOrient2dScale, q);
+  double det[12], acc[36], tmp[36];
+  int n = 0;
+  for (int k = 0; k < 3; ++k) {
+    const int m = raw_orient2d(q[0], q[1], q[2 + k], det);
+    const int total = exact::sum(n, acc, m, det, tmp);
+    std::copy(tmp, tmp + total, acc);
+    n = total;
+  }
+  return exact::sign(n, acc);
+}
+
 bool collinear3d(const double* a, const double* b, const double* c) {
   // The cross product (b - a) x (c - a) has the three projected orientations
   // as its components.

@@ -148,6 +148,11 @@ int incircle_coplanar(const double* a, const double* b, const double* c, const d
 /// diameter ab (v encroaches upon the segment ab, §5).
 int dot_sign(const double* a, const double* v, const double* b);
 
+/// Sign of orient2d_projected(a, b, m, drop) for the centroid m of c[0..2],
+/// without constructing m: orient2d is affine in its last point, so this is
+/// the sign of the sum of the three orientations, evaluated exactly.
+int orient2d_centroid_projected(const double* a, const double* b, const double* const c[3], int drop);
+
 /// Collinearity of three 3D points, exact.
 bool collinear3d(const double* a, const double* b, const double* c);
 

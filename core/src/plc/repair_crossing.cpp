@@ -18,7 +18,8 @@
 // rounding of Halperin & Packer 2002, here without its guarantee): before
 // the first round every point of a PLC
 // with improper pairs is snapped to the grid, then every constructed point
-// is. Points closer than the grid become one point instead of needles that
+// is. Points on one grid point or on neighbouring ones become one point
+// (merge_neighbouring_points) instead of needles that
 // segment recovery cannot split. Rounding moves points off the lines they
 // were made on, so the result is checked exactly again
 // (find_self_intersections) and the step repeats on what rounding broke, at
@@ -29,6 +30,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
+#include <cstdio>
+#include <cstdlib>
 
 #include "double_double.hpp"
 #include "geometry.hpp"
@@ -197,7 +201,7 @@ class Crossings {
       std::vector<VertexId> overlap;
       for (const ContactPoint& c : pts) overlap.push_back(c.v);
       std::sort(overlap.begin(), overlap.end());
-      covered_[std::max(f, g)].push_back(std::move(overlap));
+      covered_[std::max(f, g)].push_back({std::move(overlap), tri(std::min(f, g))});
     }
     bool any = false;
     for (int side = 0; side < 2; ++side) {
@@ -469,19 +473,35 @@ class Crossings {
   }
 
   // A triangle of facet f's retriangulation that lies in the overlap of f
-  // with a coplanar facet of lower id: its corners are all corners of that
-  // (convex) overlap, decided by ids, not by the rounded coordinates. That
-  // facet keeps the overlap and f drops its copy, so two differently
-  // triangulated copies cannot overlap again in the next round.
+  // with a coplanar facet of lower id. That facet keeps the overlap and f
+  // drops its copy, so two differently triangulated copies cannot overlap
+  // again in the next round. Decided by ids when the corners of t are all
+  // corners of the (convex) overlap; otherwise t also has points of other
+  // contacts as corners (a third facet crossing the overlap cuts both
+  // copies), and t lies in the overlap when its centroid lies in the closed
+  // lower triangle (exact signs). t is a piece of f, so lying in the lower
+  // triangle means lying in the overlap; the centroid decides for the
+  // pieces whose rounded corners lie a grid step off its edges.
   bool is_covered(uint32_t f, const Tri& t) const {
     const auto it = covered_.find(f);
     if (it == covered_.end()) return false;
-    for (const auto& overlap : it->second) {
+    for (const Overlap& overlap : it->second) {
       bool all = true;
-      for (VertexId v : t) all = all && std::binary_search(overlap.begin(), overlap.end(), v);
-      if (all) return true;
+      for (VertexId v : t) all = all && std::binary_search(overlap.corners.begin(), overlap.corners.end(), v);
+      if (all || centroid_in(t, overlap.lower)) return true;
     }
     return false;
+  }
+
+  // The centroid of t in the closed triangle u, in u's projection.
+  bool centroid_in(const Tri& t, const Tri& u) const {
+    const int drop = projection_axis(u);
+    const double* c[3] = {xyz(w_.plc, t[0]), xyz(w_.plc, t[1]), xyz(w_.plc, t[2])};
+    const int turn = pred::orient2d_projected(xyz(w_.plc, u[0]), xyz(w_.plc, u[1]), xyz(w_.plc, u[2]), drop);
+    for (int j = 0; j < 3; ++j)
+      if (turn * pred::orient2d_centroid_projected(xyz(w_.plc, u[j]), xyz(w_.plc, u[(j + 1) % 3]), c, drop) < 0)
+        return false;
+    return true;
   }
 
   // The point at x: the one already there (a constructed point that snaps
@@ -760,9 +780,13 @@ class Crossings {
   std::map<std::array<uint32_t, 3>, VertexId> triples_;
   std::map<uint32_t, Insert> inserts_;
   std::map<std::array<VertexId, 5>, VertexId> made_;
-  std::map<std::array<double, 3>, VertexId> at_;
-  /// Per facet: the corners of its coplanar overlaps with facets of lower id.
-  std::map<uint32_t, std::vector<std::vector<VertexId>>> covered_;  ///< point by coordinates, built on first use
+  std::map<std::array<double, 3>, VertexId> at_;  ///< point by coordinates, built on first use
+  struct Overlap {
+    std::vector<VertexId> corners;  ///< sorted
+    Tri lower;                      ///< the facet of lower id, which keeps the overlap
+  };
+  /// Per facet: its coplanar overlaps with facets of lower id.
+  std::map<uint32_t, std::vector<Overlap>> covered_;
 };
 
 // Crossings, and touching contacts (an edge crossing the other facet's edge
@@ -773,13 +797,55 @@ bool handled(const Intersection& x) {
          x.kind == IntersectionKind::CoplanarOverlap;
 }
 
+// Grid coordinates of a snapped point (exact: x is a multiple of the grid,
+// a power of two, at most about 2^41 of them from 0).
+std::array<int64_t, 3> cell_of(const Vec3& x, double grid) {
+  return {static_cast<int64_t>(x.x / grid), static_cast<int64_t>(x.y / grid),
+          static_cast<int64_t>(x.z / grid)};
+}
+
+// Snapped points on neighbouring grid points (one step apart on each axis
+// at most) are made one point: the lowest id of each such cluster gives its
+// coordinates to the others, which weld_points then merges. One point
+// constructed twice from different rounded inputs lands on two neighbouring
+// grid points as often as on one (its exact place lies between them), and
+// the needle triangles between such copies cross each other again in every
+// round, since a point constructed there snaps back onto them. What the
+// merge breaks (a triangle collapsed, a point moved onto a facet) is
+// repaired and checked exactly again like any other rounding.
+void merge_neighbouring_points(Plc& plc, double grid) {
+  if (grid == 0) return;
+  const std::vector<uint8_t> used = used_points(plc);
+  std::vector<std::pair<std::array<int64_t, 3>, VertexId>> cells;
+  for (VertexId v = 0; v < plc.points.size(); ++v)
+    if (used[v]) cells.push_back({cell_of(plc.points[v], grid), v});
+  std::sort(cells.begin(), cells.end());
+  std::vector<VertexId> root(plc.points.size());
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](VertexId v) {
+    while (root[v] != v) v = root[v] = root[root[v]];
+    return v;
+  };
+  for (const auto& [c, v] : cells)
+    for (int d = 0; d < 27; ++d) {
+      const std::array<int64_t, 3> n{c[0] + d % 3 - 1, c[1] + d / 3 % 3 - 1, c[2] + d / 9 - 1};
+      auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(n, VertexId(0)));
+      for (; it != cells.end() && it->first == n; ++it) {
+        const VertexId a = find(v), b = find(it->second);
+        if (a != b) root[std::max(a, b)] = std::min(a, b);
+      }
+    }
+  for (const auto& cv : cells) plc.points[cv.second] = plc.points[find(cv.second)];
+}
+
 // Rounded points can break what steps 1-3 made true: a new point may land on
 // an existing point, a thin new triangle may come out collinear, a polygon
 // that took a point on an edge may no longer be planar, a point may land
 // exactly on another facet. Those steps run again (they are exact; their
 // counts go to a scratch report, since these are no input defects), and the
 // input checks must pass before the exact intersection test runs again.
-Status tidy_after_rounding(Work& w) {
+Status tidy_after_rounding(Work& w, double grid) {
+  merge_neighbouring_points(w.plc, grid);
   RepairReport scratch;
   weld_points(w, scratch);
   clean_polygons(w, scratch);
@@ -802,7 +868,7 @@ Status tidy_after_rounding(Work& w) {
 // what the snapping moved. Valid models never get here: they have no pairs.
 Status snap_all(Work& w, double grid) {
   for (Vec3& p : w.plc.points) p = snapped(p, grid);
-  return tidy_after_rounding(w);
+  return tidy_after_rounding(w, grid);
 }
 
 // The points no facet or segment uses, by coordinates.
@@ -910,7 +976,7 @@ Status resolve_rounds(Work& w, RepairReport& report, std::vector<Intersection>& 
       return Status::success();
     }
     report.crossing_facets += c.apply();
-    Status st = tidy_after_rounding(w);
+    Status st = tidy_after_rounding(w, grid);
     if (!st.ok()) return st;
   }
 }
