@@ -797,6 +797,19 @@ bool handled(const Intersection& x) {
          x.kind == IntersectionKind::CoplanarOverlap;
 }
 
+// Needles (collapse_needles) are triangles thinner than this many grid
+// steps: 2^20 steps, 2^-20 of the binary order of the largest coordinate,
+// about 8 float32 units in the last place there. Models that need repair
+// mostly come from float32 data (STL stores float32, OBJ exporters print
+// 6 or 7 digits), so features that thin are noise of the export, and two
+// copies of one part that differ by it meet in needles. chair_model.obj
+// (two such copies) meshes from 2^20 on, not at 2^18.
+constexpr double kNeedleGridSteps = 0x1p+20;
+/// Collapsing needles can make new ones beside them (a corner put into an
+/// edge makes the triangle across a cap again where many points lie near
+/// one line); passes beyond this are left to the exact check.
+constexpr int kNeedlePasses = 4;
+
 // Grid coordinates of a snapped point (exact: x is a multiple of the grid,
 // a power of two, at most about 2^41 of them from 0).
 std::array<int64_t, 3> cell_of(const Vec3& x, double grid) {
@@ -838,6 +851,161 @@ void merge_neighbouring_points(Plc& plc, double grid) {
   for (const auto& cv : cells) plc.points[cv.second] = plc.points[find(cv.second)];
 }
 
+// The ends of every loop edge no longer than `delta` on every axis are made
+// one point, with the coordinates of the lowest id (an input point before a
+// constructed one); weld_points then merges them. Returns the merges.
+size_t merge_short_edges(Plc& plc, double delta) {
+  std::vector<VertexId> root(plc.points.size());
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](VertexId v) {
+    while (root[v] != v) v = root[v] = root[root[v]];
+    return v;
+  };
+  size_t merged = 0;
+  for (const Facet& f : plc.facets)
+    for (const auto& l : f.loops)
+      for (size_t i = 0; i < l.size(); ++i) {
+        const Vec3 d = plc.points[l[i]] - plc.points[l[(i + 1) % l.size()]];
+        if (std::max({std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)}) > delta) continue;
+        const VertexId a = find(l[i]), b = find(l[(i + 1) % l.size()]);
+        if (a == b) continue;
+        root[std::max(a, b)] = std::min(a, b);
+        ++merged;
+      }
+  for (VertexId v = 0; v < plc.points.size(); ++v) plc.points[v] = plc.points[find(v)];
+  return merged;
+}
+
+using Edge = std::pair<VertexId, VertexId>;
+Edge edge_key(VertexId a, VertexId b) { return {std::min(a, b), std::max(a, b)}; }
+/// Points to put into edges, by edge_key, in order from its lower id.
+using EdgePoints = std::map<Edge, std::vector<VertexId>>;
+
+// `loop` with the points of `on_edge` inserted into its edges, in order.
+std::vector<VertexId> with_points_on_edges(const std::vector<VertexId>& loop, const EdgePoints& on_edge) {
+  std::vector<VertexId> grown;
+  for (size_t i = 0; i < loop.size(); ++i) {
+    const VertexId a = loop[i], b = loop[(i + 1) % loop.size()];
+    grown.push_back(a);
+    const auto it = on_edge.find(edge_key(a, b));
+    if (it == on_edge.end()) continue;
+    if (a < b) grown.insert(grown.end(), it->second.begin(), it->second.end());
+    else grown.insert(grown.end(), it->second.rbegin(), it->second.rend());
+  }
+  return grown;
+}
+
+// Corners of triangle facets lying within `delta` of the line of their
+// opposite edge and projecting inside it, by edge.
+EdgePoints close_corners(const Plc& plc, double delta) {
+  EdgePoints on_edge;
+  for (const Facet& f : plc.facets) {
+    if (!is_triangle(f)) continue;
+    const auto& l = f.loops[0];
+    for (int i = 0; i < 3; ++i) {
+      const VertexId a = l[i], b = l[(i + 1) % 3], v = l[(i + 2) % 3];
+      const Vec3 ab = plc.points[b] - plc.points[a], av = plc.points[v] - plc.points[a];
+      const double len2 = dot(ab, ab), t = dot(av, ab);
+      if (!(t > 0 && t < len2)) continue;
+      const Vec3 n = cross(ab, av);  // |n| = |ab| times the distance
+      if (dot(n, n) > delta * delta * len2) continue;
+      auto& pts = on_edge[edge_key(a, b)];
+      if (std::find(pts.begin(), pts.end(), v) == pts.end()) pts.push_back(v);
+    }
+  }
+  for (auto& [e, pts] : on_edge) {
+    const Vec3 a = plc.points[e.first], ab = plc.points[e.second] - a;
+    std::sort(pts.begin(), pts.end(), [&](VertexId x, VertexId y) {
+      const double tx = dot(plc.points[x] - a, ab), ty = dot(plc.points[y] - a, ab);
+      return tx != ty ? tx < ty : x < y;
+    });
+  }
+  return on_edge;
+}
+
+// Triangle `t` with the points of its own edges (`own`: the edges of the
+// facet it was cut from) taken in: cut into the fan from the corner opposite
+// such an edge, the pieces cut again at the facet's other edges (each once,
+// so the cutting ends even where the close points have edges of their own).
+// Ear clipping of the grown loop could cut the needle off again. A needle,
+// whose corner is one of the points of its own edge, goes: its other two
+// edges now border the pieces of the triangle across.
+void cut_at_edge_points(Facet t, const std::array<Edge, 3>& own, const EdgePoints& on_edge,
+                        std::vector<Facet>& out) {
+  std::vector<Facet> work{std::move(t)};
+  while (!work.empty()) {
+    Facet piece = std::move(work.back());
+    work.pop_back();
+    const auto& l = piece.loops[0];
+    int cut = -1;
+    bool needle = false;
+    for (int i = 0; i < 3; ++i) {
+      const Edge e = edge_key(l[i], l[(i + 1) % 3]);
+      const auto it = on_edge.find(e);
+      if (it == on_edge.end() || std::find(own.begin(), own.end(), e) == own.end()) continue;
+      if (cut < 0) cut = i;
+      needle |= std::find(it->second.begin(), it->second.end(), l[(i + 2) % 3]) != it->second.end();
+    }
+    if (needle) continue;
+    if (cut < 0) {
+      out.push_back(std::move(piece));
+      continue;
+    }
+    const VertexId a = l[cut], b = l[(cut + 1) % 3], x = l[(cut + 2) % 3];
+    const std::vector<VertexId> chain = with_points_on_edges({a, b}, on_edge);  // a, points, b, points, (a)
+    const size_t n = std::find(chain.begin() + 1, chain.end(), b) - chain.begin();
+    for (size_t k = 0; k < n; ++k) work.push_back(part_of(piece, {chain[k], chain[k + 1], x}));
+  }
+}
+
+// Puts the close corners into their edges, in every facet with such an
+// edge (triangles by cut_at_edge_points, polygons in their loops). Returns
+// how many edges took points.
+size_t put_close_corners_on_edges(Work& w, double delta) {
+  Plc& plc = w.plc;
+  const EdgePoints on_edge = close_corners(plc, delta);
+  if (on_edge.empty()) return 0;
+  std::vector<Facet> facets;
+  std::vector<uint32_t> source;
+  for (size_t f = 0; f < plc.facets.size(); ++f) {
+    Facet& facet = plc.facets[f];
+    if (is_triangle(facet)) {
+      const auto& l = facet.loops[0];
+      const std::array<Edge, 3> own{edge_key(l[0], l[1]), edge_key(l[1], l[2]), edge_key(l[2], l[0])};
+      cut_at_edge_points(std::move(facet), own, on_edge, facets);
+    } else {
+      for (auto& l : facet.loops) l = with_points_on_edges(l, on_edge);
+      facets.push_back(std::move(facet));
+    }
+    source.resize(facets.size(), w.source[f]);
+  }
+  plc.facets = std::move(facets);
+  w.source = std::move(source);
+  return on_edge.size();
+}
+
+// Needles: triangles with an edge no longer than `delta`, or with a corner
+// closer than `delta` to the line of its opposite edge. The arrangement of
+// nearly coincident facets (a part and its copy a few float32 units apart)
+// is full of them, and segment recovery cannot split two long segments
+// meeting at an angle of 1e-9 into edges of a Delaunay tetrahedralization
+// (it needs about 1 / angle points). The short edge's ends merge; the close
+// corner goes into the edge. Deciding what is a needle is snap rounding at
+// a coarser scale than the grid, in floating point: like the rounding it
+// only moves points and joins features, and the result is checked exactly
+// again like any other rounding. True when something changed.
+bool collapse_needles(Work& w, double delta) {
+  RepairReport scratch;
+  const size_t merged = merge_short_edges(w.plc, delta);
+  if (merged > 0) {
+    weld_points(w, scratch);
+    clean_polygons(w, scratch);
+  }
+  const size_t put = put_close_corners_on_edges(w, delta);
+  if (put > 0) clean_polygons(w, scratch);
+  return merged + put > 0;
+}
+
 // Rounded points can break what steps 1-3 made true: a new point may land on
 // an existing point, a thin new triangle may come out collinear, a polygon
 // that took a point on an edge may no longer be planar, a point may land
@@ -849,11 +1017,16 @@ Status tidy_after_rounding(Work& w, double grid) {
   RepairReport scratch;
   weld_points(w, scratch);
   clean_polygons(w, scratch);
-  split_nonplanar_facets(w, scratch);
-  Status st = split_at_tjunctions(w, scratch);
-  // Triangulating facets at T-junctions can make copies of a triangle.
-  clean_polygons(w, scratch);
-  drop_duplicate_facets(w, scratch);
+  Status st;
+  for (int pass = 0; pass < kNeedlePasses; ++pass) {
+    const bool any = collapse_needles(w, grid * kNeedleGridSteps);
+    split_nonplanar_facets(w, scratch);
+    st = split_at_tjunctions(w, scratch);
+    // Triangulating facets at T-junctions can make copies of a triangle.
+    clean_polygons(w, scratch);
+    drop_duplicate_facets(w, scratch);
+    if (!st.ok() || !any) break;
+  }
   if (st.ok()) st = check_plc(w.plc);
   return st;
 }
