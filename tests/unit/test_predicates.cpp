@@ -627,6 +627,40 @@ TEST_CASE("orient2d_centroid_projected matches the exact oracle, centroids on th
   }
 }
 
+TEST_CASE("orient3d_centroid matches the exact oracle, centroids on the plane included",
+          "[predicates]") {
+  Rng r(23);
+  for (int it = 0; it < 20000; ++it) {
+    const Frame f = random_frame(r);
+    // Lattice points; every third case puts the centroid on the plane abc
+    // (p2 = 3m - p0 - p1 for a lattice point m of it).
+    auto lattice = [&] { return P3{double(r.range(-9, 9)), double(r.range(-9, 9)), double(r.range(-9, 9))}; };
+    const P3 a0 = lattice(), b0 = lattice(), c0 = lattice(), p0 = lattice(), p1 = lattice();
+    P3 p2 = lattice();
+    if (it % 3 == 0) {
+      const int s = r.range(-2, 2), t = r.range(-2, 2);
+      for (int k = 0; k < 3; ++k)
+        p2[k] = 3 * (a0[k] + s * (b0[k] - a0[k]) + t * (c0[k] - a0[k])) - p0[k] - p1[k];
+    }
+    const P3 a = place(a0, f.base, f.k), b = place(b0, f.base, f.k), c = place(c0, f.base, f.k);
+    P3 p[3] = {place(p0, f.base, f.k), place(p1, f.base, f.k), place(p2, f.base, f.k)};
+    if (it % 2) maybe_bump(r, p[r.range(0, 2)]);
+    if (it % 7 == 0) p[0] = {mixed_coordinate(r), mixed_coordinate(r), mixed_coordinate(r)};
+    mpq_class m[3];
+    for (int k = 0; k < 3; ++k) m[k] = (Q(p[0][k]) + Q(p[1][k]) + Q(p[2][k])) / 3;
+    mpq_class row[3][3];
+    const P3* abc[3] = {&a, &b, &c};
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) row[i][k] = Q((*abc[i])[k]) - m[k];
+    const mpq_class det = row[0][0] * (row[1][1] * row[2][2] - row[1][2] * row[2][1]) -
+                          row[0][1] * (row[1][0] * row[2][2] - row[1][2] * row[2][0]) +
+                          row[0][2] * (row[1][0] * row[2][1] - row[1][1] * row[2][0]);
+    const double* ps[3] = {p[0].data(), p[1].data(), p[2].data()};
+    INFO(hex(a) << " " << hex(b) << " " << hex(c) << " " << hex(p[0]) << " " << hex(p[1]) << " " << hex(p[2]));
+    CHECK(pred::orient3d_centroid(a.data(), b.data(), c.data(), ps) == sgn_q(det));
+  }
+}
+
 TEST_CASE("dot_sign matches the exact oracle, right angles included", "[predicates]") {
   Rng r(17);
   for (int it = 0; it < 20000; ++it) {

@@ -1022,6 +1022,28 @@ int orient2d_centroid_projected(const double* a, const double* b, const double* 
   return exact::sign(n, acc);
 }
 
+int orient3d_centroid(const double* a, const double* b, const double* c, const double* const p[3]) {
+  const double* pts[6] = {a, b, c, p[0], p[1], p[2]};
+  // One power-of-two scale for all six points, as in orient3d_exact.
+  double q[6][3];
+  load_scaled(pts, 6, 3, kOrient3dScale, q);
+  double det[96], acc[288], tmp[288];
+  int n = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double four[4][3] = {{q[0][0], q[0][1], q[0][2]},
+                               {q[1][0], q[1][1], q[1][2]},
+                               {q[2][0], q[2][1], q[2][2]},
+                               {q[3 + k][0], q[3 + k][1], q[3 + k][2]}};
+    RawMinors m;
+    raw_minors(four, 4, m);
+    const int nd = raw_orient3d(m, 0, 1, 2, 3, det);
+    const int total = exact::sum(n, acc, nd, det, tmp);
+    std::copy(tmp, tmp + total, acc);
+    n = total;
+  }
+  return exact::sign(n, acc);
+}
+
 bool collinear3d(const double* a, const double* b, const double* c) {
   // The cross product (b - a) x (c - a) has the three projected orientations
   // as its components.

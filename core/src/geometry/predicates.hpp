@@ -153,6 +153,11 @@ int dot_sign(const double* a, const double* v, const double* b);
 /// the sign of the sum of the three orientations, evaluated exactly.
 int orient2d_centroid_projected(const double* a, const double* b, const double* const c[3], int drop);
 
+/// Sign of orient3d(a, b, c, m) for the centroid m of p[0..2], without
+/// constructing m (orient3d is affine in its last point: the sign of the sum
+/// of the three orientations, evaluated exactly).
+int orient3d_centroid(const double* a, const double* b, const double* c, const double* const p[3]);
+
 /// Collinearity of three 3D points, exact.
 bool collinear3d(const double* a, const double* b, const double* c);
 
