@@ -160,7 +160,7 @@ function checkOptions(options) {
     keepTriangles: options.keepTriangles ?? (options.mergeCoplanarFacets === false),
     repair: repair !== null,
     fillHoles: repair?.fillHoles ?? false,
-    unionOfParts: repair?.union ?? false,
+    unionOfParts: repair?.union ?? true,
     degeneracy,
     verbosity,
     stopAfter,
@@ -171,12 +171,12 @@ function checkOptions(options) {
 }
 
 // options.repair: true or {fillHoles?: boolean, union?: boolean} repairs
-// first; false, null or undefined do not. Returns null (no repair) or
-// {fillHoles, union}.
+// first (union defaults to true); false, null or undefined do not. Returns
+// null (no repair) or {fillHoles, union}.
 const REPAIR_FIELDS = ['fillHoles', 'union'];
 function checkRepair(repair, what) {
   if (repair === undefined || repair === null || repair === false) return null;
-  if (repair === true) return { fillHoles: false, union: false };
+  if (repair === true) return { fillHoles: false, union: true };
   if (typeof repair !== 'object' || Array.isArray(repair)) {
     throw invalidArgument(`${what} must be true or an object {fillHoles?: boolean, union?: boolean}, got ${describe(repair)}.`, '');
   }
@@ -188,7 +188,7 @@ function checkRepair(repair, what) {
       throw invalidArgument(`${what}: ${key} must be a boolean, got ${describe(value)}.`, '');
     }
   }
-  return { fillHoles: repair.fillHoles ?? false, union: repair.union ?? false };
+  return { fillHoles: repair.fillHoles ?? false, union: repair.union ?? true };
 }
 
 // options.quality: true or an object turns quality refinement on (every

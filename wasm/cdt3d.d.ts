@@ -151,8 +151,8 @@ export interface Cdt3d {
    * facets (new points rounded to doubles, checked again exactly). The input
    * is not checked first (that is what repair is for). The result is a
    * {@link PlcInput} for tetrahedralize(). With `fillHoles`, every boundary
-   * loop of an open surface is first closed by triangles of its vertices;
-   * with `union`, parts that crossed become their union.
+   * loop of an open surface is first closed by triangles of its vertices.
+   * Parts that crossed become their union (`union: false` keeps every cell).
    * @throws {Cdt3dError} what repair cannot fix (e.g. "nan", or "self-intersection"
    *   naming input facets that still intersect).
    */
@@ -276,8 +276,9 @@ export interface TetrahedralizeOptions {
    * Repair the PLC first (as {@link Cdt3d.repair}); the result's faceFacets,
    * steinerParents and errors still name input facets, and `repair` says what
    * changed. `{ fillHoles: true }` also closes the holes of an open surface
-   * (`cdt3d mesh --fill-holes`), `{ union: true }` meshes the union of
-   * crossing parts (`cdt3d mesh --union`). Default false.
+   * (`cdt3d mesh --fill-holes`), `{ union: false }` meshes every cell of
+   * crossing parts instead of their union (`cdt3d mesh --keep-inner`).
+   * Default false (no repair).
    */
   repair?: boolean | RepairOptions;
   /**
@@ -476,13 +477,13 @@ export interface RepairOptions {
   /** Close every boundary loop with triangles of its vertices, of least total area. Default false. */
   fillHoles?: boolean;
   /**
-   * Where parts cross: the domain is their union, the cells of winding
+   * Where parts cross, the domain is their union: the cells of winding
    * number >= 1 of the surfaces (normals outwards by the right-hand rule; a
-   * part with inward normals is subtracted, a model with all normals inwards
-   * counts as turned inside out), and the facets inside it are dropped.
-   * Repair then meshes the arrangement once to find the winding numbers
-   * (about the time of meshing). Default false: every cell of the
-   * arrangement is meshed, bounded by internal facets.
+   * part with inward normals is a hole in the others, a model with all
+   * normals inwards counts as turned inside out); the facets inside it are
+   * dropped. Where the facets do not close up consistently every facet is
+   * kept (report.unionSkipped). Default true; false meshes every cell of the
+   * arrangement, bounded by internal facets (`cdt3d repair --keep-inner`).
    */
   union?: boolean;
 }
@@ -521,9 +522,9 @@ export interface RepairReport {
   rounds: number;
   /** Facet pairs still intersecting (0 on success). */
   unresolvedPairs: number;
-  /** Step 5 (option union): facets dropped as inside the union (or outside every part). */
+  /** Step 5: facets dropped as inside the union of crossing parts (or outside every part). */
   innerFacets: number;
-  /** Option union: true when the union was not formed (the facets, oriented like their input facets, do not close up); every facet is kept. */
+  /** Step 5: true when crossings were resolved but the union was not formed (the facets, oriented like their input facets, do not close up); every facet is kept. */
   unionSkipped: boolean;
   ms: number;
   /** Input facets some step changed (for highlighting). */

@@ -737,6 +737,7 @@ const REPAIR_ROWS = [
   ['tjunctionVertices', 'T-junction vertices'],
   ['crossingPairs', 'crossing facet pairs'],
   ['intersectionPoints', 'new intersection points'],
+  ['innerFacets', 'facets inside the union dropped'],
 ];
 
 function showRepair(report) {

@@ -37,7 +37,7 @@ void usage(std::FILE* out) {
       "                        [--keep-triangles] [--paper-degeneracy]\n"
       "                        [--no-intersection-check] [--one-thread]\n"
       "                        [--stop-after PHASE]\n"
-      "                        [--repair] [--fill-holes] [--union]\n"
+      "                        [--repair] [--fill-holes] [--keep-inner]\n"
       "                        [--quality [RATIO]] [--max-volume V] [--min-dihedral D]\n"
       "                        [--max-points N]\n"
       "\n"
@@ -68,8 +68,8 @@ void usage(std::FILE* out) {
       "                    and in errors keep their input numbers\n"
       "  --fill-holes      repair, closing the holes of an open surface first (as `cdt3d\n"
       "                    repair --fill-holes`)\n"
-      "  --union           repair, the domain then the union of crossing parts (as\n"
-      "                    `cdt3d repair --union`)\n"
+      "  --keep-inner      repair, keeping the facets inside the union of crossing\n"
+      "                    parts (as `cdt3d repair --keep-inner`)\n"
       "  --stop-after P    delaunay | segments | degeneracy | facets: stop after that step,\n"
       "                    write all tets as PREFIX.node/.ele and the subsegments as .edge\n"
       "quality refinement of the CDT (each of these options turns it on):\n"
@@ -346,9 +346,9 @@ int parse_mesh_args(int argc, char** argv, MeshArgs& m) {
     } else if (a == "--fill-holes") {
       fix = true;  // filling holes is a step of repair
       repair_options.fill_holes = true;
-    } else if (a == "--union") {
-      fix = true;  // a step of repair
-      repair_options.union_of_parts = true;
+    } else if (a == "--keep-inner") {
+      fix = true;  // a choice of repair's
+      repair_options.union_of_parts = false;
     } else if (a == "--no-intersection-check") {
       opt.check_intersections = false;
     } else if (a == "--one-thread") {

@@ -14,17 +14,18 @@ namespace {
 
 void repair_usage(std::FILE* out) {
   std::fprintf(out,
-               "usage: cdt3d repair MODEL [-o PREFIX] [--fill-holes] [--union] [--json] [-q]\n"
+               "usage: cdt3d repair MODEL [-o PREFIX] [--fill-holes] [--keep-inner] [--json] [-q]\n"
                "\n"
                "Repairs MODEL (.stl .off .obj .ply .poly .smesh) exactly: welds identical points,\n"
                "drops repeated vertices, zero-area polygons and duplicate facets, splits\n"
                "non-planar facets, makes T-junction vertices vertices of the facets they lie\n"
-               "on, inserts the intersection segments of crossing facets. Prints what changed.\n"
+               "on, inserts the intersection segments of crossing facets; where parts crossed,\n"
+               "the domain is their union (facets inside it dropped). Prints what changed.\n"
                "  -o PREFIX   write the repaired PLC as PREFIX.poly (TetGen format)\n"
                "  --fill-holes  close every boundary loop of an open surface with triangles of\n"
                "              its vertices (least total area) before the other steps\n"
-               "  --union     after crossings: the domain is the union of the parts (cells of\n"
-               "              winding number >= 1); facets inside it are dropped\n"
+               "  --keep-inner  keep the facets inside the union of crossing parts: every cell\n"
+               "              of their arrangement is meshed, bounded by internal facets\n"
                "  --json      print the report as one JSON object on stdout\n"
                "  -q          quiet: print nothing but errors\n"
                "exit codes: 0 repaired (or nothing to repair), 1 input error or what repair\n"
@@ -94,8 +95,8 @@ int run_repair(int argc, char** argv) {
       quiet = true;
     } else if (a == "--fill-holes") {
       options.fill_holes = true;
-    } else if (a == "--union") {
-      options.union_of_parts = true;
+    } else if (a == "--keep-inner") {
+      options.union_of_parts = false;
     } else if (a == "-o" && i + 1 < argc) {
       prefix = argv[++i];
     } else if (!a.empty() && a[0] != '-' && input.empty()) {

@@ -96,20 +96,21 @@ test('what repair cannot fix throws a Cdt3dError naming the input', () => {
   assert.throws(() => cdt.tetrahedralize(input('cube_ascii.stl'), { repair: 1 }), (e) => e.code === 'invalid-argument');
 });
 
-test('union: crossing parts become their union, as the native --union', () => {
+test('crossing parts become their union (union: false keeps every cell), as the native CLI', () => {
   const file = 'intersecting_cubes.off';
-  const arrangement = cdt.tetrahedralize(input(file), { repair: true, validate: true });
-  const united = cdt.tetrahedralize(input(file), { repair: { union: true }, validate: true });
+  const arrangement = cdt.tetrahedralize(input(file), { repair: { union: false }, validate: true });
+  const united = cdt.tetrahedralize(input(file), { repair: true, validate: true });
   assert.equal(arrangement.repair.innerFacets, 0);
   assert.equal(united.repair.innerFacets, 12);
   assert.equal(united.repair.unionSkipped, false);
   // The overlap is no cell of its own any more: fewer constrained faces.
   assert.ok(united.stats.faces < arrangement.stats.faces, `${united.stats.faces} vs ${arrangement.stats.faces}`);
-  const r = cdt.repair(input(file), { union: true });
+  const r = cdt.repair(input(file));
+  assert.equal(cdt.repair(input(file), { union: false }).report.innerFacets, 0);
   assert.equal(r.report.innerFacets, 12);
   assert.equal(r.facets.length, r.report.facets);
   if (!skipNative) {
-    const native = spawnSync(requireNativeCli(), ['repair', path.join('tests', 'data', file), '--union', '--json'], {
+    const native = spawnSync(requireNativeCli(), ['repair', path.join('tests', 'data', file), '--json'], {
       cwd: repoRoot,
       encoding: 'utf8',
     });

@@ -496,11 +496,13 @@ test('repair: an error repair can fix offers "Repair and mesh" (an open surface 
     assert.equal(await waitForState(FINAL), 'done', rel);
     const report = await page.evaluate(() => window.cdt3dDemo.repair);
     for (const key of ['weldedPoints', 'duplicateFacets', 'degenerateFacets', 'nonplanarFacets', 'tjunctionVertices',
-      'crossingPairs', 'intersectionPoints']) {
+      'crossingPairs', 'intersectionPoints', 'innerFacets']) {
       assert.equal(report[key], expected[key], `${rel}: ${key}`);
       const shown = await page.textContent(`#repair-rows tr[data-kind="${key}"] td:last-child`);
       assert.equal(Number(shown.replace(/,/g, '')), expected[key], `${rel}: row ${key}`);
     }
+    // intersecting_cubes: two cubes through each other become their union.
+    if (rel === INVALID) assert.ok(report.innerFacets > 0, `${rel}: no facet inside the union dropped`);
     assert.ok(await page.isVisible('#repair-report'));
     assert.equal(comparable(await pageStats()).tets, mesh.stats.tets, `${rel}: tets`);
     const highlighted = await page.evaluate(() => window.cdt3dDemo.highlighted);

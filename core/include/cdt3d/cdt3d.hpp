@@ -482,7 +482,7 @@ struct RepairReport {
   size_t rounds = 0;              ///< rounds of step 4 (each re-checks exactly)
   size_t unresolved_pairs = 0;    ///< facet pairs still intersecting at the end
   // Step 5: the union of interpenetrating parts (after crossings were resolved).
-  size_t inner_facets = 0;        ///< facets dropped as inside the union (or outside every part; RepairOptions::union_of_parts)
+  size_t inner_facets = 0;        ///< facets dropped as inside the union (or outside every part)
   /// 1 when crossings were resolved but the union was not formed (the
   /// facets, oriented like their input facets, do not close up: open
   /// pieces, inconsistent normals, coincident faces of two parts); every
@@ -503,9 +503,9 @@ struct RepairReport {
 /// vertex lying on another facet's edge or inside it becomes a vertex of
 /// that facet (no new coordinates); (4) crossing facets get their
 /// intersection segments as edges (new points rounded to doubles, checked
-/// again exactly, a bounded number of rounds); (5) with
-/// RepairOptions::union_of_parts, where (4) resolved crossings, the facets
-/// inside the union of the parts are dropped. Every output facet keeps the
+/// again exactly, a bounded number of rounds); (5) where (4) resolved
+/// crossings, the facets inside the union of the parts are dropped
+/// (RepairOptions::union_of_parts). Every output facet keeps the
 /// marker and source line/record of its input facet (report.facet_source).
 /// `plc` may fail check_plc() (read it with read_plc(..., check = false)).
 /// Errors: what repair cannot fix (non-finite coordinates, indices out of
@@ -518,16 +518,22 @@ struct RepairOptions {
   /// JS repair: { fillHoles: true }); the patch takes the marker and
   /// provenance of the facet along the loop and goes through steps 3-4.
   bool fill_holes = false;
-  /// After crossings were resolved, make the domain the union of the parts
-  /// (CLI --union, JS repair: { union: true }): the cells of winding number
-  /// at least 1 of the input surfaces, oriented by their facets' vertex
-  /// order (right-hand rule, normals outwards; a model whose normals all
-  /// point inwards counts as turned inside out). Facets with the union on
-  /// both sides, or on neither, are dropped. It meshes the arrangement once
-  /// to find the winding numbers, so repair then takes about as long as
-  /// meshing. Off (the default): every cell of the arrangement is meshed,
-  /// bounded by internal facets.
-  bool union_of_parts = false;
+  /// After crossings were resolved, the domain is the union of the parts
+  /// (the default): the cells of winding number at least 1 of the input
+  /// surfaces, oriented by their facets' vertex order (right-hand rule,
+  /// normals outwards; a part with inward normals is a hole in the others,
+  /// and a model whose normals all point inwards counts as turned inside
+  /// out). Facets with the union on both sides, or on neither, are dropped.
+  /// Where the facets, oriented like their input facets, do not close up
+  /// (open pieces, inconsistent normals, coincident faces of two parts),
+  /// every facet is kept (RepairReport::union_skipped). False (CLI
+  /// --keep-inner, JS repair: { union: false }): every cell of the
+  /// arrangement is meshed, bounded by internal facets.
+  bool union_of_parts = true;
+  /// Testing only: the winding numbers of the union from a tetrahedralization
+  /// of the arrangement instead of exact ray casting (the fallback where no
+  /// ray of a patch is clear of edges and vertices).
+  bool debug_union_by_mesh = false;
 };
 Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOptions& options = {});
 

@@ -157,7 +157,7 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOption
   if (st.ok()) st = check_plc(w.plc);
   if (st.ok()) st = repair_steps::resolve_crossings(w, report, left);
   if (st.ok() && left.empty() && report.crossing_pairs > 0 && options.union_of_parts)
-    st = repair_steps::merge_into_union(w, plc, report);
+    st = repair_steps::merge_into_union(w, plc, report, options.debug_union_by_mesh);
   if (!st.ok()) st = in_input_terms(st, plc, w.source);
 
   report.facet_source = w.source;

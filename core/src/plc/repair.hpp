@@ -67,11 +67,11 @@ Status triangulate_in_place(Work& w, const std::vector<uint8_t>& which);
 // segments as edges. `left` receives the improper pairs (in the numbering of
 // w.plc) that remain after the last round; empty when the PLC is clean.
 Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection>& left);
-// Step 5 (repair_union.cpp, RepairOptions::union_of_parts, after step 4
-// resolved crossings): facets inside
+// Step 5 (repair_union.cpp, after step 4 resolved crossings; off with
+// RepairOptions::union_of_parts false): facets inside
 // the union of the parts (winding number at least 1 on both sides) or
 // outside every part are dropped, with the points only they used.
-Status merge_into_union(Work& w, const Plc& input, RepairReport& report);
+Status merge_into_union(Work& w, const Plc& input, RepairReport& report, bool by_mesh_only);
 /// Every point snapped to step 4's grid (2^-40 below the binary order of the
 /// largest coordinate), then steps 1 and 3 again on what moved.
 Status snap_to_grid(Work& w);

@@ -8,13 +8,13 @@
 // winding number at least 1; a facet with such cells on both sides lies
 // inside the union and goes, as does one with winding 0 on both sides.
 //
-// The winding numbers come from a tetrahedralization of the arrangement
-// (the pipeline itself, convex hull kept, every facet its own): outside the
-// hull the winding is 0, and crossing a face of a facet changes it by one,
-// up when going from the facet's front (where its input facet's normal
-// points, right-hand rule) to its back. Every decision is an exact sign:
-// which side of a face a tet lies on (orient3d), and whether a face runs
-// like its input facet (orient2d in the input facet's projection plane).
+// Crossing a facet changes the winding by one, up when going from its front
+// (where its input facet's normal points, right-hand rule) to its back. The
+// winding numbers come from exact ray casting, one ray per patch of facets
+// (windings_by_rays); where no ray of a patch is clear of edges and
+// vertices, from a tetrahedralization of the arrangement flooded from its
+// hull (windings_by_mesh; the two agree facet for facet on every model
+// tried). Every decision is an exact sign.
 //
 // The winding numbers exist only when the facets, each oriented like its
 // input facet, close up: every edge used as often in each direction. A model
@@ -25,6 +25,7 @@
 #include <algorithm>
 #include <array>
 #include <climits>
+#include <numeric>
 #include <unordered_map>
 
 #include "geometry.hpp"
@@ -97,38 +98,19 @@ struct TripleHash {
 
 constexpr int kUnset = INT_MIN;
 
-}  // namespace
-
-Status merge_into_union(Work& w, const Plc& input, RepairReport& report) {
+// The winding numbers by a tetrahedralization of the arrangement (hull
+// kept, every facet its own), flooded from the hull: 0 outside it, up by one
+// across a face from the front of its input facet to its back. False when
+// the tetrahedralization fails or the flood contradicts itself.
+bool windings_by_mesh(const Work& w, const std::vector<Orientation>& input_orientation,
+                      std::vector<std::array<int, 2>>& sides) {
   const size_t nf = w.plc.facets.size();
-  std::vector<Orientation> input_orientation(input.facets.size());
-  for (size_t s = 0; s < input.facets.size(); ++s)
-    input_orientation[s] = orientation_of(input, input.facets[s]);
-  // Each facet against its input facet: +1 same way round, -1 reversed.
-  std::vector<int> runs_like_input(nf, 0);
-  for (size_t f = 0; f < nf; ++f) {
-    const Orientation& in = input_orientation[w.source[f]];
-    const std::vector<std::vector<VertexId>>& loops = w.plc.facets[f].loops;
-    if (in.sign == 0 || loops.empty() || loops[0].size() < 3) continue;
-    // In the input facet's projection plane: the two lie in one plane (up
-    // to the snap rounding of step 4, far below any corner's area).
-    const int own = corner_sign(w.plc, loops[0], in.drop);
-    if (own != 0) runs_like_input[f] = own == in.sign ? 1 : -1;
-  }
-  if (!facets_close_up(w, runs_like_input)) {
-    report.union_skipped = 1;
-    return Status::success();
-  }
-
   Options opt;
   opt.keep_convex_hull = true;
   opt.keep_triangles = true;
   opt.check_intersections = false;  // step 4 left none (checked exactly)
   const Result r = tetrahedralize(w.plc, opt);
-  if (!r.status.ok()) {
-    report.union_skipped = 1;
-    return Status::success();
-  }
+  if (!r.status.ok()) return false;
   const std::vector<double>& xyz = r.mesh.points;
   auto pt = [&](uint32_t v) { return &xyz[3 * size_t(v)]; };
   const size_t nt = r.mesh.tets.size() / 4;
@@ -171,7 +153,7 @@ Status merge_into_union(Work& w, const Plc& input, RepairReport& report) {
 
   // Flood from the hull (winding 0 outside it).
   std::vector<int> winding(nt, kUnset);
-  std::vector<std::array<int, 2>> sides(nf, {kUnset, kUnset});  // winding in front, behind
+  sides.assign(nf, {kUnset, kUnset});
   std::vector<uint32_t> queue;
   bool consistent = true;
   auto set = [&](uint32_t t, int value) {
@@ -249,14 +231,184 @@ Status merge_into_union(Work& w, const Plc& input, RepairReport& report) {
       set(other.tet, value);
     }
   }
-  if (!consistent || std::count(winding.begin(), winding.end(), kUnset) > 0) {
+  return consistent && std::count(winding.begin(), winding.end(), kUnset) == 0;
+}
+
+// The winding numbers by exact ray casting, one ray per patch: a patch is
+// a set of facets joined across edges that exactly two facets use (where
+// the surface goes on smoothly, so the cells on each side go on too). The
+// ray starts at the centroid q of one of its triangles and runs along the
+// coordinate axis k closest to that triangle's normal; just ahead of q the
+// winding is the sum, over the triangles the ray crosses beyond q, of the
+// sign of their input facet's normal along k (crossing a facet from its
+// back to its front the winding drops by one, and far away it is 0). The
+// centroid is never constructed: orient2d and orient3d are affine in it,
+// so each test is the exact sign of a sum of three (predicates.hpp). A ray
+// through an edge or a vertex, as exact signs tell, is given up for the
+// next triangle of the patch; false when a patch has none left.
+struct RayTriangle {
+  std::array<VertexId, 3> v;
+  uint32_t facet;
+  Vec3 lo, hi;  // bounding box, for the conservative prefilter
+};
+
+constexpr int kRayAttempts = 8;
+
+bool windings_by_rays(const Work& w, const std::vector<Orientation>& input_orientation,
+                      std::vector<std::array<int, 2>>& sides) {
+  const Plc& plc = w.plc;
+  const size_t nf = plc.facets.size();
+  std::vector<uint32_t> tri, tri_facet;
+  if (!triangulate_surface(plc, tri, tri_facet).ok()) return false;
+  std::vector<RayTriangle> tris(tri_facet.size());
+  double scale = 0;
+  for (const Vec3& p : plc.points) scale = std::max({scale, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  for (size_t t = 0; t < tris.size(); ++t) {
+    RayTriangle& r = tris[t];
+    r.v = {tri[3 * t], tri[3 * t + 1], tri[3 * t + 2]};
+    r.facet = tri_facet[t];
+    const Vec3 &a = plc.points[r.v[0]], &b = plc.points[r.v[1]], &c = plc.points[r.v[2]];
+    r.lo = {std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})};
+    r.hi = {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})};
+  }
+  // Patches: facets joined across edges of exactly two facets.
+  std::vector<std::pair<uint64_t, uint32_t>> edges;
+  for (uint32_t f = 0; f < nf; ++f)
+    for (const auto& loop : plc.facets[f].loops)
+      for (size_t i = 0; i < loop.size(); ++i) edges.push_back({edge_key(loop[i], loop[(i + 1) % loop.size()]), f});
+  std::sort(edges.begin(), edges.end());
+  std::vector<uint32_t> root(nf);
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](uint32_t x) {
+    while (root[x] != x) x = root[x] = root[root[x]];
+    return x;
+  };
+  for (size_t i = 0; i < edges.size();) {
+    size_t j = i + 1;
+    while (j < edges.size() && edges[j].first == edges[i].first) ++j;
+    if (j - i == 2) {
+      const uint32_t a = find(edges[i].second), b = find(edges[i + 1].second);
+      if (a != b) root[std::max(a, b)] = std::min(a, b);
+    }
+    i = j;
+  }
+  std::vector<std::vector<uint32_t>> patch_tris(nf);
+  for (uint32_t t = 0; t < tris.size(); ++t) patch_tris[find(tris[t].facet)].push_back(t);
+
+  auto pt = [&](VertexId v) { return &plc.points[v].x; };
+  // +1 when triangle t's input facet's normal points along +k, -1 along -k,
+  // 0 when its plane contains the axis or no orientation is known.
+  auto normal_along = [&](uint32_t t, int k) {
+    const RayTriangle& r = tris[t];
+    const Orientation& in = input_orientation[w.source[r.facet]];
+    const int along_k = pred::orient2d_projected(pt(r.v[0]), pt(r.v[1]), pt(r.v[2]), k);
+    const int runs = pred::orient2d_projected(pt(r.v[0]), pt(r.v[1]), pt(r.v[2]), in.drop) * in.sign;
+    return along_k * runs;
+  };
+  // The winding just ahead of the centroid of triangle t along +k; false
+  // when the ray meets an edge or a vertex.
+  auto cast = [&](uint32_t t, int k, int& winding) {
+    const RayTriangle& r = tris[t];
+    const double* q3[3] = {pt(r.v[0]), pt(r.v[1]), pt(r.v[2])};
+    const int i = k == 0 ? 1 : k == 1 ? 2 : 0, j = k == 0 ? 2 : k == 1 ? 0 : 1;
+    const Vec3& a = plc.points[r.v[0]];
+    const Vec3& b = plc.points[r.v[1]];
+    const Vec3& c = plc.points[r.v[2]];
+    const double qa[3] = {(a.x + b.x + c.x) / 3, (a.y + b.y + c.y) / 3, (a.z + b.z + c.z) / 3};
+    // The rounded centroid is within a few ulps of the exact one: the margin
+    // only keeps the prefilter conservative; the exact tests decide.
+    const double margin = 1e-9 * scale;
+    int sum = 0;
+    for (uint32_t u = 0; u < tris.size(); ++u) {
+      if (u == t) continue;
+      const RayTriangle& o = tris[u];
+      const double lo[3] = {o.lo.x, o.lo.y, o.lo.z}, hi[3] = {o.hi.x, o.hi.y, o.hi.z};
+      if (qa[i] < lo[i] - margin || qa[i] > hi[i] + margin || qa[j] < lo[j] - margin ||
+          qa[j] > hi[j] + margin || hi[k] < qa[k] - margin)
+        continue;
+      const double *x = pt(o.v[0]), *y = pt(o.v[1]), *z = pt(o.v[2]);
+      const int s = pred::orient2d_projected(x, y, z, k);
+      if (s == 0) continue;  // parallel to the ray: met edge-on only, which its neighbours show
+      const int e[3] = {pred::orient2d_centroid_projected(x, y, q3, k),
+                        pred::orient2d_centroid_projected(y, z, q3, k),
+                        pred::orient2d_centroid_projected(z, x, q3, k)};
+      if (e[0] == -s || e[1] == -s || e[2] == -s) continue;  // the ray passes beside it
+      if (e[0] == 0 || e[1] == 0 || e[2] == 0) return false;  // through its edge or corner
+      const int h = pred::orient3d_centroid(x, y, z, q3);
+      if (h == 0) return false;  // q in its plane (no triangle but t contains q)
+      if (h != s) continue;      // its plane is behind q
+      const int n = normal_along(u, k);
+      if (n == 0) return false;
+      sum += n;
+    }
+    winding = sum;
+    return true;
+  };
+
+  sides.assign(nf, {kUnset, kUnset});
+  for (uint32_t p = 0; p < nf; ++p) {
+    if (patch_tris[p].empty()) continue;
+    bool done = false;
+    for (size_t a = 0; a < patch_tris[p].size() && a < size_t(kRayAttempts) && !done; ++a) {
+      // Spread the attempts over the patch.
+      const uint32_t t = patch_tris[p][a * patch_tris[p].size() / std::min(patch_tris[p].size(), size_t(kRayAttempts))];
+      const RayTriangle& r = tris[t];
+      const Vec3 &x = plc.points[r.v[0]], &y = plc.points[r.v[1]], &z = plc.points[r.v[2]];
+      const Vec3 n = cross(y - x, z - x);
+      const int k = std::abs(n.x) >= std::abs(n.y) && std::abs(n.x) >= std::abs(n.z) ? 0
+                    : std::abs(n.y) >= std::abs(n.z)                                ? 1
+                                                                                    : 2;
+      const int own = normal_along(t, k);
+      int ahead = 0;
+      if (own == 0 || !cast(t, k, ahead)) continue;
+      // Ahead of q lies the front of t's facet when its normal points along +k.
+      const std::array<int, 2> fb = own > 0 ? std::array<int, 2>{ahead, ahead + 1}
+                                            : std::array<int, 2>{ahead - 1, ahead};
+      for (uint32_t u : patch_tris[p]) sides[tris[u].facet] = fb;
+      done = true;
+    }
+    if (!done) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+Status merge_into_union(Work& w, const Plc& input, RepairReport& report, bool by_mesh_only) {
+  const size_t nf = w.plc.facets.size();
+  std::vector<Orientation> input_orientation(input.facets.size());
+  for (size_t s = 0; s < input.facets.size(); ++s)
+    input_orientation[s] = orientation_of(input, input.facets[s]);
+  // Each facet against its input facet: +1 same way round, -1 reversed.
+  std::vector<int> runs_like_input(nf, 0);
+  for (size_t f = 0; f < nf; ++f) {
+    const Orientation& in = input_orientation[w.source[f]];
+    const std::vector<std::vector<VertexId>>& loops = w.plc.facets[f].loops;
+    if (in.sign == 0 || loops.empty() || loops[0].size() < 3) continue;
+    // In the input facet's projection plane: the two lie in one plane (up
+    // to the snap rounding of step 4, far below any corner's area).
+    const int own = corner_sign(w.plc, loops[0], in.drop);
+    if (own != 0) runs_like_input[f] = own == in.sign ? 1 : -1;
+  }
+  if (!facets_close_up(w, runs_like_input)) {
+    report.union_skipped = 1;
+    return Status::success();
+  }
+
+  std::vector<std::array<int, 2>> sides;  // per facet: winding in front, behind
+  // Rays first (fast: one per patch); the tetrahedralization where a patch
+  // had no ray clear of edges and vertices.
+  const bool by_rays = !by_mesh_only && windings_by_rays(w, input_orientation, sides);
+  if (!by_rays && !windings_by_mesh(w, input_orientation, sides)) {
     report.union_skipped = 1;
     return Status::success();
   }
   // A model whose normals all point inwards winds -1 around its inside; one
   // with no winding at all (every cell 0) has no union to speak of.
-  const int most = *std::max_element(winding.begin(), winding.end());
-  const int least = *std::min_element(winding.begin(), winding.end());
+  int most = INT_MIN, least = INT_MAX;
+  for (const auto& side : sides)
+    for (int value : side)
+      if (value != kUnset) most = std::max(most, value), least = std::min(least, value);
   if (most <= 0 && least >= 0) {
     report.union_skipped = 1;
     return Status::success();
