@@ -586,7 +586,10 @@ bool Improver::insert_point(TetId t) {
   }
   if (nd == 0) return false;  // no boundary face: flips and moves are the tools there
   // The winner's cavity and boundary are kept, not grown again.
+  // A candidate that adds no tet above kRatioGuard (clean) wins over any
+  // that does; those are taken only below kGuardAngle, as adds_ratio_bad.
   double best_q = -1;
+  bool best_clean = false;
   Vec3 best{};
   std::vector<TetId> best_cavity;
   std::vector<std::array<VertexId, 3>> best_faces;
@@ -599,7 +602,7 @@ bool Improver::insert_point(TetId t) {
       for (TetId u : cavity_) old_q = std::min(old_q, quality(u));
       for (const auto& f : faces_)
         q = std::min(q, quality_of(cm_.pt(f[0]), cm_.pt(f[1]), cm_.pt(f[2]), p));
-      if (!(q > old_q + kGain && q > best_q)) continue;
+      if (!(q > old_q + kGain) || (best_clean && !(q > best_q))) continue;
       size_t bad = 0;
       double worst = 0;
       for (const auto& f : faces_) {
@@ -608,10 +611,11 @@ bool Improver::insert_point(TetId t) {
         bad += !(r <= kRatioGuard);
         worst = std::max(worst, r);
       }
-      if (quality(t) >= guard_q_ && bad > 0 && bad > ratio_bad_count(cavity_) &&
-          !(worst < max_ratio(cavity_)))
-        continue;  // the guard of adds_ratio_bad
-      best_q = q, best = c, best_cavity = cavity_, best_faces = faces_;
+      const bool clean = bad == 0 || bad <= ratio_bad_count(cavity_) || worst < max_ratio(cavity_);
+      if (!clean && (quality(t) >= guard_q_ || best_clean || !(q > best_q))) continue;
+      if (clean && !best_clean) best_q = -1;  // the first clean one beats any other
+      if (!(q > best_q)) continue;
+      best_q = q, best_clean = clean, best = c, best_cavity = cavity_, best_faces = faces_;
     }
   if (best_cavity.empty()) return false;
   const double xyz[3] = {best.x, best.y, best.z};
