@@ -736,12 +736,14 @@ bool Refiner::shrink_to_star(const double* p, size_t seeds) {
 // Whether the cavity is a ball whose vertices and constrained faces all lie
 // on its boundary. Bowyer-Watson's cavity in a Delaunay mesh always is; once
 // unconditional splits have left faces that are not locally Delaunay (flips
-// can get stuck) or shrink_to_star has cut tets out, it may touch itself
-// along an edge or at a vertex, or close around a vertex, and the cone from
-// p then overlaps itself (a face of three tets) or drops the vertex. With
-// every boundary face seen from p (cavity_is_star), the cone of a ball's
-// boundary fills the ball exactly once: the boundary's winding number is 1
-// inside and 0 outside.
+// can get stuck) or shrink_to_star has cut tets out or taken tets in, it may
+// touch itself along an edge or at a vertex, or close around a vertex, and
+// the cone from p then overlaps itself (a face of three tets) or drops the
+// vertex. With every boundary face seen from p (cavity_is_star), the cone of
+// a ball's boundary fills the ball exactly once: the boundary's winding
+// number is 1 inside and 0 outside. (Checking only the cavities that
+// shrink_to_star changed or that have an edge in more than two boundary
+// faces let an invalid mesh through on plate_holes_binary.stl.)
 bool Refiner::cavity_is_ball() {
   // The cavity's faces towards the rest of the mesh, and the open faces it
   // splits (a point on the domain's boundary): together a sphere.
