@@ -586,13 +586,16 @@ bool Improver::insert_point(TetId t) {
   }
   if (nd == 0) return false;  // no boundary face: flips and moves are the tools there
   // The winner's cavity and boundary are kept, not grown again.
-  // A candidate that adds no tet above kRatioGuard (clean) wins over any
-  // that does; those are taken only below kGuardAngle, as adds_ratio_bad.
-  double best_q = -1;
-  bool best_clean = false;
-  Vec3 best{};
-  std::vector<TetId> best_cavity;
-  std::vector<std::array<VertexId, 3>> best_faces;
+  // The best candidate that adds no tet above kRatioGuard (clean), and the
+  // best of all; the latter only for a tet below kGuardAngle, as
+  // adds_ratio_bad, and only when the clean one stays below it and is worse.
+  struct Candidate {
+    double q = -1;
+    Vec3 at{};
+    std::vector<TetId> cavity;
+    std::vector<std::array<VertexId, 3>> faces;
+  } clean_best, any_best;
+  const bool guarded = quality(t) >= guard_q_;
   for (int k = 0; k < nd; ++k)
     for (double h : kInsertHeights) {
       const Vec3 c = centre + (h * edge) * directions[k];
@@ -602,7 +605,7 @@ bool Improver::insert_point(TetId t) {
       for (TetId u : cavity_) old_q = std::min(old_q, quality(u));
       for (const auto& f : faces_)
         q = std::min(q, quality_of(cm_.pt(f[0]), cm_.pt(f[1]), cm_.pt(f[2]), p));
-      if (!(q > old_q + kGain) || (best_clean && !(q > best_q))) continue;
+      if (!(q > old_q + kGain) || !(q > clean_best.q || (!guarded && q > any_best.q))) continue;
       size_t bad = 0;
       double worst = 0;
       for (const auto& f : faces_) {
@@ -612,11 +615,15 @@ bool Improver::insert_point(TetId t) {
         worst = std::max(worst, r);
       }
       const bool clean = bad == 0 || bad <= ratio_bad_count(cavity_) || worst < max_ratio(cavity_);
-      if (!clean && (quality(t) >= guard_q_ || best_clean || !(q > best_q))) continue;
-      if (clean && !best_clean) best_q = -1;  // the first clean one beats any other
-      if (!(q > best_q)) continue;
-      best_q = q, best_clean = clean, best = c, best_cavity = cavity_, best_faces = faces_;
+      if (clean && q > clean_best.q) clean_best = {q, c, cavity_, faces_};
+      if (!guarded && q > any_best.q) any_best = {q, c, cavity_, faces_};
     }
+  const Candidate& pick =
+      clean_best.q >= 0 && (clean_best.q >= any_best.q || clean_best.q >= guard_q_) ? clean_best
+                                                                                    : any_best;
+  const Vec3 best = pick.at;
+  const std::vector<TetId>& best_cavity = pick.cavity;
+  const std::vector<std::array<VertexId, 3>>& best_faces = pick.faces;
   if (best_cavity.empty()) return false;
   const double xyz[3] = {best.x, best.y, best.z};
   const VertexId v = cm_.new_vertex(xyz, Where::Volume, -1);
