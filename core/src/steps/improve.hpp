@@ -19,6 +19,11 @@
 //    the face opposite it in its worst tet;
 //  * as the last resort, a new vertex inside the union of the tet and its
 //    neighbours across unconstrained faces (a Steiner point in the volume).
+// When no tet is left below the target, edge removals and 2-3 flips at the
+// worst tets of the mesh go on raising its smallest angle (a small mesh
+// meets the target at once).
+// Fixes of tets at or above 10 degrees must not add tets above radius-edge
+// ratio 2 (refinement's work) unless they lower the largest ratio there.
 // A new tet must be positive by the exact orientation test and not
 // numerically flat; constrained faces and subsegments are never removed, so
 // the mesh stays a constrained tetrahedralization of the PLC (every facet
@@ -26,6 +31,8 @@
 #pragma once
 
 #include <cstddef>
+#include <utility>
+#include <vector>
 
 #include "constrained_mesh.hpp"
 #include "status.hpp"
@@ -45,9 +52,18 @@ struct ImproveProgress {
   double from = 0, to = 1;
 };
 
+/// Volume bounds of refinement the pass's final flips keep (a tet of
+/// region attribute a stays within the smallest of max_volume and the
+/// limits of a in regions; -1 and no entry: none).
+struct VolumeBounds {
+  double max_volume = -1;
+  std::vector<std::pair<double, double>> regions;  ///< (attribute, max volume)
+};
+
 /// Raises the smallest dihedral angle of cm's tets towards `target`
 /// degrees. Errors: Cancelled when *cancel becomes true.
 Status improve_mesh(ConstrainedMesh& cm, double target, const volatile bool* cancel,
-                    ImproveCounts& counts, const ImproveProgress& progress = {});
+                    ImproveCounts& counts, const ImproveProgress& progress = {},
+                    const VolumeBounds& bounds = {});
 
 }  // namespace cdt3d

@@ -29,7 +29,10 @@
 // along chains of insertions; a third one cannot: a local scale carried
 // from the CDT's shortest edges (kScaleFactor, init_scales) keeps all
 // points a fixed distance apart, so refinement stops (the point cap,
-// max_points, remains as a guard). Bad tets that would need a closer
+// max_points, remains as a guard). The radius rule does not hold a split
+// point of a segment back from a vertex on a feature that does not meet
+// that segment (apart_from_segment): their distance is bounded by the
+// input, as in Shewchuk's analysis. Bad tets that would need a closer
 // point are left (counted in refine_skipped); they are the ones near small
 // input angles and between coplanar facets, which TetGen leaves in part too.
 //
@@ -41,7 +44,10 @@
 // Lawson flips restore local Delaunay faces around the new point
 // (flip_to_delaunay). Without it, thin facets side by side (the faceted
 // wall of a hole, the strips of a fillet) ask for cycles of splits that
-// each need the other first, and refinement gives up there.
+// each need the other first, and refinement gives up there. A second sweep
+// after flips over the whole mesh retries the bad tets left (run()), and
+// every cavity must be a ball (cavity_is_ball), which Bowyer-Watson no
+// longer guarantees in a mesh that is not Delaunay everywhere.
 #include "refine.hpp"
 
 #include <algorithm>
@@ -231,6 +237,7 @@ class Refiner {
   Verdict check_constraints(const double* p, Where where, VertexId sa, VertexId sb);
   bool cavity_is_star(const double* p);
   bool shrink_to_star(const double* p, size_t seeds);
+  bool cavity_is_ball();
   void split_encroached();
   // --- Lawson flips after an insertion that may leave faces not locally Delaunay ---
   void flip_to_delaunay();
@@ -251,7 +258,8 @@ class Refiner {
                   double scale);
   bool insert(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb,
               double floor, Verdict* verdict);
-  double nearest_vertex(const double* p, double& scale) const;
+  double nearest_vertex(const double* p, double& scale, VertexId& nearest) const;
+  bool apart_from_segment(VertexId w, int64_t segment) const;
   using SplitKey = std::array<VertexId, 3>;  // a subface, or a subsegment and kNone
   void remember_failure(Verdict verdict);
   bool known_failure(const SplitKey& key, Verdict& verdict);
@@ -350,6 +358,13 @@ class Refiner {
   std::vector<std::array<VertexId, 3>> encroached_;  // subfaces left encroached (shrink_to_star)
   std::vector<HalfFace> flip_queue_;                  // faces to check (flip_to_delaunay)
   std::vector<TetId> created_;                        // replace_tets' new tets
+  // shrink_to_star may take tets beyond a seed into the cavity: in the
+  // last sweep, for the first try at each bad tet left (run()).
+  bool take_in_ = false;
+  std::vector<TetId> taken_;                         // shrink_to_star's scratch
+  std::vector<std::array<VertexId, 3>> ball_faces_;  // cavity_is_ball's scratch
+  std::vector<uint64_t> ball_edges_;
+  std::vector<VertexId> ball_vertices_;
   double scale_factor_ = kScaleFactor;                // the scale floor's factor now
   struct SideRec {
     uint64_t key;
@@ -381,6 +396,7 @@ class Refiner {
   std::vector<uint32_t> touched_;  // per vertex: the commit that last changed its star
   uint32_t commits_ = 0;
   std::vector<double> scale_;  // per vertex: its local scale (init_scales)
+  std::vector<std::array<VertexId, 2>> segments_;  // the PLC's segments (plc_segments order)
   void init_scales();
 };
 
@@ -674,27 +690,97 @@ bool Refiner::cavity_is_star(const double* p) {
 // subfaces (thin facets side by side, as on the faceted wall of a hole)
 // has no split that keeps a CDT at every step.
 bool Refiner::shrink_to_star(const double* p, size_t seeds) {
+  std::vector<TetId>& taken = taken_;
   for (int round = 0; round < 64; ++round) {
-    bool cut = false;
+    bool changed = false;
+    taken.clear();
     for (const BoundaryFace& f : bnd_) {
       if (pred::orient3d(pt(f.a), pt(f.b), pt(f.c), p) > 0 &&
           !numerically_flat(pt(f.a), pt(f.b), pt(f.c), p))
         continue;
       if (!(m_.tflag[f.from] & kTetInCavity)) continue;  // already cut this round
       if (std::find(cav_.begin(), cav_.begin() + static_cast<long>(seeds), f.from) !=
-          cav_.begin() + static_cast<long>(seeds))
-        return false;
+          cav_.begin() + static_cast<long>(seeds)) {
+        // A tet that must go (a seed, or one taken in for a seed) with a
+        // face p does not see: in the last sweep the tet beyond joins the
+        // cavity (it holds p in no circumsphere where flips could not make
+        // that face locally Delaunay) and must go too; cavity_is_ball()
+        // then checks the result.
+        if (!take_in_ || f.tag != kNoTag || f.outside == kNoHalfFace) return false;
+        const TetId u = hf_tet(f.outside);
+        if (m_.tflag[u] & kTetInCavity) continue;  // taken in this round
+        m_.tflag[u] |= kTetInCavity;
+        taken.push_back(u);
+        changed = true;
+        continue;
+      }
       if (f.tag != kNoTag) encroached_.push_back({f.a, f.b, f.c});
       m_.tflag[f.from] &= static_cast<uint8_t>(~kTetInCavity);
-      cut = true;
+      changed = true;
     }
-    if (!cut) return true;
+    if (!changed) return true;
+    // (A tet cut and taken in in the same round is kept once, as taken in.)
     cav_.erase(std::remove_if(cav_.begin() + static_cast<long>(seeds), cav_.end(),
-                              [&](TetId t) { return !(m_.tflag[t] & kTetInCavity); }),
+                              [&](TetId t) {
+                                return !(m_.tflag[t] & kTetInCavity) ||
+                                       std::find(taken.begin(), taken.end(), t) != taken.end();
+                              }),
                cav_.end());
+    cav_.insert(cav_.begin() + static_cast<long>(seeds), taken.begin(), taken.end());
+    seeds += taken.size();
     collect_boundary();
   }
   return false;
+}
+
+// Whether the cavity is a ball whose vertices and constrained faces all lie
+// on its boundary. Bowyer-Watson's cavity in a Delaunay mesh always is; once
+// unconditional splits have left faces that are not locally Delaunay (flips
+// can get stuck) or shrink_to_star has cut tets out or taken tets in, it may
+// touch itself along an edge or at a vertex, or close around a vertex, and
+// the cone from p then overlaps itself (a face of three tets) or drops the
+// vertex. With every boundary face seen from p (cavity_is_star), the cone of
+// a ball's boundary fills the ball exactly once: the boundary's winding
+// number is 1 inside and 0 outside. (Checking only the cavities that
+// shrink_to_star changed or that have an edge in more than two boundary
+// faces let an invalid mesh through on plate_holes_binary.stl.)
+bool Refiner::cavity_is_ball() {
+  // The cavity's faces towards the rest of the mesh, and the open faces it
+  // splits (a point on the domain's boundary): together a sphere.
+  std::vector<std::array<VertexId, 3>>& faces = ball_faces_;
+  faces.clear();
+  for (const BoundaryFace& f : bnd_) faces.push_back({f.a, f.b, f.c});
+  for (TetId t : cav_)
+    for (int i = 0; i < 4; ++i) {
+      const HalfFace hf = make_hf(t, i);
+      if (m_.adjacent(hf) == kNoHalfFace && removed(hf)) faces.push_back(face_of(hf));
+    }
+  std::vector<uint64_t>& edges = ball_edges_;
+  std::vector<VertexId>& on = ball_vertices_;
+  edges.clear(), on.clear();
+  for (const auto& f : faces)
+    for (int k = 0; k < 3; ++k) edges.push_back(edge_key(f[k], f[(k + 1) % 3])), on.push_back(f[k]);
+  std::sort(edges.begin(), edges.end());
+  for (size_t i = 0; i < edges.size(); i += 2)
+    if (i + 1 >= edges.size() || edges[i] != edges[i + 1] ||
+        (i + 2 < edges.size() && edges[i + 2] == edges[i]))
+      return false;
+  std::sort(on.begin(), on.end());
+  on.erase(std::unique(on.begin(), on.end()), on.end());
+  // Euler's formula of a sphere: V - E + F = 2.
+  if (on.size() + faces.size() != edges.size() / 2 + 2) return false;
+  for (TetId t : cav_) {
+    const VertexId* tv = m_.tet_vertices(t);
+    for (int i = 0; i < 4; ++i) {
+      if (!std::binary_search(on.begin(), on.end(), tv[i])) return false;
+      const HalfFace hf = make_hf(t, i);
+      const HalfFace nb = m_.adjacent(hf);
+      if (tag(hf) != kNoTag && !removed(hf) && nb != kNoHalfFace &&
+          (m_.tflag[hf_tet(nb)] & kTetInCavity))
+        return false;
+    }
+  }
+  return true;
 }
 
 // ---------------------------------------------------------------------------
@@ -963,20 +1049,42 @@ VertexId Refiner::commit(const double* p, Where where, int64_t parent, VertexId 
 }
 
 // The distance from p to the nearest vertex of its cavity's boundary: its
-// insertion radius (the cavity holds the vertices nearest to p). `scale`
+// insertion radius (the cavity holds the vertices nearest to p; `nearest`
+// gets the one). `scale`
 // gets p's local scale: the smallest scale(w) + kScaleSlope |pw| over those
 // vertices w (init_scales).
-double Refiner::nearest_vertex(const double* p, double& scale) const {
+double Refiner::nearest_vertex(const double* p, double& scale, VertexId& nearest) const {
   double d = HUGE_VAL, s = HUGE_VAL;
   const Vec3 q = to_vec(p);
+  nearest = kNone;
   for (const BoundaryFace& f : bnd_)
     for (VertexId v : {f.a, f.b, f.c}) {
       const double dv = dist(q, to_vec(pt(v)));
-      d = std::min(d, dv);
+      if (dv < d) d = dv, nearest = v;
       s = std::min(s, scale_[v] + kScaleSlope * dv);
     }
   scale = s;
   return d;
+}
+
+// Whether vertex w lies on a feature of the PLC that does not meet input
+// segment `segment`: an input vertex other than its ends, or a point of a
+// segment with no end in common with it. A split point's distance to such
+// a vertex is bounded below by the distance between the two features, a
+// constant of the input (the local feature size of Shewchuk's analysis),
+// not by the chain of insertions that led to it, so the radius rule, which
+// guards against such chains, need not apply. Thin strips between parallel
+// segments (the facets of a fillet or a chamfer) need split points that
+// close to the other side.
+bool Refiner::apart_from_segment(VertexId w, int64_t segment) const {
+  if (w == kNone || segment < 0 || static_cast<size_t>(segment) >= segments_.size()) return false;
+  const auto& s = segments_[static_cast<size_t>(segment)];
+  if (where_[w] == Where::Input) return w != s[0] && w != s[1] && w < plc_.points.size();
+  if (where_[w] != Where::Segment) return false;
+  const int64_t other = cm_.parent[w];
+  if (other < 0 || static_cast<size_t>(other) >= segments_.size()) return false;
+  const auto& o = segments_[static_cast<size_t>(other)];
+  return o[0] != s[0] && o[0] != s[1] && o[1] != s[0] && o[1] != s[1];
 }
 
 // The local scale of the CDT's vertices: the shortest edge at each (an
@@ -1034,12 +1142,15 @@ bool Refiner::insert(const double* p, Where where, int64_t parent, VertexId sa, 
         !(unconditional && shrink_to_star(p, seeds) &&
           (*verdict = check_constraints(p, where, sa, sb)) == Verdict::Ok))
       *verdict = fault_ ? Verdict::SplitSubface : Verdict::Reject;
-    else if (!region_edges_on_boundary())
+    else if (!region_edges_on_boundary() || (unconditional_splits_ && !cavity_is_ball()))
       *verdict = Verdict::Reject;
     else if (!cone_is_delaunay(p) && !unconditional)  // a constrained face is encroached
       *verdict = fault_ ? Verdict::SplitSubface : Verdict::Reject;
-    else if (const double near = nearest_vertex(p, scale);
-             near < kFloorFactor * floor || near < scale_factor_ * scale)
+    else if (VertexId w = kNone; [&] {
+               const double near = nearest_vertex(p, scale, w);
+               const bool radius_rule = !(where == Where::Segment && apart_from_segment(w, parent));
+               return (radius_rule && near < kFloorFactor * floor) || near < scale_factor_ * scale;
+             }())
       *verdict = Verdict::Reject, floor_rejected = true;
     // An unconditional split point whose cone is not Delaunay at a
     // constrained face goes in; that face is split after it.
@@ -1112,6 +1223,10 @@ bool Refiner::split_subsegment(VertexId a, VertexId b, double lmin, int depth) {
     const double shell = std::ldexp(1.0, static_cast<int>(std::lround(std::log2(len / 2))));
     double g = shell / len;
     if (g > 0.25 && g < 0.75) f = ia ? g : 1 - g;
+    // A shell point too close to an end for the floor below falls back to
+    // the midpoint, which may not be: the shell only matters where segments
+    // meet at a small angle, and a bad tet left for it costs more.
+    if (std::min(f, 1 - f) * len < kSplitFloorFactor * lmin) f = 0.5;
   }
   if (std::min(f, 1 - f) * len < kSplitFloorFactor * lmin) return false;
   const SplitKey key = {std::min(a, b), std::max(a, b), kNone};
@@ -1254,6 +1369,7 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
   Status st = cm_.build(plc_, res_);
   if (!st.ok()) return st;
   unconditional_splits_ = q_.min_dihedral > 0;
+  segments_ = plc_segments(plc_);
   init_scales();
   // Per-region volume bounds (Region::max_volume), by attribute.
   for (const Region& r : plc_.regions)
@@ -1281,46 +1397,74 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
   // survives its fix (a constraint was split instead) waits in `retry`
   // until the tets around have been looked at: retried at once, it leaves
   // more bad tets.
-  std::vector<TetId> cdt_tets, retry;
-  for (TetId t = 0; t < m_.num_tet_slots(); ++t)
-    if (!m_.is_dead(t)) cdt_tets.push_back(t);
-  size_t added = 0, next = 0;
+  // With unconditional splits a second sweep follows Lawson flips over the
+  // whole mesh. Where the first left faces that are not locally Delaunay, a
+  // split point can fail the star test at a tet it must replace (a seed of
+  // its cavity), and the bad tet that asked for it was left. In the second
+  // sweep the first try at each bad tet left may take the tets beyond such
+  // faces into the cavity (shrink_to_star); the tets that insertion makes
+  // are refined as before, without it (with it throughout, the decimated
+  // scans got 10-25% more tets; tests/bench/README.md).
+  std::vector<TetId> tets, retry;
+  size_t added = 0;
   double reported = 0;
-  for (size_t step = 0; next < cdt_tets.size() || !queue_.empty() || !retry.empty(); ++step) {
-    if ((step & 1023) == 0) {
-      if (cancel && *cancel)
-        return make_error(ErrorCode::Cancelled, "Cancelled during quality refinement.");
-      // With the improvement pass, refinement reports up to kRefineShare.
-      const double share = q_.min_dihedral > 0 ? kRefineShare : 1.0;
-      const double f = share * static_cast<double>(next) / static_cast<double>(cdt_tets.size());
-      if (progress.report && f > reported) progress.report(progress.user, reported = f);
+  const int sweeps = unconditional_splits_ ? 2 : 1;
+  for (int sweep = 0; sweep < sweeps; ++sweep) {
+    if (sweep > 0) {
+      for (TetId t = 0; t < m_.num_tet_slots(); ++t)
+        if (!m_.is_dead(t))
+          for (int k = 0; k < 4; ++k) flip_queue_.push_back(make_hf(t, k));
+      flip_to_delaunay();
+      queue_.clear();  // flips queued their tets; the sweep looks at all
     }
-    TetId t;
-    if (queue_.empty() && !retry.empty()) {  // in the order they were set aside
-      queue_.assign(retry.rbegin(), retry.rend());
-      retry.clear();
-    }
-    if (!queue_.empty()) {
-      t = queue_.back();
-      queue_.pop_back();
-    } else {
-      t = cdt_tets[next++];
-    }
-    if (m_.is_dead(t) || (m_.tflag[t] & kTetUser)) continue;
-    TetShape shape;
-    if (!is_bad(t, shape)) continue;
-    if (added >= cap) {
-      res_.stats.refine_capped = 1;
-      break;
-    }
-    const size_t before = m_.num_vertices();
-    if (fix_bad_tet(t, shape)) {
-      added += m_.num_vertices() - before;
-      if (!m_.is_dead(t)) retry.push_back(t);  // still there: try again later
-    } else {
-      m_.tflag[t] |= kTetUser;  // left as it is
+    tets.clear();
+    for (TetId t = 0; t < m_.num_tet_slots(); ++t)
+      if (!m_.is_dead(t)) {
+        m_.tflag[t] &= static_cast<uint8_t>(~kTetUser);
+        tets.push_back(t);
+      }
+    size_t next = 0;
+    for (size_t step = 0; next < tets.size() || !queue_.empty() || !retry.empty(); ++step) {
+      if ((step & 1023) == 0) {
+        if (cancel && *cancel)
+          return make_error(ErrorCode::Cancelled, "Cancelled during quality refinement.");
+        // With the improvement pass, refinement reports up to kRefineShare.
+        const double share = q_.min_dihedral > 0 ? kRefineShare : 1.0;
+        const double f =
+            share * (sweep + static_cast<double>(next) / static_cast<double>(tets.size())) / sweeps;
+        if (progress.report && f > reported) progress.report(progress.user, reported = f);
+      }
+      TetId t;
+      if (queue_.empty() && !retry.empty()) {  // in the order they were set aside
+        queue_.assign(retry.rbegin(), retry.rend());
+        retry.clear();
+      }
+      if (!queue_.empty()) {
+        t = queue_.back();
+        queue_.pop_back();
+        take_in_ = false;
+      } else {
+        t = tets[next++];
+        take_in_ = sweep > 0;
+      }
+      if (m_.is_dead(t) || (m_.tflag[t] & kTetUser)) continue;
+      TetShape shape;
+      if (!is_bad(t, shape)) continue;
+      if (added >= cap) {
+        res_.stats.refine_capped = 1;
+        sweep = sweeps;
+        break;
+      }
+      const size_t before = m_.num_vertices();
+      if (fix_bad_tet(t, shape)) {
+        added += m_.num_vertices() - before;
+        if (!m_.is_dead(t)) retry.push_back(t);  // still there: try again later
+      } else {
+        m_.tflag[t] |= kTetUser;  // left as it is
+      }
     }
   }
+  take_in_ = false;
   // Bad tets left.
   size_t left = 0;
   for (TetId t = 0; t < m_.num_tet_slots(); ++t) {
@@ -1345,7 +1489,8 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
   if (q_.min_dihedral > 0) {
     ImproveCounts counts;
     st = improve_mesh(cm_, q_.min_dihedral, cancel, counts,
-                      {progress.report, progress.user, kRefineShare, 1.0});
+                      {progress.report, progress.user, kRefineShare, 1.0},
+                      {q_.max_volume, region_limits_});
     if (!st.ok()) return st;
     res_.stats.improve_flips = counts.flips;
     res_.stats.improve_smooths = counts.smooths;
