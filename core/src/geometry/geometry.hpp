@@ -104,6 +104,21 @@ inline Vec3 newell_normal(const Plc& plc, const std::vector<VertexId>& loop) {
   return n;
 }
 
+/// Orientation of a planar simple loop in the projection that drops axis
+/// `drop`: the exact turn at its lexicographically smallest projected vertex,
+/// an extreme vertex of the polygon and so a strictly convex corner.
+inline int loop_orientation(const Plc& plc, const std::vector<VertexId>& loop, int drop) {
+  const int u = (drop + 1) % 3, w = (drop + 2) % 3;
+  const auto at = [&](size_t i) { return &plc.points[loop[i]].x; };
+  size_t best = 0;
+  for (size_t i = 1; i < loop.size(); ++i) {
+    const double *p = at(i), *q = at(best);
+    if (p[u] < q[u] || (p[u] == q[u] && p[w] < q[w])) best = i;
+  }
+  const size_t n = loop.size();
+  return pred::orient2d_projected(at((best + n - 1) % n), at(best), at((best + 1) % n), drop);
+}
+
 /// Cross product (b - a) x (c - a) in doubles: the (unnormalised) normal of
 /// triangle (a, b, c).
 inline Vec3 triangle_normal(const double* a, const double* b, const double* c) {

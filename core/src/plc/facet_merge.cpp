@@ -75,21 +75,6 @@ bool facet_plane(const Plc& plc, const Facet& f, Plane& p) {
   return pred::orient2d_projected(p.a, p.b, p.c, p.drop) != 0;
 }
 
-// Orientation of a planar simple loop in the projection dropping `drop`: the
-// turn at its lexicographically smallest projected vertex (a convex corner).
-int loop_orientation(const Plc& plc, const std::vector<VertexId>& L, int drop) {
-  const int u = (drop + 1) % 3, w = (drop + 2) % 3;
-  size_t best = 0;
-  for (size_t i = 1; i < L.size(); ++i) {
-    const double* p = xyz(plc, L[i]);
-    const double* q = xyz(plc, L[best]);
-    if (p[u] < q[u] || (p[u] == q[u] && p[w] < q[w])) best = i;
-  }
-  const size_t n = L.size();
-  return pred::orient2d_projected(xyz(plc, L[(best + n - 1) % n]), xyz(plc, L[best]),
-                                  xyz(plc, L[(best + 1) % n]), drop);
-}
-
 // g lies in the plane through a, b, c (three vertices of f): its vertices
 // that are no vertices of f (those lie in it; testing them would take the
 // predicates' slow exact path, as every zero does) are exactly in it.

@@ -45,24 +45,12 @@ struct Orientation {
   int sign = 0;  // 0: no orientation (degenerate or empty)
 };
 
-int corner_sign(const Plc& plc, const std::vector<VertexId>& loop, int drop) {
-  size_t low = 0;
-  for (size_t i = 1; i < loop.size(); ++i) {
-    const Vec3 &u = plc.points[loop[i]], &v = plc.points[loop[low]];
-    if (u.x != v.x ? u.x < v.x : u.y != v.y ? u.y < v.y : u.z < v.z) low = i;
-  }
-  const Vec3& prev = plc.points[loop[(low + loop.size() - 1) % loop.size()]];
-  const Vec3& next = plc.points[loop[(low + 1) % loop.size()]];
-  return pred::orient2d_projected(&prev.x, &plc.points[loop[low]].x, &next.x, drop);
-}
-
 Orientation orientation_of(const Plc& plc, const Facet& f) {
   Orientation o;
   if (f.loops.empty() || f.loops[0].size() < 3) return o;
   const Vec3 n = newell_normal(plc, f.loops[0]);
-  const double a[3] = {std::abs(n.x), std::abs(n.y), std::abs(n.z)};
-  o.drop = a[0] >= a[1] && a[0] >= a[2] ? 0 : a[1] >= a[2] ? 1 : 2;
-  o.sign = corner_sign(plc, f.loops[0], o.drop);
+  o.drop = largest_axis(n.x, n.y, n.z);
+  o.sign = loop_orientation(plc, f.loops[0], o.drop);
   return o;
 }
 
@@ -355,9 +343,7 @@ bool windings_by_rays(const Work& w, const std::vector<Orientation>& input_orien
       const RayTriangle& r = tris[t];
       const Vec3 &x = plc.points[r.v[0]], &y = plc.points[r.v[1]], &z = plc.points[r.v[2]];
       const Vec3 n = cross(y - x, z - x);
-      const int k = std::abs(n.x) >= std::abs(n.y) && std::abs(n.x) >= std::abs(n.z) ? 0
-                    : std::abs(n.y) >= std::abs(n.z)                                ? 1
-                                                                                    : 2;
+      const int k = largest_axis(n.x, n.y, n.z);
       const int own = normal_along(t, k);
       int ahead = 0;
       if (own == 0 || !cast(t, k, ahead)) continue;
@@ -387,7 +373,7 @@ Status merge_into_union(Work& w, const Plc& input, RepairReport& report, bool by
     if (in.sign == 0 || loops.empty() || loops[0].size() < 3) continue;
     // In the input facet's projection plane: the two lie in one plane (up
     // to the snap rounding of step 4, far below any corner's area).
-    const int own = corner_sign(w.plc, loops[0], in.drop);
+    const int own = loop_orientation(w.plc, loops[0], in.drop);
     if (own != 0) runs_like_input[f] = own == in.sign ? 1 : -1;
   }
   if (!facets_close_up(w, runs_like_input)) {
