@@ -5,6 +5,7 @@
 #include <cdt3d/cdt3d.hpp>
 #include <chrono>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -133,6 +134,111 @@ TEST_CASE("intersect: shared vertex or edge only", "[intersect]") {
     REQUIRE(f.size() == 1);
     CHECK(f[0].kind == IntersectionKind::CoplanarOverlap);
   }
+}
+
+// Contacts along a line: coplanar triangles with an edge line between them,
+// and triangles of distinct planes neither of which crosses the other's
+// plane. The pair is proper only when the contact is a shared vertex.
+TEST_CASE("intersect: contacts along a line", "[intersect]") {
+  Plc plc;
+  SECTION("coplanar, edge lines apart along the line") {
+    plc.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0}, {3, 0, 0}, {3, -1, 0}};
+    plc.facets = {poly({0, 1, 2}), poly({3, 5, 4})};
+    CHECK(find(plc).empty());
+  }
+  SECTION("coplanar, a vertex on the other's edge") {
+    plc.points = {{0, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 0, 0}, {3, -1, 0}, {1, -1, 0}};
+    plc.facets = {poly({0, 1, 2}), poly({3, 5, 4})};
+    auto f = find(plc);
+    REQUIRE(f.size() == 1);
+    CHECK(f[0].kind == IntersectionKind::VertexInFacet);
+  }
+  SECTION("coplanar, a shared vertex, edges along one line in opposite directions") {
+    plc.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {-1, -1, 0}};
+    plc.facets = {poly({0, 1, 2}), poly({0, 4, 3})};
+    CHECK(find(plc).empty());
+  }
+  SECTION("coplanar, a shared vertex, edges along one line overlapping") {
+    plc.points = {{0, 0, 0}, {2, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, -1, 0}};
+    plc.facets = {poly({0, 1, 2}), poly({0, 4, 3})};
+    auto f = find(plc);
+    REQUIRE(f.size() == 1);
+    CHECK(f[0].kind == IntersectionKind::VertexInFacet);
+  }
+  SECTION("folded at a shared vertex, edges on the planes' line apart") {
+    // A floor triangle and a wall triangle at x = 0 whose edges on the line
+    // x = z = 0 leave the shared vertex in opposite directions.
+    plc.points = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {0, -1, 0}, {0, 0, 1}};
+    plc.facets = {poly({0, 1, 2}), poly({0, 3, 4})};
+    CHECK(find(plc).empty());
+  }
+  SECTION("folded at a shared vertex, edges on the planes' line overlapping") {
+    plc.points = {{0, 0, 0}, {0, 2, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    plc.facets = {poly({0, 1, 2}), poly({0, 3, 4})};
+    auto f = find(plc);
+    REQUIRE(f.size() == 1);
+    CHECK(f[0].kind == IntersectionKind::VertexInFacet);
+  }
+  SECTION("folded, apart along the planes' line, no shared vertex") {
+    plc.points = {{0, 0, 0}, {0, 1, 0}, {1, 0, 0}, {0, 2, 0}, {0, 3, 0}, {0, 2, 1}};
+    plc.facets = {poly({0, 1, 2}), poly({3, 4, 5})};
+    CHECK(find(plc).empty());
+  }
+}
+
+// Triangles in axis-parallel planes take a shortcut for their orientation
+// tests (a comparison of coordinates): random soups on an integer grid, half
+// of their triangles in such planes, must give the same pairs after an
+// integer map of determinant 1, which keeps every incidence and maps those
+// planes to planes that are not axis-parallel.
+TEST_CASE("intersect: axis-parallel planes agree with a sheared copy", "[intersect]") {
+  std::mt19937 rng(20261129);
+  const int64_t M[3][3] = {{1, 1, 1}, {1, 2, 3}, {1, 3, 6}};  // determinant 1
+  size_t pairs = 0;
+  for (int c = 0; c < 3000; ++c) {
+    const int g = 1 + static_cast<int>(rng() % 4);
+    const auto id = [g](int x, int y, int z) { return VertexId((x * (g + 1) + y) * (g + 1) + z); };
+    Plc plc, sheared;
+    for (int x = 0; x <= g; ++x)
+      for (int y = 0; y <= g; ++y)
+        for (int z = 0; z <= g; ++z) {
+          plc.points.push_back({double(x), double(y), double(z)});
+          const int64_t p[3] = {x, y, z};
+          double q[3];
+          for (int i = 0; i < 3; ++i) q[i] = double(M[i][0] * p[0] + M[i][1] * p[1] + M[i][2] * p[2]);
+          sheared.points.push_back({q[0], q[1], q[2]});
+        }
+    const int n = 2 + static_cast<int>(rng() % 5);
+    while (static_cast<int>(plc.facets.size()) < n) {
+      int v[3][3];
+      for (auto& p : v)
+        for (int& x : p) x = static_cast<int>(rng() % (g + 1));
+      if (rng() % 2) {  // in the plane x_k = const of the first vertex
+        const int k = static_cast<int>(rng() % 3);
+        v[1][k] = v[2][k] = v[0][k];
+      }
+      const int u[3] = {v[1][0] - v[0][0], v[1][1] - v[0][1], v[1][2] - v[0][2]};
+      const int w[3] = {v[2][0] - v[0][0], v[2][1] - v[0][1], v[2][2] - v[0][2]};
+      if (u[1] * w[2] - u[2] * w[1] == 0 && u[2] * w[0] - u[0] * w[2] == 0 &&
+          u[0] * w[1] - u[1] * w[0] == 0)
+        continue;  // collinear
+      const Facet f = poly({id(v[0][0], v[0][1], v[0][2]), id(v[1][0], v[1][1], v[1][2]),
+                            id(v[2][0], v[2][1], v[2][2])});
+      plc.facets.push_back(f);
+      sheared.facets.push_back(f);
+    }
+    std::vector<Intersection> a, b;
+    find_self_intersections(plc, a);
+    find_self_intersections(sheared, b);
+    REQUIRE(a.size() == b.size());
+    for (size_t i = 0; i < a.size(); ++i) {
+      CHECK(a[i].a == b[i].a);
+      CHECK(a[i].b == b[i].b);
+      CHECK(a[i].kind == b[i].kind);
+    }
+    pairs += a.size();
+  }
+  CHECK(pairs > 1000);  // the soups do touch and cross
 }
 
 TEST_CASE("intersect: T-junction and vertex in a facet", "[intersect]") {

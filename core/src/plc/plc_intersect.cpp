@@ -98,6 +98,34 @@ bool in_tri(const double* a, const double* b, const double* c, const double* p, 
   return !mixed_signs(o2(a, b, p, drop), o2(b, c, p, drop), o2(c, a, p, drop));
 }
 
+// Points of two groups a and b (vertex ids, one or two each), all on one
+// line: true when the hulls of the groups are disjoint or meet only in a
+// vertex of both. An axis on which the points are not all equal is an affine
+// one-to-one function of the position on the line, so comparing that
+// coordinate orders them exactly. False also when the hulls touch at two
+// distinct vertices of equal coordinates (the general test decides those).
+bool hulls_on_line_apart(const Points& P, const uint32_t* a, int na, const uint32_t* b, int nb) {
+  int k = -1;
+  for (int axis = 0; axis < 3 && k < 0; ++axis) {
+    const double x = P[a[0]][axis];
+    for (int i = 0; i < na && k < 0; ++i) k = P[a[i]][axis] != x ? axis : -1;
+    for (int i = 0; i < nb && k < 0; ++i) k = P[b[i]][axis] != x ? axis : -1;
+  }
+  if (k < 0) return na == 1 && nb == 1 && a[0] == b[0];  // a single point
+  // Lowest and highest vertex of a group along axis k.
+  auto ends = [&](const uint32_t* g, int n, uint32_t& lo, uint32_t& hi) {
+    lo = hi = g[0];
+    if (n == 2) (P[g[1]][k] < P[g[0]][k] ? lo : hi) = g[1];
+  };
+  uint32_t alo, ahi, blo, bhi;
+  ends(a, na, alo, ahi);
+  ends(b, nb, blo, bhi);
+  if (P[ahi][k] < P[blo][k] || P[bhi][k] < P[alo][k]) return true;
+  if (P[ahi][k] == P[blo][k] && P[alo][k] < P[bhi][k]) return ahi == blo;
+  if (P[bhi][k] == P[alo][k] && P[blo][k] < P[ahi][k]) return bhi == alo;
+  return false;  // they share a stretch of the line, or a point inside one
+}
+
 // Closed segments ab and cd meet; all four points in one plane that the
 // projection maps bijectively.
 bool seg_seg_closed_2d(const double* a, const double* b, const double* c, const double* d,
@@ -151,6 +179,8 @@ struct Tri {
   uint32_t facet;
   uint8_t drop;       ///< axis dropped by the projection (non-degenerate for this triangle)
   uint8_t loop_mask;  ///< bit i: edge (v[i], v[i+1]) is a loop edge of the facet
+  int8_t level_axis;  ///< k when the three vertices have equal coordinate k, else -1
+  int8_t up;          ///< then orient3d(v0, v1, v2, p) for p above the plane (+k)
 };
 
 // Exact normal-axis choice: the float normal (Newell's) only orders the axes
@@ -419,6 +449,7 @@ class Checker {
 
  private:
   void build_triangles();
+  void set_level(Tri& t) const;
   void build_grid();
   void find_embedded_segments();
   void visit_pairs();
@@ -442,6 +473,7 @@ class Checker {
     return std::binary_search(emb_sf_.begin(), emb_sf_.end(), std::make_pair(s, f));
   }
   TriPts pts(const Tri& t) const { return {P_[t.v[0]], P_[t.v[1]], P_[t.v[2]]}; }
+  int side_of(const Tri& t, const double* p) const;
   bool vertex_of(const Tri& t, uint32_t x) const {
     return t.v[0] == x || t.v[1] == x || t.v[2] == x;
   }
@@ -449,7 +481,8 @@ class Checker {
   bool seg_tri_beyond(uint32_t ia, uint32_t ib, const Tri& t, uint32_t v) const;
   bool tri_tri_beyond(const Tri& t1, const Tri& t2, uint32_t v) const;
   int test_tri_tri(const Tri& t1, const Tri& t2) const;
-  bool separated_in_plane(const Tri& t1, const Tri& t2, const bool* sh1, const bool* sh2) const;
+  bool separated_in_plane(const Tri& t1, const Tri& t2) const;
+  bool meet_on_line_properly(const Tri& t1, const Tri& t2, const int* s1, const int* s2) const;
   int classify_tri_tri(const Tri& t1, const Tri& t2, const int* s1, const int* s2,
                        bool coplanar) const;
   int test_seg_tri(uint32_t s, const Tri& t) const;
@@ -518,6 +551,7 @@ void Checker::build_triangles() {
       tri.facet = static_cast<uint32_t>(fi);
       tri.drop = static_cast<uint8_t>(drop);
       tri.loop_mask = mask;
+      set_level(tri);
       tris_.push_back(tri);
     }
   }
@@ -620,7 +654,7 @@ void Checker::find_embedded_segments() {
       if (!in_box) continue;
       const TriPts q = pts(t);
       if (vertex_of(t, v) ||
-          (P_.orient3d(q[0], q[1], q[2], p) == 0 && in_tri(q[0], q[1], q[2], p, t.drop)))
+          (side_of(t, p) == 0 && in_tri(q[0], q[1], q[2], p, t.drop)))
         facets.push_back(t.facet);
     }
     std::sort(facets.begin(), facets.end());
@@ -646,6 +680,33 @@ void Checker::find_embedded_segments() {
   std::sort(emb_sf_.begin(), emb_sf_.end());
 }
 
+// A triangle in a plane x_k = c (most triangles of CAD and voxel models):
+// orient3d of its vertices and p is then (c - p_k) times their orientation
+// in the projection that drops k, up to a fixed sign (orient3d is negative
+// for a point above a triangle counterclockwise in that projection), so its
+// sign is a comparison. Every other point of that plane is a zero of the
+// floating-point filter, which would take the predicate's slow path.
+void Checker::set_level(Tri& t) const {
+  t.level_axis = -1;
+  t.up = 0;
+  for (int k = 0; k < 3 && t.level_axis < 0; ++k) {
+    if (P_[t.v[0]][k] == P_[t.v[1]][k] && P_[t.v[0]][k] == P_[t.v[2]][k]) {
+      t.level_axis = static_cast<int8_t>(k);
+      t.up = static_cast<int8_t>(-o2(P_[t.v[0]], P_[t.v[1]], P_[t.v[2]], k));
+    }
+  }
+}
+
+// pred::orient3d(v0, v1, v2, p) of triangle t (set_level's shortcut for a
+// triangle in an axis-parallel plane).
+int Checker::side_of(const Tri& t, const double* p) const {
+  if (t.level_axis >= 0) {
+    const double c = P_[t.v[0]][t.level_axis], x = p[t.level_axis];
+    return x > c ? t.up : (x < c ? -t.up : 0);
+  }
+  return P_.orient3d(P_[t.v[0]], P_[t.v[1]], P_[t.v[2]], p);
+}
+
 // Closed segment ab meets closed triangle t at a point other than vertex v
 // (kNone: at any point). A segment not in the plane of t meets it in at most
 // one point: an endpoint on the plane, or the crossing point, which lies in
@@ -654,8 +715,8 @@ void Checker::find_embedded_segments() {
 bool Checker::seg_tri_beyond(uint32_t ia, uint32_t ib, const Tri& t, uint32_t v) const {
   const TriPts q = pts(t);
   const double *a = P_[ia], *b = P_[ib];
-  const int sa = vertex_of(t, ia) ? 0 : P_.orient3d(q[0], q[1], q[2], a);
-  const int sb = vertex_of(t, ib) ? 0 : P_.orient3d(q[0], q[1], q[2], b);
+  const int sa = vertex_of(t, ia) ? 0 : side_of(t, a);
+  const int sb = vertex_of(t, ib) ? 0 : side_of(t, b);
   if (sa * sb > 0) return false;
   if (sa == 0 && sb == 0) {
     if (v == kNone) return seg_tri_closed_2d(a, b, q, t.drop);
@@ -676,7 +737,7 @@ bool Checker::seg_tri_beyond(uint32_t ia, uint32_t ib, const Tri& t, uint32_t v)
     // The single crossing point is v exactly when v is on the open segment
     // and on the plane of t.
     const double* pv = P_[v];
-    if ((vertex_of(t, v) || P_.orient3d(q[0], q[1], q[2], pv) == 0) &&
+    if ((vertex_of(t, v) || side_of(t, pv) == 0) &&
         pred::collinear3d(a, b, pv) && between_open(a, b, pv))
       return false;
   }
@@ -726,34 +787,61 @@ int Checker::classify_tri_tri(const Tri& t1, const Tri& t2, const int* s1, const
 }
 
 // Coplanar triangles, each proper in the projection, of which an edge line of
-// one has the other in the closed half-plane beyond it, meeting the line at
-// most in a vertex the two share. Then t1 ∩ t2 is at most that vertex, which
-// is allowed, so the pair meets properly: the separating-axis test for
-// convex polygons (as in classify_tri_tri) with only shared vertices on the
-// axis. The general test of test_tri_tri finds the same at several times
-// the cost; neighbouring triangles of one plane (grids of CAD and voxel
-// models) nearly all end here.
-bool Checker::separated_in_plane(const Tri& t1, const Tri& t2, const bool* sh1,
-                                 const bool* sh2) const {
+// one has the other in the closed half-plane beyond it: then t1 ∩ t2 lies
+// in that edge and in the other's vertices on the line, and the pair meets
+// properly when those meet at most in a vertex the two share
+// (hulls_on_line_apart): the separating-axis test for convex polygons (as in
+// classify_tri_tri) with touching allowed only at shared vertices. The
+// general test of test_tri_tri finds the same at several times the cost;
+// neighbouring triangles of one plane (grids of CAD and voxel models) nearly
+// all end here.
+bool Checker::separated_in_plane(const Tri& t1, const Tri& t2) const {
   const int d = t1.drop;
   const TriPts q1 = pts(t1), q2 = pts(t2);
   const int o1 = o2(q1[0], q1[1], q1[2], d), o2v = o2(q2[0], q2[1], q2[2], d);
   if (o1 == 0 || o2v == 0) return false;
   for (int pass = 0; pass < 2; ++pass) {
+    const Tri& ta = pass == 0 ? t1 : t2;
+    const Tri& tb = pass == 0 ? t2 : t1;
     const TriPts& a = pass == 0 ? q1 : q2;
     const TriPts& b = pass == 0 ? q2 : q1;
-    const bool* shared_b = pass == 0 ? sh2 : sh1;
     const int inside = pass == 0 ? o1 : o2v;  // side of each edge line that holds a
     for (int i = 0; i < 3; ++i) {
-      bool separates = true;
-      for (int j = 0; j < 3 && separates; ++j) {
+      uint32_t on[3];  // tb's vertices on the edge line
+      int n_on = 0;
+      bool beyond = true;
+      for (int j = 0; j < 3 && beyond; ++j) {
         const int s = o2(a[i], a[(i + 1) % 3], b[j], d);
-        separates = s == -inside || (s == 0 && shared_b[j]);
+        if (s == 0) on[n_on++] = tb.v[j];
+        beyond = s == -inside || s == 0;
       }
-      if (separates) return true;
+      const uint32_t edge[2] = {ta.v[i], ta.v[(i + 1) % 3]};
+      if (beyond && (n_on == 0 || (n_on < 3 && hulls_on_line_apart(P_, edge, 2, on, n_on))))
+        return true;
     }
   }
   return false;
+}
+
+// Triangles in distinct planes, neither strictly crossing the other's plane
+// (s1, s2: the sides of their vertices, shared ones 0): t1 meets the plane of
+// t2 exactly in the vertex or edge of t1 spanned by its vertices on it,
+// likewise t2, both on the line where the planes meet, and t1 ∩ t2 is the
+// intersection of the two. True when that is empty or a shared vertex (which
+// decides most pairs along the sharp edges of CAD models); false when the
+// general test must decide.
+bool Checker::meet_on_line_properly(const Tri& t1, const Tri& t2, const int* s1,
+                                    const int* s2) const {
+  if (mixed_signs(s1[0], s1[1], s1[2]) || mixed_signs(s2[0], s2[1], s2[2])) return false;
+  uint32_t f1[3], f2[3];
+  int n1 = 0, n2 = 0;
+  for (int i = 0; i < 3; ++i) {
+    if (s1[i] == 0) f1[n1++] = t1.v[i];
+    if (s2[i] == 0) f2[n2++] = t2.v[i];
+  }
+  if (n1 == 0 || n2 == 0) return true;  // one triangle misses the other's plane
+  if (n1 == 3 || n2 == 3) return false;  // degenerate triangle
+  return hulls_on_line_apart(P_, f1, n1, f2, n2);
 }
 
 // 0 when triangles t1 (facet F) and t2 (facet G != F) meet properly, else the
@@ -792,9 +880,9 @@ int Checker::test_tri_tri(const Tri& t1, const Tri& t2) const {
     return in_e(F, k) && in_e(G, k) ? 0 : static_cast<int>(IntersectionKind::VertexInFacet);
   };
   int s2[3], s1[3];
-  for (int i = 0; i < 3; ++i) s2[i] = sh2[i] ? 0 : P_.orient3d(q1[0], q1[1], q1[2], q2[i]);
+  for (int i = 0; i < 3; ++i) s2[i] = sh2[i] ? 0 : side_of(t1, q2[i]);
   if (one_side(s2, sh2)) return shared_verdict();
-  for (int i = 0; i < 3; ++i) s1[i] = sh1[i] ? 0 : P_.orient3d(q2[0], q2[1], q2[2], q1[i]);
+  for (int i = 0; i < 3; ++i) s1[i] = sh1[i] ? 0 : side_of(t2, q1[i]);
   if (one_side(s1, sh1)) return shared_verdict();
 
   const bool coplanar = s2[0] == 0 && s2[1] == 0 && s2[2] == 0;
@@ -812,7 +900,7 @@ int Checker::test_tri_tri(const Tri& t1, const Tri& t2) const {
         if (a * b < 0) return 0;
         return static_cast<int>(IntersectionKind::CoplanarOverlap);
       }
-    } else if (separated_in_plane(t1, t2, sh1, sh2)) {
+    } else if (separated_in_plane(t1, t2)) {
       return 0;
     }
   } else {
@@ -829,6 +917,7 @@ int Checker::test_tri_tri(const Tri& t1, const Tri& t2) const {
         if (in_e(F, k) && in_e(G, k)) return 0;
       }
     }
+    if (meet_on_line_properly(t1, t2, s1, s2)) return 0;
   }
   // Otherwise the intersection may contain at most one point, an allowed
   // vertex (in V(F) ∩ V(G)) that lies in both triangles.
@@ -894,7 +983,7 @@ int Checker::test_seg_tri(uint32_t s, const Tri& t) const {
   const TriPts q = pts(t);
   for (uint32_t e : {a, b}) {
     if (e == v) continue;
-    if (P_.orient3d(q[0], q[1], q[2], P_[e]) == 0 && in_tri(q[0], q[1], q[2], P_[e], t.drop))
+    if (side_of(t, P_[e]) == 0 && in_tri(q[0], q[1], q[2], P_[e], t.drop))
       return static_cast<int>(IntersectionKind::VertexInFacet);
   }
   for (uint32_t x : t.v) {
