@@ -27,12 +27,17 @@ constexpr int kMaxPasses = 32;
 
 class FlatFlipper {
  public:
-  FlatFlipper(TetMesh& mesh, const Subfaces& sf, const SegmentSet& segs)
-      : m_(mesh), sf_(sf), segs_(segs) {}
+  FlatFlipper(TetMesh& mesh, const Subfaces& sf, const SegmentSet& segs,
+              std::vector<uint8_t>* kept)
+      : m_(mesh), sf_(sf), segs_(segs), kept_(kept) {}
 
   void run(FlatFlipStats& st);
 
  private:
+  // A tet to flip away: flat, and kept by carving when that is known.
+  bool flat_kept(TetId t) const {
+    return !m_.is_dead(t) && (!kept_ || (t < kept_->size() && (*kept_)[t])) && flat(t);
+  }
   bool flat(TetId t) const {
     const VertexId* w = m_.tet_vertices(t);
     return w[3] != kInfinite && numerically_flat(m_.point(w[0]), m_.point(w[1]), m_.point(w[2]),
@@ -101,6 +106,8 @@ class FlatFlipper {
   TetMesh& m_;
   const Subfaces& sf_;
   const SegmentSet& segs_;
+  std::vector<uint8_t>* kept_;
+  std::vector<TetId> created_;
   std::vector<uint32_t> changed_;  // per vertex: clock_ of the last flip that touched it
   uint32_t clock_ = 0;              // flips done so far
   std::vector<uint32_t> face_start_, edge_start_;  // per vertex: its entries (CSR)
@@ -260,8 +267,13 @@ bool FlatFlipper::fix(TetId t) {
   for (int i = 0; i < 4; ++i)
     for (int j = i + 1; j < 4; ++j) try_edge(t, i, j);
   if (best_old_.empty()) return false;
-  if (!m_.replace_tets(best_old_.data(), best_old_.size(), best_new_.data(), best_new_.size()))
+  if (!m_.replace_tets(best_old_.data(), best_old_.size(), best_new_.data(), best_new_.size(),
+                      &created_))
     return false;
+  if (kept_) {
+    kept_->resize(m_.num_tet_slots(), 0);
+    for (TetId c : created_) (*kept_)[c] = 1;
+  }
   ++clock_;
   for (const Tet& w : best_new_)
     for (VertexId v : w) changed_[v] = clock_;
@@ -271,7 +283,7 @@ bool FlatFlipper::fix(TetId t) {
 void FlatFlipper::run(FlatFlipStats& st) {
   std::vector<TetId> todo;
   for (TetId t = 0; t < m_.num_tet_slots(); ++t)
-    if (!m_.is_dead(t) && flat(t)) todo.push_back(t);
+    if (flat_kept(t)) todo.push_back(t);
   st.flat_before = todo.size();
   st.remaining = 0;
   if (todo.empty()) return;
@@ -291,7 +303,7 @@ void FlatFlipper::run(FlatFlipStats& st) {
     left.clear();
     const size_t flips = st.flips;
     for (const auto& [t, tried] : queue) {
-      if (m_.is_dead(t) || !flat(t)) continue;  // gone or replaced by an earlier flip
+      if (!flat_kept(t)) continue;  // gone or replaced by an earlier flip
       const VertexId* w = m_.tet_vertices(t);
       const bool touched = changed_[w[0]] >= tried || changed_[w[1]] >= tried ||
                            changed_[w[2]] >= tried || changed_[w[3]] >= tried;
@@ -309,17 +321,17 @@ void FlatFlipper::run(FlatFlipStats& st) {
     if (st.flips == flips) break;
   }
   for (TetId t = 0; t < m_.num_tet_slots(); ++t)
-    if (!m_.is_dead(t) && flat(t)) ++st.remaining;
+    if (flat_kept(t)) ++st.remaining;
 }
 
 }  // namespace
 
 void remove_flat_tets(TetMesh& mesh, const Subfaces& subfaces, const SegmentSet& segs,
-                      FlatFlipStats* stats) {
+                      FlatFlipStats* stats, std::vector<uint8_t>* kept) {
   FlatFlipStats local;
   FlatFlipStats& st = stats ? *stats : local;
   st = FlatFlipStats();
-  FlatFlipper(mesh, subfaces, segs).run(st);
+  FlatFlipper(mesh, subfaces, segs, kept).run(st);
 }
 
 }  // namespace cdt3d

@@ -15,6 +15,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 #include "segment_recovery.hpp"
 #include "subfaces.hpp"
@@ -30,7 +32,12 @@ struct FlatFlipStats {
 
 /// Flips numerically flat real tets of `mesh` away (see above). Keeps every
 /// subface of `subfaces` and every subsegment of `segs` in the mesh.
+/// With `kept` (per tet slot: nonzero for the tets carving keeps), only
+/// those are flipped and counted, and the tets a flip creates are marked in
+/// it: a flip never crosses a subface, so its new tets fill the region of its
+/// old ones, and the tets carving removes (on CAD models, most of the flat
+/// ones: coplanar vertices of the hull's pockets) need no flips.
 void remove_flat_tets(TetMesh& mesh, const Subfaces& subfaces, const SegmentSet& segs,
-                      FlatFlipStats* stats = nullptr);
+                      FlatFlipStats* stats = nullptr, std::vector<uint8_t>* kept = nullptr);
 
 }  // namespace cdt3d

@@ -796,14 +796,22 @@ void Pipeline::run() {
     mesh_to_result(tets, nullptr, nullptr);
   } else {
     if (!begin(Phase::Carve)) return;
-    FlatFlipStats ff;
-    remove_flat_tets(mesh_, subfaces_, segs_, &ff);
-    s.flat_flips = ff.flips;
     CarveResult carved;
-    Status st;
-    st = carve(*plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved, &subface_hf_);
-    // remove_flat_tets counted the flat tets it left in the whole mesh, and
-    // carving changes no tet: with none left, no kept tet is flat.
+    Status st = carve(*plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved, &subface_hf_);
+    // Flat tets are flipped away only where carving keeps them; the flips
+    // stay inside regions, so carving again gives the same regions.
+    FlatFlipStats ff;
+    if (st.ok()) {
+      std::vector<uint8_t> kept(mesh_.num_tet_slots(), 0);
+      for (TetId t : carved.tets) kept[t] = 1;
+      remove_flat_tets(mesh_, subfaces_, segs_, &ff, &kept);
+    }
+    if (st.ok() && ff.flips > 0) {
+      carved = CarveResult();
+      st = carve(*plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved, &subface_hf_);
+    }
+    s.flat_flips = ff.flips;
+    // remove_flat_tets counted the flat tets it left among the kept ones.
     if (st.ok() && ff.remaining > 0 &&
         move_flat_tets_outside(mesh_, segs_, carved, subfaces_) > 0) {
       carved = CarveResult();
