@@ -111,7 +111,12 @@ struct PartOf {
 // With parts, each part's facets must close up by themselves, for each
 // part to have winding numbers of its own.
 bool facets_close_up(const Work& w, const std::vector<int>& runs_like_input, const PartOf& part) {
-  std::map<std::pair<uint32_t, uint64_t>, int64_t> by_part;
+  struct PartEdgeHash {
+    size_t operator()(const std::pair<uint32_t, uint64_t>& k) const {
+      return static_cast<size_t>(hash_mix(k.second ^ hash_mix(k.first)));
+    }
+  };
+  std::unordered_map<std::pair<uint32_t, uint64_t>, int64_t, PartEdgeHash> by_part;
   std::unordered_map<uint64_t, int64_t> balance;
   const bool parts = !part.of_input.empty();
   for (size_t f = 0; f < w.plc.facets.size(); ++f) {
