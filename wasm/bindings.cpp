@@ -434,7 +434,7 @@ val repair_report_js(const cdt3d::RepairReport& r) {
   n("unresolvedPairs", r.unresolved_pairs), n("innerFacets", r.inner_facets);
   o.set("unionSkipped", val(r.union_skipped != 0));
   n("ms", r.ms);
-  if (!r.facet_regions.empty()) {
+  {
     // With parts as regions: entry a - 1 lists the parts of region attribute a.
     n("parts", static_cast<double>(r.parts));
     val list = val::array();

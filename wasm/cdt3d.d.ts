@@ -545,14 +545,14 @@ export interface RepairReport {
   /** Step 5: true when crossings were resolved but the union was not formed (the facets, oriented like their input facets, do not close up); every facet is kept. */
   unionSkipped: boolean;
   ms: number;
-  /** With partsAsRegions (unless the union was skipped): parts found, connected components of the input surface. */
-  parts?: number;
+  /** With partsAsRegions (unless the union was skipped): parts found, connected components of the input surface; else 0. */
+  parts: number;
   /**
    * With partsAsRegions: entry a - 1 lists the parts (0-based) of region
    * attribute a: [p] for part p alone (empty when no cell is part p's alone),
-   * then the overlaps, e.g. [[0], [1], [0, 1]].
+   * then the overlaps, e.g. [[0], [1], [0, 1]]; else empty.
    */
-  regionParts?: number[][];
+  regionParts: number[][];
   /** Input facets some step changed (for highlighting). */
   changedFacets: Uint32Array;
 }

@@ -107,7 +107,6 @@ std::string repair_json(const RepairReport& r) {
       r.tjunction_facets, r.crossing_pairs, r.crossing_facets, r.intersection_points, r.rounds,
       r.unresolved_pairs, r.inner_facets, r.union_skipped ? "true" : "false", r.ms);
   std::string json = buf;
-  if (r.facet_regions.empty()) return json;
   // "parts": N, "regionParts": [[0], [1], [0, 1]] (entry a - 1 for attribute a).
   std::string list;
   for (size_t a = 0; a < r.region_parts.size(); ++a) {
