@@ -699,6 +699,24 @@ TEST_CASE("repair step 5: parts as regions", "[repair]") {
     CHECK(near(volume[1], 8));
     CHECK(near(volume[2], 8));
   }
+  SECTION("three parts: overlaps are numbered after the parts") {
+    // A third cube, the first one moved to [10,12]^3, disjoint from both.
+    Plc three = cubes;
+    const VertexId base = static_cast<VertexId>(three.points.size());
+    for (size_t v = 0; v < 8; ++v) three.points.push_back({cubes.points[v].x + 10, cubes.points[v].y + 10, cubes.points[v].z + 10});
+    for (size_t f = 0; f < 12; ++f) {
+      Facet copy = cubes.facets[f];
+      for (auto& loop : copy.loops)
+        for (VertexId& v : loop) v += base;
+      three.facets.push_back(copy);
+    }
+    volume = volume_by_region(mesh_parts_as_regions(three, rep));
+    CHECK(rep.parts == 3);
+    CHECK(rep.region_parts == std::vector<std::vector<uint32_t>>{{0}, {1}, {2}, {0, 1}});
+    REQUIRE(volume.size() == 4);
+    CHECK(near(volume[3], 8));
+    CHECK(near(volume[4], 1));
+  }
   SECTION("it needs the union") {
     Plc out;
     RepairOptions options;

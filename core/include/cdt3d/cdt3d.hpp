@@ -521,7 +521,8 @@ struct RepairReport {
 /// intersection segments as edges (new points rounded to doubles, checked
 /// again exactly, a bounded number of rounds); (5) where (4) resolved
 /// crossings, the facets inside the union of the parts are dropped
-/// (RepairOptions::union_of_parts). Every output facet keeps the
+/// (RepairOptions::union_of_parts; with RepairOptions::parts_as_regions
+/// only those between cells of the same parts). Every output facet keeps the
 /// marker and source line/record of its input facet (report.facet_source).
 /// `plc` may fail check_plc() (read it with read_plc(..., check = false)).
 /// Errors: what repair cannot fix (non-finite coordinates, indices out of

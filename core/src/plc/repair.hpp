@@ -67,10 +67,10 @@ Status triangulate_in_place(Work& w, const std::vector<uint8_t>& which);
 // segments as edges. `left` receives the improper pairs (in the numbering of
 // w.plc) that remain after the last round; empty when the PLC is clean.
 Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection>& left);
-// Step 5 (repair_union.cpp, after step 4 resolved crossings; off with
-// RepairOptions::union_of_parts false): facets inside
-// the union of the parts (winding number at least 1 on both sides) or
-// outside every part are dropped, with the points only they used.
+// Step 5 (repair_union.cpp, after step 4 resolved crossings, and always
+// with RepairOptions::parts_as_regions; off with union_of_parts false):
+// facets inside the union of the parts (winding number at least 1 on both
+// sides) or outside every part are dropped, with the points only they used.
 /// With `part_of_input` (per input facet its part, kNone for none; see
 /// connected_parts) the facets between cells in different sets of parts
 /// stay, and report.region_parts, facet_regions and facet_axis say which
