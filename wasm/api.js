@@ -161,6 +161,7 @@ function checkOptions(options) {
     repair: repair !== null,
     fillHoles: repair?.fillHoles ?? false,
     unionOfParts: repair?.union ?? true,
+    partsAsRegions: repair?.partsAsRegions ?? false,
     degeneracy,
     verbosity,
     stopAfter,
@@ -170,15 +171,16 @@ function checkOptions(options) {
   };
 }
 
-// options.repair: true or {fillHoles?: boolean, union?: boolean} repairs
-// first (union defaults to true); false, null or undefined do not. Returns
-// null (no repair) or {fillHoles, union}.
-const REPAIR_FIELDS = ['fillHoles', 'union'];
+// options.repair: true or {fillHoles?: boolean, union?: boolean,
+// partsAsRegions?: boolean} repairs first (union defaults to true); false,
+// null or undefined do not. Returns null (no repair) or {fillHoles, union,
+// partsAsRegions}.
+const REPAIR_FIELDS = ['fillHoles', 'union', 'partsAsRegions'];
 function checkRepair(repair, what) {
   if (repair === undefined || repair === null || repair === false) return null;
-  if (repair === true) return { fillHoles: false, union: true };
+  if (repair === true) return { fillHoles: false, union: true, partsAsRegions: false };
   if (typeof repair !== 'object' || Array.isArray(repair)) {
-    throw invalidArgument(`${what} must be true or an object {fillHoles?: boolean, union?: boolean}, got ${describe(repair)}.`, '');
+    throw invalidArgument(`${what} must be true or an object {fillHoles?: boolean, union?: boolean, partsAsRegions?: boolean}, got ${describe(repair)}.`, '');
   }
   for (const [key, value] of Object.entries(repair)) {
     if (!REPAIR_FIELDS.includes(key)) {
@@ -188,7 +190,15 @@ function checkRepair(repair, what) {
       throw invalidArgument(`${what}: ${key} must be a boolean, got ${describe(value)}.`, '');
     }
   }
-  return { fillHoles: repair.fillHoles ?? false, union: repair.union ?? true };
+  const checked = {
+    fillHoles: repair.fillHoles ?? false,
+    union: repair.union ?? true,
+    partsAsRegions: repair.partsAsRegions ?? false,
+  };
+  if (checked.partsAsRegions && !checked.union) {
+    throw invalidArgument(`${what}: partsAsRegions keeps the union of the parts; it cannot go with union: false.`, '');
+  }
+  return checked;
 }
 
 // options.quality: true or an object turns quality refinement on (every
@@ -420,6 +430,7 @@ function wrap(mod, abortReason) {
             repair: opts.repair,
             fillHoles: opts.fillHoles,
             unionOfParts: opts.unionOfParts,
+            partsAsRegions: opts.partsAsRegions,
             degeneracy: opts.degeneracy,
             verbosity: opts.verbosity,
             stopAfter: opts.stopAfter,
@@ -441,7 +452,7 @@ function wrap(mod, abortReason) {
     repair(input, options) {
       const plc = normalizeInput(input, 'repair');
       const opts = checkRepair(options ?? {}, 'repair(input, options): options');
-      const raw = call(() => mod._repair(plc, opts.fillHoles, opts.union));
+      const raw = call(() => mod._repair(plc, opts.fillHoles, opts.union, opts.partsAsRegions));
       if (!raw.ok) throw errorFromRaw(raw);
       // The repaired PLC in the {points, facets, ...} input shape, so that it
       // can go straight to tetrahedralize().

@@ -434,6 +434,17 @@ val repair_report_js(const cdt3d::RepairReport& r) {
   n("unresolvedPairs", r.unresolved_pairs), n("innerFacets", r.inner_facets);
   o.set("unionSkipped", val(r.union_skipped != 0));
   n("ms", r.ms);
+  {
+    // With parts as regions: entry a - 1 lists the parts of region attribute a.
+    n("parts", static_cast<double>(r.parts));
+    val list = val::array();
+    for (size_t a = 0; a < r.region_parts.size(); ++a) {
+      val parts = val::array();  // plain numbers, as in the CLI's JSON
+      for (size_t i = 0; i < r.region_parts[a].size(); ++i) parts.set(i, val(r.region_parts[a][i]));
+      list.set(a, parts);
+    }
+    o.set("regionParts", list);
+  }
   o.set("changedFacets", to_js(r.changed_facets));
   return o;
 }
@@ -441,7 +452,7 @@ val repair_report_js(const cdt3d::RepairReport& r) {
 // repair(input) -> {ok, report, facetSources, the repaired PLC as flat arrays
 // (the shape plc_from_js reads), poly: its TetGen .poly text} or an error.
 // The input is read without check_plc(): what it rejects is what repair fixes.
-val repair_js(val input, bool fill_holes, bool union_of_parts) {
+val repair_js(val input, bool fill_holes, bool union_of_parts, bool parts_as_regions) {
   cdt3d::Plc plc, fixed;
   cdt3d::Status st = plc_from_js(input, plc, nullptr, false);
   if (!st.ok()) return failure(st.error);
@@ -449,6 +460,7 @@ val repair_js(val input, bool fill_holes, bool union_of_parts) {
   cdt3d::RepairOptions repair_options;
   repair_options.fill_holes = fill_holes;
   repair_options.union_of_parts = union_of_parts;
+  repair_options.parts_as_regions = parts_as_regions;
   st = cdt3d::repair(plc, fixed, report, repair_options);
   if (!st.ok()) return failure(st.error);
   std::vector<double> xyz, hole_points, holes, regions;
@@ -521,6 +533,7 @@ val tetrahedralize_js(val input, val options, val on_progress) {
     cdt3d::RepairOptions repair_options;
     repair_options.fill_holes = options["fillHoles"].as<bool>();
     repair_options.union_of_parts = options["unionOfParts"].as<bool>();
+    repair_options.parts_as_regions = options["partsAsRegions"].as<bool>();
     st = cdt3d::repair(plc, fixed, report, repair_options);
     if (!st.ok()) return failure(st.error);
     plc = std::move(fixed);
@@ -717,8 +730,9 @@ EMSCRIPTEN_BINDINGS(cdt3d) {
   emscripten::function("_tetrahedralize", +[](val input, val options, val progress) {
     return guarded([&] { return tetrahedralize_js(input, options, progress); });
   });
-  emscripten::function("_repair", +[](val input, bool fill_holes, bool union_of_parts) {
-    return guarded([&] { return repair_js(input, fill_holes, union_of_parts); });
+  emscripten::function("_repair", +[](val input, bool fill_holes, bool union_of_parts,
+                                      bool parts_as_regions) {
+    return guarded([&] { return repair_js(input, fill_holes, union_of_parts, parts_as_regions); });
   });
   emscripten::function("_validate", +[](val input, val result) {
     return guarded([&] { return validate_js(input, result); });

@@ -153,6 +153,9 @@ export interface Cdt3d {
    * {@link PlcInput} for tetrahedralize(). With `fillHoles`, every boundary
    * loop of an open surface is first closed by triangles of its vertices.
    * Parts that crossed become their union (`union: false` keeps every cell).
+   * With `partsAsRegions` the report lists the regions (`regionParts`), but
+   * the returned PLC carries no region points: to get the labelled tets,
+   * mesh with `tetrahedralize(input, { repair: { partsAsRegions: true } })`.
    * @throws {Cdt3dError} what repair cannot fix (e.g. "nan", or "self-intersection"
    *   naming input facets that still intersect).
    */
@@ -277,7 +280,9 @@ export interface TetrahedralizeOptions {
    * steinerParents and errors still name input facets, and `repair` says what
    * changed. `{ fillHoles: true }` also closes the holes of an open surface
    * (`cdt3d mesh --fill-holes`), `{ union: false }` meshes every cell of
-   * crossing parts instead of their union (`cdt3d mesh --keep-inner`).
+   * crossing parts instead of their union (`cdt3d mesh --keep-inner`),
+   * `{ partsAsRegions: true }` gives every part a region of its own
+   * (`tetAttributes`, `cdt3d mesh --parts-as-regions`).
    * Default false (no repair).
    */
   repair?: boolean | RepairOptions;
@@ -486,6 +491,19 @@ export interface RepairOptions {
    * arrangement, bounded by internal facets (`cdt3d repair --keep-inner`).
    */
   union?: boolean;
+  /**
+   * Every part a region of its own (`cdt3d mesh --parts-as-regions`): the
+   * domain is still the union, but the facets between parts stay as
+   * internal facets and tetrahedralize() gives every tet the region
+   * attribute of the parts it lies in (`tetAttributes`). A part is a
+   * connected component of the input surface (facets joined across shared
+   * edges once identical points are welded), numbered by its first facet;
+   * attribute p + 1 is where part p alone lies, and each overlap of two or
+   * more parts is a region after those (report.regionParts lists them).
+   * Tets outside the union (the hull with keepConvexHull, a cavity bounded
+   * by inward normals) get 0. Cannot go with `union: false`. Default false.
+   */
+  partsAsRegions?: boolean;
 }
 
 /** What repair changed, step by step (the native `cdt3d repair --json` "repair" object). */
@@ -527,6 +545,14 @@ export interface RepairReport {
   /** Step 5: true when crossings were resolved but the union was not formed (the facets, oriented like their input facets, do not close up); every facet is kept. */
   unionSkipped: boolean;
   ms: number;
+  /** With partsAsRegions (unless the union was skipped): parts found, connected components of the input surface; else 0. */
+  parts: number;
+  /**
+   * With partsAsRegions: entry a - 1 lists the parts (0-based) of region
+   * attribute a: [p] for part p alone (empty when no cell is part p's alone),
+   * then the overlaps, e.g. [[0], [1], [0, 1]]; else empty.
+   */
+  regionParts: number[][];
   /** Input facets some step changed (for highlighting). */
   changedFacets: Uint32Array;
 }

@@ -37,7 +37,7 @@ void usage(std::FILE* out) {
       "                        [--keep-triangles] [--paper-degeneracy]\n"
       "                        [--no-intersection-check] [--one-thread]\n"
       "                        [--stop-after PHASE]\n"
-      "                        [--repair] [--fill-holes] [--keep-inner]\n"
+      "                        [--repair] [--fill-holes] [--keep-inner] [--parts-as-regions]\n"
       "                        [--quality [RATIO]] [--max-volume V] [--min-dihedral D]\n"
       "                        [--max-points N]\n"
       "\n"
@@ -70,6 +70,10 @@ void usage(std::FILE* out) {
       "                    repair --fill-holes`)\n"
       "  --keep-inner      repair, keeping the facets inside the union of crossing\n"
       "                    parts (as `cdt3d repair --keep-inner`)\n"
+      "  --parts-as-regions  repair, keeping every part (connected piece of the surface) a\n"
+      "                    region of its own: attribute p + 1 where part p alone lies, each\n"
+      "                    overlap of parts a region after those (as `cdt3d repair\n"
+      "                    --parts-as-regions`)\n"
       "  --stop-after P    delaunay | segments | degeneracy | facets: stop after that step,\n"
       "                    write all tets as PREFIX.node/.ele and the subsegments as .edge\n"
       "quality refinement of the CDT (each of these options turns it on):\n"
@@ -349,6 +353,9 @@ int parse_mesh_args(int argc, char** argv, MeshArgs& m) {
     } else if (a == "--keep-inner") {
       fix = true;  // a choice of repair's
       repair_options.union_of_parts = false;
+    } else if (a == "--parts-as-regions") {
+      fix = true;  // a choice of repair's
+      repair_options.parts_as_regions = true;
     } else if (a == "--no-intersection-check") {
       opt.check_intersections = false;
     } else if (a == "--one-thread") {
@@ -395,6 +402,11 @@ int check_mesh_args(MeshArgs& m) {
       std::fprintf(stderr, "cdt3d mesh: %s: %s\n", option.c_str(), qs.error.message.c_str());
       return kExitUsage;
     }
+  }
+  if (m.repair_options.parts_as_regions && !m.repair_options.union_of_parts) {
+    std::fprintf(stderr, "cdt3d mesh: --parts-as-regions keeps the union of the parts; it cannot "
+                         "go with --keep-inner\n");
+    return kExitUsage;
   }
   opt.quality.enabled = !quality_args.empty();
   if (opt.quality.enabled && stop != Phase::Done) {

@@ -14,7 +14,8 @@ namespace {
 
 void repair_usage(std::FILE* out) {
   std::fprintf(out,
-               "usage: cdt3d repair MODEL [-o PREFIX] [--fill-holes] [--keep-inner] [--json] [-q]\n"
+               "usage: cdt3d repair MODEL [-o PREFIX] [--fill-holes] [--keep-inner]\n"
+               "                    [--parts-as-regions] [--json] [-q]\n"
                "\n"
                "Repairs MODEL (.stl .off .obj .ply .poly .smesh) exactly: welds identical points,\n"
                "drops repeated vertices, zero-area polygons and duplicate facets, splits\n"
@@ -26,6 +27,10 @@ void repair_usage(std::FILE* out) {
                "              its vertices (least total area) before the other steps\n"
                "  --keep-inner  keep the facets inside the union of crossing parts: every cell\n"
                "              of their arrangement is meshed, bounded by internal facets\n"
+               "  --parts-as-regions  keep the union, but with the facets between parts: each\n"
+               "              part (connected piece of the surface) and each overlap of parts\n"
+               "              becomes a region (the labels reach the tets with `cdt3d mesh\n"
+               "              --parts-as-regions`; the .poly carries no region points)\n"
                "  --json      print the report as one JSON object on stdout\n"
                "  -q          quiet: print nothing but errors\n"
                "exit codes: 0 repaired (or nothing to repair), 1 input error or what repair\n"
@@ -34,8 +39,31 @@ void repair_usage(std::FILE* out) {
 
 }  // namespace
 
+namespace {
+
+// "3 parts, 4 regions: 1 = part 0, 2 = part 1, 4 = parts 0+1" (regions
+// without a cell left out).
+std::string region_list(const RepairReport& r) {
+  std::string list;
+  size_t regions = 0;
+  for (size_t a = 0; a < r.region_parts.size(); ++a) {
+    const std::vector<uint32_t>& parts = r.region_parts[a];
+    if (parts.empty()) continue;
+    ++regions;
+    list += (list.empty() ? ": " : ", ") + std::to_string(a + 1) + (parts.size() == 1 ? " = part " : " = parts ");
+    for (size_t i = 0; i < parts.size(); ++i) list += (i ? "+" : "") + std::to_string(parts[i]);
+  }
+  return std::to_string(r.parts) + " parts, " + std::to_string(regions) + " regions" + list;
+}
+
+}  // namespace
+
 std::string repair_summary(const RepairReport& r) {
-  if (!r.changed()) return "  Repair: nothing to change (the PLC is valid)\n";
+  if (!r.changed()) {
+    std::string text = "  Repair: nothing to change (the PLC is valid)\n";
+    if (!r.facet_regions.empty()) text += "    parts as regions: " + region_list(r) + "\n";
+    return text;
+  }
   char buf[1024];
   std::snprintf(
       buf, sizeof buf,
@@ -57,6 +85,7 @@ std::string repair_summary(const RepairReport& r) {
   } else if (r.inner_facets > 0) {
     text += "    union of the parts: " + std::to_string(r.inner_facets) + " inner facets dropped\n";
   }
+  if (!r.facet_regions.empty()) text += "    parts as regions: " + region_list(r) + "\n";
   return text;
 }
 
@@ -77,7 +106,17 @@ std::string repair_json(const RepairReport& r) {
       r.nonplanar_facets, r.tjunction_vertices,
       r.tjunction_facets, r.crossing_pairs, r.crossing_facets, r.intersection_points, r.rounds,
       r.unresolved_pairs, r.inner_facets, r.union_skipped ? "true" : "false", r.ms);
-  return buf;
+  std::string json = buf;
+  // "parts": N, "regionParts": [[0], [1], [0, 1]] (entry a - 1 for attribute a).
+  std::string list;
+  for (size_t a = 0; a < r.region_parts.size(); ++a) {
+    list += a ? ",[" : "[";
+    for (size_t i = 0; i < r.region_parts[a].size(); ++i)
+      list += (i ? "," : "") + std::to_string(r.region_parts[a][i]);
+    list += "]";
+  }
+  json.pop_back();  // the closing brace
+  return json + ",\"parts\":" + std::to_string(r.parts) + ",\"regionParts\":[" + list + "]}";
 }
 
 int run_repair(int argc, char** argv) {
@@ -97,6 +136,8 @@ int run_repair(int argc, char** argv) {
       options.fill_holes = true;
     } else if (a == "--keep-inner") {
       options.union_of_parts = false;
+    } else if (a == "--parts-as-regions") {
+      options.parts_as_regions = true;
     } else if (a == "-o" && i + 1 < argc) {
       prefix = argv[++i];
     } else if (!a.empty() && a[0] != '-' && input.empty()) {
@@ -106,6 +147,11 @@ int run_repair(int argc, char** argv) {
       repair_usage(stderr);
       return kExitUsage;
     }
+  }
+  if (options.parts_as_regions && !options.union_of_parts) {
+    std::fprintf(stderr, "cdt3d repair: --parts-as-regions keeps the union of the parts; it "
+                         "cannot go with --keep-inner\n");
+    return kExitUsage;
   }
   if (input.empty()) {
     repair_usage(stderr);

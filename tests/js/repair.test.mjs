@@ -60,7 +60,7 @@ describe('defective models: repaired, meshed, validated', () => {
         const native = nativeRepair(file).repair;
         for (const key of Object.keys(native)) {
           if (key === 'ms' || key === 'changedFacets') continue;
-          assert.equal(repaired.report[key], native[key], key);
+          assert.deepEqual(repaired.report[key], native[key], key);  // regionParts is an array
         }
         assert.equal(repaired.report.changedFacets.length, native.changedFacets);
       }
@@ -118,6 +118,51 @@ test('crossing parts become their union (union: false keeps every cell), as the 
     for (const key of ['innerFacets', 'unionSkipped', 'facets', 'points']) assert.equal(r.report[key], report[key], key);
   }
   assert.throws(() => cdt.repair(input(file), { union: 1 }), (e) => e.code === 'invalid-argument' && /union must be a boolean/.test(e.message));
+});
+
+// Volume per region attribute of a mesh result.
+function volumeByRegion(mesh) {
+  const volume = new Map();
+  const p = mesh.points;
+  for (let t = 0; t < mesh.tets.length / 4; ++t) {
+    const [a, b, c, d] = [0, 1, 2, 3].map((k) => 3 * mesh.tets[4 * t + k]);
+    const e = [b, c, d].map((q) => [0, 1, 2].map((k) => p[q + k] - p[a + k]));
+    const det = e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) -
+      e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
+      e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
+    const region = mesh.tetAttributes[t];
+    volume.set(region, (volume.get(region) ?? 0) + Math.abs(det) / 6);
+  }
+  return volume;
+}
+
+test('partsAsRegions: each part and their overlap a region, as the native --parts-as-regions', () => {
+  const file = 'intersecting_cubes.off';
+  const mesh = cdt.tetrahedralize(input(file), { repair: { partsAsRegions: true }, validate: true });
+  // Two cubes of side 2 through each other: 7 each alone, 1 where they overlap.
+  assert.equal(mesh.repair.parts, 2);
+  assert.deepEqual(mesh.repair.regionParts, [[0], [1], [0, 1]]);
+  assert.equal(mesh.repair.innerFacets, 0);
+  const volume = volumeByRegion(mesh);
+  assert.deepEqual([...volume.keys()].sort(), [1, 2, 3]);
+  for (const [region, v] of [[1, 7], [2, 7], [3, 1]]) assert.ok(Math.abs(volume.get(region) - v) < 1e-12, `region ${region}: ${volume.get(region)}`);
+  // Without the option the report has no regions.
+  const plain = cdt.tetrahedralize(input(file), { repair: true }).repair;
+  assert.deepEqual([plain.parts, plain.regionParts], [0, []]);
+  assert.deepEqual(cdt.repair(input(file), { partsAsRegions: true }).report.regionParts, [[0], [1], [0, 1]]);
+  if (!skipNative) {
+    const native = spawnSync(requireNativeCli(), ['mesh', path.join('tests', 'data', file), '--parts-as-regions', '--json'], {
+      cwd: repoRoot,
+      encoding: 'utf8',
+    });
+    const report = JSON.parse(native.stdout).repair;
+    assert.deepEqual(report.regionParts, mesh.repair.regionParts);
+    assert.equal(report.parts, 2);
+  }
+  assert.throws(
+    () => cdt.tetrahedralize(input(file), { repair: { partsAsRegions: true, union: false } }),
+    (e) => e.code === 'invalid-argument' && /partsAsRegions keeps the union/.test(e.message),
+  );
 });
 
 test('fillHoles closes the holes of open surfaces, as the native --fill-holes', () => {

@@ -173,6 +173,9 @@ const changedFacets: Uint32Array = report.changedFacets;
 const fromRepaired: MeshResult = cdt.tetrahedralize(repaired, { repair: false });
 const meshReport: RepairReport | undefined = cdt.tetrahedralize({ bytes: new Uint8Array(4), fileName: 'a.obj' }, { repair: true }).repair;
 const polyText: string = repaired.poly;
+const regionParts: number[][] | undefined = cdt.tetrahedralize(repaired, { repair: { partsAsRegions: true } }).repair?.regionParts;
+const parts: number = report.parts + report.regionParts.length;
+void [regionParts, parts];
 // @ts-expect-error repair is a boolean option
 cdt.tetrahedralize(repaired, { repair: 'yes' });
 void [repairCounts, changedFacets, fromRepaired, meshReport, polyText, report.changed];

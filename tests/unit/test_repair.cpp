@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -573,4 +574,173 @@ TEST_CASE("repair step 5: interpenetrating parts become their union", "[repair]"
   CHECK(rep.inner_facets > 0);
   CHECK(tets_union.inner_faces == 0);
   CHECK(std::fabs(tets_union.volume - tets_arrangement.volume) < 1e-9 * tets_arrangement.volume);
+}
+
+namespace {
+
+// Volume per region attribute of a result (in doubles: the test models'
+// tets have small integer and half-integer coordinates).
+std::map<double, double> volume_by_region(const Result& r) {
+  std::map<double, double> volume;
+  const auto& p = r.mesh.points;
+  for (size_t t = 0; t < r.mesh.tets.size() / 4; ++t) {
+    const uint32_t* v = &r.mesh.tets[4 * t];
+    double e[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) e[i][k] = p[3 * size_t(v[i + 1]) + k] - p[3 * size_t(v[0]) + k];
+    const double det = e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) -
+                       e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
+                       e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
+    volume[r.mesh.tet_attributes.at(t)] += std::fabs(det) / 6;
+  }
+  return volume;
+}
+
+// Repairs `in` with parts as regions (by rays, and checks the fallback by a
+// tetrahedralization labels the same), meshes, validates and maps back.
+Result mesh_parts_as_regions(const Plc& in, RepairReport& rep, const Options& opt = {}) {
+  Plc out;
+  RepairOptions options;
+  options.parts_as_regions = true;
+  const Status st = repair(in, out, rep, options);
+  INFO(st.error.to_string());
+  REQUIRE(st.ok());
+  REQUIRE(rep.union_skipped == 0);
+  Plc by_mesh;
+  RepairReport mesh_rep;
+  options.debug_union_by_mesh = true;
+  REQUIRE(repair(in, by_mesh, mesh_rep, options).ok());
+  CHECK(write_poly(by_mesh) == write_poly(out));
+  CHECK(mesh_rep.facet_regions == rep.facet_regions);
+  CHECK(mesh_rep.region_parts == rep.region_parts);
+  require_meshable(out);
+  Result r = tetrahedralize(out, opt);
+  REQUIRE(r.status.ok());
+  if (!opt.quality.enabled) REQUIRE(validate(out, r).ok());
+  map_to_input_facets(rep, r);
+  REQUIRE(r.mesh.tet_attributes.size() == r.mesh.tets.size() / 4);
+  return r;
+}
+
+// The second cube of intersecting_cubes.off (points 8-15, [1,3]^3) moved
+// by p -> p * scale + shift.
+Plc second_cube_moved(const Plc& cubes, double scale, double shift) {
+  Plc moved = cubes;
+  for (size_t v = 8; v < 16; ++v) {
+    Vec3& p = moved.points[v];
+    p = {p.x * scale + shift, p.y * scale + shift, p.z * scale + shift};
+  }
+  return moved;
+}
+
+bool near(double a, double b) { return std::fabs(a - b) < 1e-12; }
+
+}  // namespace
+
+TEST_CASE("repair step 5: parts as regions", "[repair]") {
+  Plc cubes;
+  REQUIRE(read_plc_file(corpus::kData + "/intersecting_cubes.off", cubes, false).ok());
+  RepairReport rep;
+  // Two cubes of side 2 overlapping in a unit cube: each cube alone (7),
+  // and the overlap a region of its own (1).
+  Result r = mesh_parts_as_regions(cubes, rep);
+  CHECK(rep.parts == 2);
+  CHECK(rep.inner_facets == 0);  // every piece separates two different sets of parts
+  CHECK(rep.region_parts == std::vector<std::vector<uint32_t>>{{0}, {1}, {0, 1}});
+  std::map<double, double> volume = volume_by_region(r);
+  REQUIRE(volume.size() == 3);
+  CHECK(near(volume[1], 7));
+  CHECK(near(volume[2], 7));
+  CHECK(near(volume[3], 1));
+
+  SECTION("the hull kept: tets outside the union get 0") {
+    Options opt;
+    opt.keep_convex_hull = true;
+    volume = volume_by_region(mesh_parts_as_regions(cubes, rep, opt));
+    REQUIRE(volume.size() == 4);
+    CHECK(volume[0] > 1);  // between the union and its convex hull
+    CHECK(near(volume[1], 7));
+    CHECK(near(volume[3], 1));
+  }
+  SECTION("quality refinement keeps the regions") {
+    Options opt;
+    opt.quality.enabled = true;
+    opt.quality.max_volume = 0.05;
+    Result fine = mesh_parts_as_regions(cubes, rep, opt);
+    CHECK(fine.mesh.tets.size() > 4 * r.mesh.tets.size());
+    volume = volume_by_region(fine);
+    REQUIRE(volume.size() == 3);
+    CHECK(std::fabs(volume[1] - 7) < 1e-9);
+    CHECK(std::fabs(volume[3] - 1) < 1e-9);
+  }
+  SECTION("a part inside another, no crossing: it is the overlap") {
+    // The second cube shrunk into [0.5, 1.5]^3, inside the first.
+    volume = volume_by_region(mesh_parts_as_regions(second_cube_moved(cubes, 0.5, 0), rep));
+    CHECK(rep.crossing_pairs == 0);
+    CHECK(rep.region_parts == std::vector<std::vector<uint32_t>>{{0}, {}, {0, 1}});
+    REQUIRE(volume.size() == 2);
+    CHECK(near(volume[1], 7));
+    CHECK(near(volume[3], 1));
+  }
+  SECTION("a hollow part: the inner surface reversed bounds a cavity") {
+    const Plc hollow = reversed(second_cube_moved(cubes, 0.5, 0), 12, 24);
+    volume = volume_by_region(mesh_parts_as_regions(hollow, rep));
+    CHECK(rep.region_parts == std::vector<std::vector<uint32_t>>{{0}, {}});
+    // The cavity is outside the union (winding 0): tetrahedralize() meshes
+    // it as an enclosed region, and it gets 0 like the hull.
+    REQUIRE(volume.size() == 2);
+    CHECK(near(volume[0], 1));
+    CHECK(near(volume[1], 7));
+  }
+  SECTION("disjoint parts") {
+    volume = volume_by_region(mesh_parts_as_regions(second_cube_moved(cubes, 1, 10), rep));
+    CHECK(rep.region_parts == std::vector<std::vector<uint32_t>>{{0}, {1}});
+    REQUIRE(volume.size() == 2);
+    CHECK(near(volume[1], 8));
+    CHECK(near(volume[2], 8));
+  }
+  SECTION("three parts: overlaps are numbered after the parts") {
+    // A third cube, the first one moved to [10,12]^3, disjoint from both.
+    Plc three = cubes;
+    const VertexId base = static_cast<VertexId>(three.points.size());
+    for (size_t v = 0; v < 8; ++v) three.points.push_back({cubes.points[v].x + 10, cubes.points[v].y + 10, cubes.points[v].z + 10});
+    for (size_t f = 0; f < 12; ++f) {
+      Facet copy = cubes.facets[f];
+      for (auto& loop : copy.loops)
+        for (VertexId& v : loop) v += base;
+      three.facets.push_back(copy);
+    }
+    volume = volume_by_region(mesh_parts_as_regions(three, rep));
+    CHECK(rep.parts == 3);
+    CHECK(rep.region_parts == std::vector<std::vector<uint32_t>>{{0}, {1}, {2}, {0, 1}});
+    REQUIRE(volume.size() == 4);
+    CHECK(near(volume[3], 8));
+    CHECK(near(volume[4], 1));
+  }
+  SECTION("it needs the union") {
+    Plc out;
+    RepairOptions options;
+    options.parts_as_regions = true;
+    options.union_of_parts = false;
+    CHECK(repair(cubes, out, rep, options).error.code == ErrorCode::InvalidArgument);
+  }
+}
+
+TEST_CASE("repair step 5: parts as regions on two tets in general position", "[repair]") {
+  Plc tets;
+  REQUIRE(read_plc_file(corpus::kData + "/crossing_tets.off", tets, false).ok());
+  RepairReport rep;
+  const std::map<double, double> volume = volume_by_region(mesh_parts_as_regions(tets, rep));
+  // Every region is a set of parts, and together they fill the union.
+  RepairReport union_rep;
+  const DomainShape united = repaired_domain(tets, true, union_rep);
+  double total = 0;
+  for (const auto& [attribute, v] : volume) {
+    REQUIRE(attribute >= 1);
+    REQUIRE(attribute <= rep.region_parts.size());
+    CHECK(!rep.region_parts[size_t(attribute) - 1].empty());
+    total += v;
+  }
+  CHECK(volume.size() > rep.parts);  // some parts overlap
+  CHECK(std::fabs(total - united.volume) < 1e-9 * united.volume);
 }

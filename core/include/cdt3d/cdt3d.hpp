@@ -488,6 +488,22 @@ struct RepairReport {
   /// pieces, inconsistent normals, coincident faces of two parts); every
   /// facet is then kept.
   size_t union_skipped = 0;
+  // Step 5 with RepairOptions::parts_as_regions (empty or 0 otherwise, and
+  // when the union was not formed).
+  size_t parts = 0;               ///< parts found: connected components of the input surface
+  /// Per region attribute a (entry a - 1): the parts (0-based, numbered by
+  /// their smallest input facet) that overlap there. Attribute p + 1 is
+  /// where part p alone lies; overlaps of two or more parts get the
+  /// attributes after the parts' (parts.size() + 1, ...), in lexicographic
+  /// order of their part lists. An entry is empty when no cell has it (a
+  /// part lying wholly inside another has no cell of its own).
+  std::vector<std::vector<uint32_t>> region_parts;
+  /// Per output facet: its axis k (the largest component of its normal)
+  /// and the region attribute on its +k side and on its -k side (0: outside
+  /// the union, -1: not known). map_to_input_facets() reads them to give
+  /// every tet of the mesh its region.
+  std::vector<uint8_t> facet_axis;
+  std::vector<std::array<int32_t, 2>> facet_regions;
   size_t input_points = 0, input_facets = 0, points = 0, facets = 0;
   double ms = 0;
   /// Per output facet: the input facet it comes from (provenance).
@@ -505,7 +521,8 @@ struct RepairReport {
 /// intersection segments as edges (new points rounded to doubles, checked
 /// again exactly, a bounded number of rounds); (5) where (4) resolved
 /// crossings, the facets inside the union of the parts are dropped
-/// (RepairOptions::union_of_parts). Every output facet keeps the
+/// (RepairOptions::union_of_parts; with RepairOptions::parts_as_regions
+/// only those between cells of the same parts). Every output facet keeps the
 /// marker and source line/record of its input facet (report.facet_source).
 /// `plc` may fail check_plc() (read it with read_plc(..., check = false)).
 /// Errors: what repair cannot fix (non-finite coordinates, indices out of
@@ -530,6 +547,21 @@ struct RepairOptions {
   /// --keep-inner, JS repair: { union: false }): every cell of the
   /// arrangement is meshed, bounded by internal facets.
   bool union_of_parts = true;
+  /// Every part a region of its own (CLI --parts-as-regions, JS repair: {
+  /// partsAsRegions: true }): the domain is still the union, but facets
+  /// between cells that lie in different sets of parts stay as internal
+  /// facets, and after tetrahedralize() map_to_input_facets() gives every
+  /// tet the region attribute of its set of parts (RepairReport::
+  /// region_parts: part p alone is attribute p + 1, each overlap of parts a
+  /// region of its own after those). A part is a connected component of the
+  /// input surface, facets joined across shared edges once identical points
+  /// are welded (OBJ groups and STL solids do not matter: one CAD body is
+  /// often exported as many groups). Runs even where no parts cross (nested
+  /// or disjoint parts are labelled too). Input region points are dropped;
+  /// volume holes stay. Needs union_of_parts (InvalidArgument otherwise).
+  /// Where the union is not formed (RepairReport::union_skipped), the mesh
+  /// keeps the attributes tetrahedralize() gives its regions.
+  bool parts_as_regions = false;
   /// Testing only: the winding numbers of the union from a tetrahedralization
   /// of the arrangement instead of exact ray casting (the fallback where no
   /// ray of a patch is clear of edges and vertices).
@@ -541,7 +573,12 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOption
 /// facets (face_facet, Steiner parents of facet points, error facets and
 /// intersecting pairs) through report.facet_source. Validate before this.
 /// Segment numbers (edge_segment, parents of segment points) stay those of
-/// the repaired PLC: its edges are not all input edges.
+/// the repaired PLC: its edges are not all input edges. With
+/// RepairOptions::parts_as_regions it also sets result.mesh.tet_attributes
+/// to the regions of report.region_parts (0 for tets outside the union,
+/// which only Options::keep_convex_hull keeps): each connected set of tets
+/// takes the region on its side of a constrained face it touches, found by
+/// exact orientation tests.
 void map_to_input_facets(const RepairReport& report, Result& result);
 
 /// The PLC as a TetGen .poly file (numbered from 0, coordinates with %.17g,

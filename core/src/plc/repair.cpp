@@ -124,6 +124,10 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOption
   report.input_points = plc.points.size();
   report.input_facets = plc.facets.size();
   Status st = check_repairable(plc);
+  if (st.ok() && options.parts_as_regions && !options.union_of_parts)
+    st = input_error(plc, ErrorCode::InvalidArgument,
+                     "Parts as regions needs the union of the parts (union_of_parts): the two "
+                     "options cannot be combined.");
   if (!st.ok()) {
     out = plc;
     return st;
@@ -138,6 +142,13 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOption
   repair_steps::clean_polygons(w, report);
   repair_steps::drop_duplicate_facets(w, report);
   repair_steps::drop_orphaned_points(w, plc);
+  // Parts are the input's components once identical points are welded,
+  // before any crossing joins them.
+  std::vector<uint32_t> part_of_input;
+  if (options.parts_as_regions) {
+    part_of_input = repair_steps::connected_parts(w, plc.facets.size());
+    w.plc.regions.clear();  // the parts name the regions
+  }
   repair_steps::split_nonplanar_facets(w, report);
   st = repair_steps::split_at_tjunctions(w, report);
   tidy_after_tjunctions(w, report);
@@ -156,8 +167,11 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOption
   std::vector<Intersection> left;
   if (st.ok()) st = check_plc(w.plc);
   if (st.ok()) st = repair_steps::resolve_crossings(w, report, left);
-  if (st.ok() && left.empty() && report.crossing_pairs > 0 && options.union_of_parts)
-    st = repair_steps::merge_into_union(w, plc, report, options.debug_union_by_mesh);
+  // Regions are wanted whether or not parts crossed (nested or disjoint
+  // parts are labelled too).
+  if (st.ok() && left.empty() && options.union_of_parts &&
+      (report.crossing_pairs > 0 || options.parts_as_regions))
+    st = repair_steps::merge_into_union(w, plc, part_of_input, report, options.debug_union_by_mesh);
   if (!st.ok()) st = in_input_terms(st, plc, w.source);
 
   report.facet_source = w.source;
@@ -177,6 +191,7 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOption
 }
 
 void map_to_input_facets(const RepairReport& report, Result& result) {
+  repair_steps::label_part_regions(report, result);  // reads face_facet before it is mapped
   const auto& src = report.facet_source;
   auto map = [&](auto& f) {
     if (f >= 0 && static_cast<size_t>(f) < src.size()) f = src[static_cast<size_t>(f)];

@@ -67,11 +67,25 @@ Status triangulate_in_place(Work& w, const std::vector<uint8_t>& which);
 // segments as edges. `left` receives the improper pairs (in the numbering of
 // w.plc) that remain after the last round; empty when the PLC is clean.
 Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection>& left);
-// Step 5 (repair_union.cpp, after step 4 resolved crossings; off with
-// RepairOptions::union_of_parts false): facets inside
-// the union of the parts (winding number at least 1 on both sides) or
-// outside every part are dropped, with the points only they used.
-Status merge_into_union(Work& w, const Plc& input, RepairReport& report, bool by_mesh_only);
+// Step 5 (repair_union.cpp, after step 4 resolved crossings, and always
+// with RepairOptions::parts_as_regions; off with union_of_parts false):
+// facets inside the union of the parts (winding number at least 1 on both
+// sides) or outside every part are dropped, with the points only they used.
+/// With `part_of_input` (per input facet its part, kNone for none; see
+/// connected_parts) the facets between cells in different sets of parts
+/// stay, and report.region_parts, facet_regions and facet_axis say which
+/// region lies on each side; empty: the plain union.
+Status merge_into_union(Work& w, const Plc& input, const std::vector<uint32_t>& part_of_input,
+                        RepairReport& report, bool by_mesh_only);
+/// Per input facet: its part, the connected component of w.plc's facets
+/// (joined across shared edges) holding the facets that come from it,
+/// numbered in order of their smallest input facet; kNone for an input
+/// facet none of w.plc's facets comes from.
+std::vector<uint32_t> connected_parts(const Work& w, size_t input_facets);
+/// After tetrahedralize() of a PLC repaired with parts as regions: every tet
+/// gets the region of report.region_parts it lies in (see
+/// map_to_input_facets). Reads result.face_facet before it is mapped.
+void label_part_regions(const RepairReport& report, Result& result);
 /// Every point snapped to step 4's grid (2^-40 below the binary order of the
 /// largest coordinate), then steps 1 and 3 again on what moved.
 Status snap_to_grid(Work& w);

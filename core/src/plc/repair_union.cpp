@@ -16,6 +16,12 @@
 // hull (windings_by_mesh; the two agree facet for facet on every model
 // tried). Every decision is an exact sign.
 //
+// With RepairOptions::parts_as_regions the winding is kept per part (a
+// connected component of the input surface): a cell lies in the set of
+// parts that wind around it, and a facet stays wherever the sets on its two
+// sides differ, so each set becomes a region bounded by internal facets.
+// Without it every facet counts as one part, and the set is just "inside".
+//
 // The winding numbers exist only when the facets, each oriented like its
 // input facet, close up: every edge used as often in each direction. A model
 // with inconsistent normals, open pieces or coincident faces of two parts
@@ -25,6 +31,7 @@
 #include <algorithm>
 #include <array>
 #include <climits>
+#include <map>
 #include <numeric>
 #include <unordered_map>
 
@@ -54,10 +61,64 @@ Orientation orientation_of(const Plc& plc, const Facet& f) {
   return o;
 }
 
+// Winding numbers per part, sparse: (part, winding) for the parts whose
+// winding is not 0, sorted by part.
+using Windings = std::vector<std::pair<uint32_t, int>>;
+
+void add_winding(Windings& w, uint32_t part, int delta) {
+  auto it = std::lower_bound(w.begin(), w.end(), std::make_pair(part, INT_MIN));
+  if (it != w.end() && it->first == part) {
+    it->second += delta;
+    if (it->second == 0) w.erase(it);
+  } else if (delta != 0) {
+    w.insert(it, {part, delta});
+  }
+}
+
+// The distinct winding vectors met, numbered: a cell's windings are named
+// by their number, so cells compare by an int. Id 0 is outside everything.
+class WindingTable {
+ public:
+  WindingTable() { id(Windings()); }
+  int id(const Windings& w) {
+    const auto found = ids_.emplace(w, static_cast<int>(list_.size()));
+    if (found.second) list_.push_back(w);
+    return found.first->second;
+  }
+  // The windings of `from` with part's changed by delta (one facet crossed).
+  int shifted(int from, uint32_t part, int delta) {
+    Windings w = list_[static_cast<size_t>(from)];
+    add_winding(w, part, delta);
+    return id(w);
+  }
+  const Windings& at(int i) const { return list_[static_cast<size_t>(i)]; }
+  size_t size() const { return list_.size(); }
+
+ private:
+  std::map<Windings, int> ids_;
+  std::vector<Windings> list_;
+};
+
+// The part of facet f of the PLC under repair (0 for all without parts).
+struct PartOf {
+  const Work& w;
+  const std::vector<uint32_t>& of_input;  // per input facet; empty: one part
+  uint32_t operator()(size_t f) const { return of_input.empty() ? 0 : of_input[w.source[f]]; }
+};
+
 // The facets, each taken with the orientation of its input facet, form a
 // cycle: every directed edge is matched by its reverse as often.
-bool facets_close_up(const Work& w, const std::vector<int>& runs_like_input) {
+// With parts, each part's facets must close up by themselves, for each
+// part to have winding numbers of its own.
+bool facets_close_up(const Work& w, const std::vector<int>& runs_like_input, const PartOf& part) {
+  struct PartEdgeHash {
+    size_t operator()(const std::pair<uint32_t, uint64_t>& k) const {
+      return static_cast<size_t>(hash_mix(k.second ^ hash_mix(k.first)));
+    }
+  };
+  std::unordered_map<std::pair<uint32_t, uint64_t>, int64_t, PartEdgeHash> by_part;
   std::unordered_map<uint64_t, int64_t> balance;
+  const bool parts = !part.of_input.empty();
   for (size_t f = 0; f < w.plc.facets.size(); ++f) {
     if (runs_like_input[f] == 0) return false;
     for (const auto& loop : w.plc.facets[f].loops)
@@ -65,9 +126,14 @@ bool facets_close_up(const Work& w, const std::vector<int>& runs_like_input) {
         VertexId a = loop[i], b = loop[(i + 1) % loop.size()];
         if (runs_like_input[f] < 0) std::swap(a, b);
         // a -> b counts +1 on the key (min, max) when a < b, else -1.
-        balance[edge_key(a, b)] += a < b ? 1 : -1;
+        if (parts)
+          by_part[{part(f), edge_key(a, b)}] += a < b ? 1 : -1;
+        else
+          balance[edge_key(a, b)] += a < b ? 1 : -1;
       }
   }
+  if (parts)
+    return std::all_of(by_part.begin(), by_part.end(), [](const auto& kv) { return kv.second == 0; });
   return std::all_of(balance.begin(), balance.end(), [](const auto& kv) { return kv.second == 0; });
 }
 
@@ -88,9 +154,12 @@ constexpr int kUnset = INT_MIN;
 
 // The winding numbers by a tetrahedralization of the arrangement (hull
 // kept, every facet its own), flooded from the hull: 0 outside it, up by one
-// across a face from the front of its input facet to its back. False when
-// the tetrahedralization fails or the flood contradicts itself.
+// across a face from the front of its input facet to its back (in the
+// facet's part). sides[f] gets the ids in `table` of the windings in front
+// of facet f and behind it. False when the tetrahedralization fails or the
+// flood contradicts itself.
 bool windings_by_mesh(const Work& w, const std::vector<Orientation>& input_orientation,
+                      const PartOf& part, WindingTable& table,
                       std::vector<std::array<int, 2>>& sides) {
   const size_t nf = w.plc.facets.size();
   Options opt;
@@ -191,7 +260,7 @@ bool windings_by_mesh(const Work& w, const std::vector<Orientation>& input_orien
     const int front = in_front(a.tet, a.face, uint32_t(f));
     if (front < 0) consistent = false;
     // Outside (winding 0) is the facet's other side.
-    const int inside = front ? 0 - 1 : 0 + 1;
+    const int inside = table.shifted(0, part(size_t(f)), front ? -1 : 1);
     note_side(uint32_t(f), front == 0, 0);
     note_side(uint32_t(f), front == 1, inside);
     set(a.tet, inside);
@@ -213,7 +282,7 @@ bool windings_by_mesh(const Work& w, const std::vector<Orientation>& input_orien
         break;
       }
       // From the front to the back the winding goes up by one.
-      const int value = front ? winding[t] + 1 : winding[t] - 1;
+      const int value = table.shifted(winding[t], part(size_t(f)), front ? 1 : -1);
       note_side(uint32_t(f), front == 1, winding[t]);
       note_side(uint32_t(f), front == 0, value);
       set(other.tet, value);
@@ -243,6 +312,7 @@ struct RayTriangle {
 constexpr int kRayAttempts = 8;
 
 bool windings_by_rays(const Work& w, const std::vector<Orientation>& input_orientation,
+                      const PartOf& part, WindingTable& table,
                       std::vector<std::array<int, 2>>& sides) {
   const Plc& plc = w.plc;
   const size_t nf = plc.facets.size();
@@ -293,9 +363,9 @@ bool windings_by_rays(const Work& w, const std::vector<Orientation>& input_orien
     const int runs = pred::orient2d_projected(pt(r.v[0]), pt(r.v[1]), pt(r.v[2]), in.drop) * in.sign;
     return along_k * runs;
   };
-  // The winding just ahead of the centroid of triangle t along +k; false
+  // The windings just ahead of the centroid of triangle t along +k; false
   // when the ray meets an edge or a vertex.
-  auto cast = [&](uint32_t t, int k, int& winding) {
+  auto cast = [&](uint32_t t, int k, Windings& winding) {
     const RayTriangle& r = tris[t];
     const double* q3[3] = {pt(r.v[0]), pt(r.v[1]), pt(r.v[2])};
     const int i = k == 0 ? 1 : k == 1 ? 2 : 0, j = k == 0 ? 2 : k == 1 ? 0 : 1;
@@ -306,7 +376,7 @@ bool windings_by_rays(const Work& w, const std::vector<Orientation>& input_orien
     // The rounded centroid is within a few ulps of the exact one: the margin
     // only keeps the prefilter conservative; the exact tests decide.
     const double margin = 1e-9 * scale;
-    int sum = 0;
+    Windings sum;
     for (uint32_t u = 0; u < tris.size(); ++u) {
       if (u == t) continue;
       const RayTriangle& o = tris[u];
@@ -327,9 +397,9 @@ bool windings_by_rays(const Work& w, const std::vector<Orientation>& input_orien
       if (h != s) continue;      // its plane is behind q
       const int n = normal_along(u, k);
       if (n == 0) return false;
-      sum += n;
+      add_winding(sum, part(o.facet), n);
     }
-    winding = sum;
+    winding = std::move(sum);
     return true;
   };
 
@@ -345,11 +415,15 @@ bool windings_by_rays(const Work& w, const std::vector<Orientation>& input_orien
       const Vec3 n = cross(y - x, z - x);
       const int k = largest_axis(n.x, n.y, n.z);
       const int own = normal_along(t, k);
-      int ahead = 0;
-      if (own == 0 || !cast(t, k, ahead)) continue;
-      // Ahead of q lies the front of t's facet when its normal points along +k.
-      const std::array<int, 2> fb = own > 0 ? std::array<int, 2>{ahead, ahead + 1}
-                                            : std::array<int, 2>{ahead - 1, ahead};
+      Windings windings;
+      if (own == 0 || !cast(t, k, windings)) continue;
+      // Ahead of q lies the front of t's facet when its normal points along
+      // +k; behind it, t's part winds once more.
+      const int ahead = table.id(windings);
+      const uint32_t p_t = part(r.facet);
+      const std::array<int, 2> fb = own > 0
+                                        ? std::array<int, 2>{ahead, table.shifted(ahead, p_t, 1)}
+                                        : std::array<int, 2>{table.shifted(ahead, p_t, -1), ahead};
       for (uint32_t u : patch_tris[p]) sides[tris[u].facet] = fb;
       done = true;
     }
@@ -358,9 +432,87 @@ bool windings_by_rays(const Work& w, const std::vector<Orientation>& input_orien
   return true;
 }
 
+// The region of every winding vector that is on some facet's side: 0
+// outside the union, else (without parts) 1, or (with parts) the attribute
+// of the set of parts that wind around the cell (RepairReport::region_parts).
+std::vector<int32_t> region_labels(const WindingTable& table,
+                                   const std::vector<std::array<int, 2>>& sides, bool inverted,
+                                   size_t parts, RepairReport& report) {
+  auto inside = [inverted](int value) { return inverted ? value <= -1 : value >= 1; };
+  std::vector<int32_t> label(table.size(), -1);
+  std::vector<std::vector<uint32_t>> set_of(table.size());
+  std::map<std::vector<uint32_t>, int32_t> overlaps;  // sorted: numbered in this order
+  for (const auto& side : sides)
+    for (int id : side) {
+      if (id == kUnset || label[size_t(id)] != -1) continue;
+      int total = 0;
+      for (const auto& pw : table.at(id)) total += pw.second;
+      label[size_t(id)] = inside(total) ? 1 : 0;
+      if (parts == 0 || !inside(total)) continue;
+      for (const auto& pw : table.at(id))
+        if (inside(pw.second)) set_of[size_t(id)].push_back(pw.first);
+      if (set_of[size_t(id)].size() > 1) overlaps.emplace(set_of[size_t(id)], 0);
+    }
+  if (parts == 0) return label;
+  report.region_parts.assign(parts, {});
+  for (size_t p = 0; p < parts; ++p) report.region_parts[p] = {uint32_t(p)};
+  for (auto& o : overlaps) {
+    o.second = static_cast<int32_t>(report.region_parts.size() + 1);
+    report.region_parts.push_back(o.first);
+  }
+  std::vector<uint8_t> has_cell(parts, 0);
+  for (size_t id = 0; id < table.size(); ++id) {
+    if (label[id] != 1) continue;
+    const std::vector<uint32_t>& set = set_of[id];
+    if (set.size() == 1) has_cell[set[0]] = 1;
+    label[id] = set.size() == 1 ? int32_t(set[0] + 1) : overlaps.at(set);
+  }
+  for (size_t p = 0; p < parts; ++p)
+    if (!has_cell[p]) report.region_parts[p].clear();
+  return label;
+}
+
+// Drops the facets not flagged in `keep`, with the points only they used
+// (isolated points stay), keeping `regions` and `axis` (when filled) in
+// step with the facets.
+void drop_facets(Work& w, const std::vector<uint8_t>& keep,
+                 std::vector<std::array<int32_t, 2>>& regions, std::vector<uint8_t>& axis) {
+  const size_t nf = w.plc.facets.size();
+  const std::vector<uint8_t> used_before = used_points(w.plc);
+  size_t k = 0;
+  for (size_t f = 0; f < nf; ++f) {
+    if (!keep[f]) {
+      w.mark(w.source[f]);
+      continue;
+    }
+    if (k != f) {
+      w.plc.facets[k] = std::move(w.plc.facets[f]);
+      w.source[k] = w.source[f];
+      if (!regions.empty()) regions[k] = regions[f], axis[k] = axis[f];
+    }
+    ++k;
+  }
+  w.plc.facets.resize(k);
+  w.source.resize(k);
+  if (!regions.empty()) regions.resize(k), axis.resize(k);
+  const std::vector<uint8_t> used = used_points(w.plc);
+  std::vector<VertexId> id(w.plc.points.size(), kNone);
+  std::vector<Vec3> kept;
+  for (VertexId v = 0; v < w.plc.points.size(); ++v) {
+    if (used_before[v] && !used[v]) continue;
+    id[v] = static_cast<VertexId>(kept.size());
+    kept.push_back(w.plc.points[v]);
+  }
+  if (kept.size() != w.plc.points.size()) {
+    w.plc.points = std::move(kept);
+    renumber_vertices(w.plc, id);
+  }
+}
+
 }  // namespace
 
-Status merge_into_union(Work& w, const Plc& input, RepairReport& report, bool by_mesh_only) {
+Status merge_into_union(Work& w, const Plc& input, const std::vector<uint32_t>& part_of_input,
+                        RepairReport& report, bool by_mesh_only) {
   const size_t nf = w.plc.facets.size();
   std::vector<Orientation> input_orientation(input.facets.size());
   for (size_t s = 0; s < input.facets.size(); ++s)
@@ -376,16 +528,20 @@ Status merge_into_union(Work& w, const Plc& input, RepairReport& report, bool by
     const int own = loop_orientation(w.plc, loops[0], in.drop);
     if (own != 0) runs_like_input[f] = own == in.sign ? 1 : -1;
   }
-  if (!facets_close_up(w, runs_like_input)) {
+  const PartOf part{w, part_of_input};
+  if (!facets_close_up(w, runs_like_input, part)) {
     report.union_skipped = 1;
     return Status::success();
   }
 
-  std::vector<std::array<int, 2>> sides;  // per facet: winding in front, behind
+  // Per facet: the ids in `table` of the windings in front of it and behind.
+  std::vector<std::array<int, 2>> sides;
   // Rays first (fast: one per patch); the tetrahedralization where a patch
   // had no ray clear of edges and vertices.
-  const bool by_rays = !by_mesh_only && windings_by_rays(w, input_orientation, sides);
-  if (!by_rays && !windings_by_mesh(w, input_orientation, sides)) {
+  WindingTable table;
+  const bool by_rays = !by_mesh_only && windings_by_rays(w, input_orientation, part, table, sides);
+  if (!by_rays) table = WindingTable();
+  if (!by_rays && !windings_by_mesh(w, input_orientation, part, table, sides)) {
     report.union_skipped = 1;
     return Status::success();
   }
@@ -393,54 +549,140 @@ Status merge_into_union(Work& w, const Plc& input, RepairReport& report, bool by
   // with no winding at all (every cell 0) has no union to speak of.
   int most = INT_MIN, least = INT_MAX;
   for (const auto& side : sides)
-    for (int value : side)
-      if (value != kUnset) most = std::max(most, value), least = std::min(least, value);
+    for (int id : side) {
+      if (id == kUnset) continue;
+      int total = 0;
+      for (const auto& pw : table.at(id)) total += pw.second;
+      most = std::max(most, total), least = std::min(least, total);
+    }
   if (most <= 0 && least >= 0) {
     report.union_skipped = 1;
     return Status::success();
   }
   const bool inverted = most <= 0;
-  auto inside = [&](int value) { return inverted ? value <= -1 : value >= 1; };
+  size_t parts = 0;
+  for (uint32_t p : part_of_input)
+    if (p != kNone) parts = std::max(parts, size_t(p) + 1);
+  const std::vector<int32_t> label = region_labels(table, sides, inverted, parts, report);
 
   std::vector<uint8_t> keep(nf, 1);
+  std::vector<std::array<int32_t, 2>> regions;  // per facet: on its +axis side, on its -axis side
+  std::vector<uint8_t> axis;
+  if (parts > 0) regions.assign(nf, {-1, -1}), axis.assign(nf, 0);
   size_t dropped = 0;
   for (size_t f = 0; f < nf; ++f) {
     if (sides[f][0] == kUnset || sides[f][1] == kUnset) continue;  // not in the mesh: keep it
-    if (inside(sides[f][0]) != inside(sides[f][1])) continue;
+    const int32_t front = label[size_t(sides[f][0])], back = label[size_t(sides[f][1])];
+    if (parts > 0) {
+      // The input facet's normal points to its front; in.sign is the sign
+      // of that normal's component along in.drop (loop_orientation).
+      const Orientation& in = input_orientation[w.source[f]];
+      axis[f] = static_cast<uint8_t>(in.drop);
+      regions[f] = in.sign > 0 ? std::array<int32_t, 2>{front, back}
+                               : std::array<int32_t, 2>{back, front};
+    }
+    if (front != back) continue;
     keep[f] = 0;
     ++dropped;
   }
-  if (dropped == 0) return Status::success();
-  const std::vector<uint8_t> used_before = used_points(w.plc);
-  size_t k = 0;
-  for (size_t f = 0; f < nf; ++f) {
-    if (!keep[f]) {
-      w.mark(w.source[f]);
-      continue;
-    }
-    if (k != f) {
-      w.plc.facets[k] = std::move(w.plc.facets[f]);
-      w.source[k] = w.source[f];
-    }
-    ++k;
-  }
-  w.plc.facets.resize(k);
-  w.source.resize(k);
+  if (dropped > 0) drop_facets(w, keep, regions, axis);
   report.inner_facets = dropped;
-  // Points that only dropped facets used go too; isolated points stay.
-  const std::vector<uint8_t> used = used_points(w.plc);
-  std::vector<VertexId> id(w.plc.points.size(), kNone);
-  std::vector<Vec3> kept;
-  for (VertexId v = 0; v < w.plc.points.size(); ++v) {
-    if (used_before[v] && !used[v]) continue;
-    id[v] = static_cast<VertexId>(kept.size());
-    kept.push_back(w.plc.points[v]);
-  }
-  if (kept.size() != w.plc.points.size()) {
-    w.plc.points = std::move(kept);
-    renumber_vertices(w.plc, id);
-  }
+  report.parts = parts;
+  report.facet_regions = std::move(regions);
+  report.facet_axis = std::move(axis);
   return Status::success();
+}
+
+std::vector<uint32_t> connected_parts(const Work& w, size_t input_facets) {
+  const size_t nf = w.plc.facets.size();
+  std::vector<uint32_t> root(nf);
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](uint32_t x) {
+    while (root[x] != x) x = root[x] = root[root[x]];
+    return x;
+  };
+  auto join = [&](uint32_t a, uint32_t b) {
+    a = find(a), b = find(b);
+    if (a != b) root[std::max(a, b)] = std::min(a, b);
+  };
+  std::vector<std::pair<uint64_t, uint32_t>> edges;
+  for (uint32_t f = 0; f < nf; ++f)
+    for (const auto& loop : w.plc.facets[f].loops)
+      for (size_t i = 0; i < loop.size(); ++i) edges.push_back({edge_key(loop[i], loop[(i + 1) % loop.size()]), f});
+  std::sort(edges.begin(), edges.end());
+  for (size_t i = 1; i < edges.size(); ++i)
+    if (edges[i].first == edges[i - 1].first) join(edges[i - 1].second, edges[i].second);
+  // Pieces of one input facet (a loop cut where it came back to a vertex
+  // meets itself at a point only) are one part.
+  std::vector<uint32_t> first_piece(input_facets, kNone);
+  for (uint32_t f = 0; f < nf; ++f) {
+    uint32_t& first = first_piece[w.source[f]];
+    if (first == kNone) first = f;
+    else join(first, f);
+  }
+  // Numbered in order of their smallest input facet.
+  std::vector<uint32_t> number(nf, kNone), part_of_input(input_facets, kNone);
+  uint32_t parts = 0;
+  for (size_t s = 0; s < input_facets; ++s) {
+    if (first_piece[s] == kNone) continue;
+    const uint32_t r = find(first_piece[s]);
+    if (number[r] == kNone) number[r] = parts++;
+    part_of_input[s] = number[r];
+  }
+  return part_of_input;
+}
+
+void label_part_regions(const RepairReport& report, Result& result) {
+  TetMeshData& m = result.mesh;
+  const size_t nt = m.tets.size() / 4;
+  if (report.facet_regions.empty() || !result.status.ok() || nt == 0) return;
+  std::unordered_map<std::array<VertexId, 3>, uint32_t, TripleHash> facet_of;
+  facet_of.reserve(result.face_facet.size());
+  for (size_t i = 0; i < result.face_facet.size() && 3 * i + 2 < m.faces.size(); ++i) {
+    if (result.face_facet[i] >= report.facet_regions.size()) continue;
+    std::array<VertexId, 3> k = {m.faces[3 * i], m.faces[3 * i + 1], m.faces[3 * i + 2]};
+    std::sort(k.begin(), k.end());
+    facet_of.emplace(k, result.face_facet[i]);
+  }
+  // The tets of one region of tetrahedralize() (connected across faces that
+  // are no constraints) share an attribute, and lie on one side of every
+  // facet they touch: one face per region tells its part set.
+  const bool attributed = m.tet_attributes.size() == nt;
+  auto old = [&](size_t t) { return attributed ? m.tet_attributes[t] : 0.0; };
+  std::map<double, int32_t> to;
+  std::vector<double> distinct(attributed ? m.tet_attributes : std::vector<double>{0.0});
+  std::sort(distinct.begin(), distinct.end());
+  const size_t regions = size_t(std::unique(distinct.begin(), distinct.end()) - distinct.begin());
+  auto pt = [&](uint32_t v) { return &m.points[3 * size_t(v)]; };
+  for (size_t t = 0; t < nt && to.size() < regions; ++t) {
+    if (to.count(old(t))) continue;
+    const uint32_t* tv = &m.tets[4 * t];
+    for (int i = 0; i < 4; ++i) {
+      uint32_t abc[3];
+      for (int j = 0, n = 0; j < 4; ++j)
+        if (j != i) abc[n++] = tv[j];
+      std::array<VertexId, 3> key = {abc[0], abc[1], abc[2]};
+      std::sort(key.begin(), key.end());
+      const auto it = facet_of.find(key);
+      if (it == facet_of.end()) continue;
+      const int axis = report.facet_axis[it->second];
+      // The sign of the face's normal along the axis (the facet's normal is
+      // largest there, so it is not 0), and the apex's side of the face.
+      const int along = pred::orient2d_projected(pt(abc[0]), pt(abc[1]), pt(abc[2]), axis);
+      const int side = pred::orient3d(pt(abc[0]), pt(abc[1]), pt(abc[2]), pt(tv[i]));
+      if (along == 0 || side == 0) continue;
+      // orient3d < 0: the apex lies where the face's normal points.
+      const int32_t region = report.facet_regions[it->second][along * side < 0 ? 0 : 1];
+      if (region < 0) continue;
+      to.emplace(old(t), region);
+      break;
+    }
+  }
+  m.tet_attributes.resize(nt);
+  for (size_t t = 0; t < nt; ++t) {
+    const auto it = to.find(old(t));
+    m.tet_attributes[t] = it == to.end() ? 0.0 : double(it->second);
+  }
 }
 
 }  // namespace repair_steps
