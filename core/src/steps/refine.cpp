@@ -348,6 +348,9 @@ class Refiner {
     bool crowded_ = false;
   };
   BoundaryEdges bnd_edges_;
+  static void add_face_edges(BoundaryEdges& table, const std::array<VertexId, 3>& f) {
+    for (int k = 0; k < 3; ++k) table.add(edge_key(f[k], f[(k + 1) % 3]), 0);
+  }
   std::vector<TetId> ring_;
   Subface split_face_{};             // what check_constraints asks to split
   VertexId split_a_ = kNone, split_b_ = kNone;
@@ -362,9 +365,12 @@ class Refiner {
   // last sweep, for the first try at each bad tet left (run()).
   bool take_in_ = false;
   std::vector<TetId> taken_;                         // shrink_to_star's scratch
-  std::vector<std::array<VertexId, 3>> ball_faces_;  // cavity_is_ball's scratch
-  std::vector<uint64_t> ball_edges_;
-  std::vector<VertexId> ball_vertices_;
+  // cavity_is_ball's scratch: the open faces, the edges with them, and
+  // its vertices marked (ball_mark_[v] == ball_stamp_).
+  std::vector<std::array<VertexId, 3>> ball_faces_;
+  BoundaryEdges ball_edges_;
+  std::vector<uint32_t> ball_mark_;
+  uint32_t ball_stamp_ = 0;
   double scale_factor_ = kScaleFactor;                // the scale floor's factor now
   struct SideRec {
     uint64_t key;
@@ -745,34 +751,43 @@ bool Refiner::shrink_to_star(const double* p, size_t seeds) {
 // shrink_to_star changed or that have an edge in more than two boundary
 // faces let an invalid mesh through on plate_holes_binary.stl.)
 bool Refiner::cavity_is_ball() {
-  // The cavity's faces towards the rest of the mesh, and the open faces it
-  // splits (a point on the domain's boundary): together a sphere.
-  std::vector<std::array<VertexId, 3>>& faces = ball_faces_;
-  faces.clear();
-  for (const BoundaryFace& f : bnd_) faces.push_back({f.a, f.b, f.c});
+  // The cavity's faces towards the rest of the mesh (bnd_, whose edges
+  // collect_boundary() counted in bnd_edges_) and the open faces it splits
+  // (a point on the domain's boundary): together a sphere. Each edge must
+  // lie in exactly two of them; counted in hash tables, not by sorting, as
+  // every insertion with the pass on checks its cavity.
+  std::vector<std::array<VertexId, 3>>& open = ball_faces_;
+  open.clear();
   for (TetId t : cav_)
     for (int i = 0; i < 4; ++i) {
       const HalfFace hf = make_hf(t, i);
-      if (m_.adjacent(hf) == kNoHalfFace && removed(hf)) faces.push_back(face_of(hf));
+      if (m_.adjacent(hf) == kNoHalfFace && removed(hf)) open.push_back(face_of(hf));
     }
-  std::vector<uint64_t>& edges = ball_edges_;
-  std::vector<VertexId>& on = ball_vertices_;
-  edges.clear(), on.clear();
-  for (const auto& f : faces)
-    for (int k = 0; k < 3; ++k) edges.push_back(edge_key(f[k], f[(k + 1) % 3])), on.push_back(f[k]);
-  std::sort(edges.begin(), edges.end());
-  for (size_t i = 0; i < edges.size(); i += 2)
-    if (i + 1 >= edges.size() || edges[i] != edges[i + 1] ||
-        (i + 2 < edges.size() && edges[i + 2] == edges[i]))
-      return false;
-  std::sort(on.begin(), on.end());
-  on.erase(std::unique(on.begin(), on.end()), on.end());
+  const BoundaryEdges* edges = &bnd_edges_;
+  if (!open.empty()) {  // bnd_edges_ lacks the open faces' edges: a second table holds all
+    ball_edges_.reset(3 * (bnd_.size() + open.size()));
+    for (const BoundaryFace& f : bnd_) add_face_edges(ball_edges_, {f.a, f.b, f.c});
+    for (const auto& f : open) add_face_edges(ball_edges_, f);
+    edges = &ball_edges_;
+  }
+  if (edges->crowded()) return false;
+  for (uint32_t u : edges->used())
+    if (edges->slot(u).count != 2) return false;
+  // The vertices of those faces, each marked once.
+  if (++ball_stamp_ == 0) ball_mark_.assign(ball_mark_.size(), 0), ball_stamp_ = 1;
+  if (ball_mark_.size() < m_.num_vertices()) ball_mark_.resize(m_.num_vertices(), 0);
+  size_t vertices = 0;
+  auto mark = [&](VertexId v) {
+    if (ball_mark_[v] != ball_stamp_) ball_mark_[v] = ball_stamp_, ++vertices;
+  };
+  for (const BoundaryFace& f : bnd_) mark(f.a), mark(f.b), mark(f.c);
+  for (const auto& f : open) mark(f[0]), mark(f[1]), mark(f[2]);
   // Euler's formula of a sphere: V - E + F = 2.
-  if (on.size() + faces.size() != edges.size() / 2 + 2) return false;
+  if (vertices + bnd_.size() + open.size() != edges->used().size() + 2) return false;
   for (TetId t : cav_) {
     const VertexId* tv = m_.tet_vertices(t);
     for (int i = 0; i < 4; ++i) {
-      if (!std::binary_search(on.begin(), on.end(), tv[i])) return false;
+      if (ball_mark_[tv[i]] != ball_stamp_) return false;
       const HalfFace hf = make_hf(t, i);
       const HalfFace nb = m_.adjacent(hf);
       if (tag(hf) != kNoTag && !removed(hf) && nb != kNoHalfFace &&
