@@ -254,6 +254,7 @@ class Refiner {
   bool cone_face_fails(const BoundaryFace& f, VertexId third, const double* p) const;
   bool name_cone_fault(const BoundaryFace& f, const BoundaryFace& g);
   void clear_cavity();
+  void glue_cone(const TetId* cone);
   VertexId commit(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb,
                   double scale);
   bool insert(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb,
@@ -998,38 +999,39 @@ void Refiner::clear_cavity() {
   removed_.clear();
 }
 
-// Replaces the cavity by the cone of its boundary to the new vertex.
-VertexId Refiner::commit(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb,
-                         double scale) {
-  const VertexId v = new_vertex(p, where, parent);
-  if (scale_.size() <= v) scale_.resize(v + 1, HUGE_VAL);
-  scale_[v] = scale;
-  ++commits_;
-  touched_.resize(m_.num_vertices(), 0);
-  for (const BoundaryFace& f : bnd_) touched_[f.a] = touched_[f.b] = touched_[f.c] = commits_;
-  touched_[v] = commits_;
-  for (TetId t : cav_) m_.free_tet(t);
-  cav_.clear();
+// The faces through the new vertex of the cone's tets (cone[i] on bnd_[i]),
+// glued in pairs by the boundary edge they hold, and the new subfaces (the
+// new vertex with each rim edge) tagged. Boundary edge k of face i, (v_k,
+// v_k+1) of (a, b, c), is opposite vertex (k + 2) % 3 in its tet (a, b, c,
+// new). bnd_edges_ pairs the faces when no edge lies in more than two
+// boundary faces (collect_boundary), without sorting; else they are sorted.
+void Refiner::glue_cone(const TetId* cone) {
+  auto side_hf = [&](uint32_t side) { return make_hf(cone[side / 3], static_cast<int>((side % 3 + 2) % 3)); };
+  if (!bnd_edges_.crowded()) {
+    for (uint32_t u : bnd_edges_.used()) {
+      const BoundaryEdges::Slot& e = bnd_edges_.slot(u);
+      if (e.count == 2)
+        m_.glue(side_hf(e.side[0]), side_hf(e.side[1]));
+      else
+        m_.open_face(side_hf(e.side[0]));
+    }
+    for (const auto& e : rim_) {
+      const BoundaryEdges::Slot* s = bnd_edges_.find(e.first);
+      if (!s) continue;
+      for (uint32_t k = 0; k < s->count; ++k) hfc_[side_hf(s->side[k])] = e.second;
+    }
+    return;
+  }
   struct Pending {
     uint64_t key;
     HalfFace hf;
   };
   std::vector<Pending> pending;
   pending.reserve(3 * bnd_.size());
-  for (const BoundaryFace& f : bnd_) {
-    const TetId t = new_tet();
-    m_.set_tet(t, f.a, f.b, f.c, v);
-    attr_[t] = f.attr;
-    const HalfFace base = make_hf(t, 3);
-    hfc_[base] = f.tag;
-    if (f.outside != kNoHalfFace)
-      m_.glue(base, f.outside);
-    else
-      m_.open_face(base);
-    const VertexId abc[3] = {f.a, f.b, f.c};
-    for (int i = 0; i < 3; ++i)
-      pending.push_back({edge_key(abc[(i + 1) % 3], abc[(i + 2) % 3]), make_hf(t, i)});
-    queue_.push_back(t);
+  for (size_t i = 0; i < bnd_.size(); ++i) {
+    const VertexId abc[3] = {bnd_[i].a, bnd_[i].b, bnd_[i].c};
+    for (int k = 0; k < 3; ++k)
+      pending.push_back({edge_key(abc[(k + 1) % 3], abc[(k + 2) % 3]), make_hf(cone[i], k)});
   }
   std::sort(pending.begin(), pending.end(),
             [](const Pending& x, const Pending& y) { return x.key < y.key; });
@@ -1042,12 +1044,38 @@ VertexId Refiner::commit(const double* p, Where where, int64_t parent, VertexId 
       ++i;
     }
   }
-  // The new subfaces: p with each rim edge of the split region.
   for (const auto& e : rim_) {
     auto it = std::lower_bound(pending.begin(), pending.end(), e.first,
                                [](const Pending& a, uint64_t k2) { return a.key < k2; });
     for (; it != pending.end() && it->key == e.first; ++it) hfc_[it->hf] = e.second;
   }
+}
+
+// Replaces the cavity by the cone of its boundary to the new vertex.
+VertexId Refiner::commit(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb,
+                         double scale) {
+  const VertexId v = new_vertex(p, where, parent);
+  if (scale_.size() <= v) scale_.resize(v + 1, HUGE_VAL);
+  scale_[v] = scale;
+  ++commits_;
+  touched_.resize(m_.num_vertices(), 0);
+  for (const BoundaryFace& f : bnd_) touched_[f.a] = touched_[f.b] = touched_[f.c] = commits_;
+  touched_[v] = commits_;
+  for (TetId t : cav_) m_.free_tet(t);
+  cav_.clear();
+  for (const BoundaryFace& f : bnd_) {
+    const TetId t = new_tet();
+    m_.set_tet(t, f.a, f.b, f.c, v);
+    attr_[t] = f.attr;
+    const HalfFace base = make_hf(t, 3);
+    hfc_[base] = f.tag;
+    if (f.outside != kNoHalfFace)
+      m_.glue(base, f.outside);
+    else
+      m_.open_face(base);
+    queue_.push_back(t);
+  }
+  glue_cone(queue_.data() + (queue_.size() - bnd_.size()));
   for (size_t i = queue_.size() - bnd_.size(); i < queue_.size(); ++i) {
     const TetId t = queue_[i];
     for (int k = 0; k < 4; ++k) m_.set_vertex_tet(m_.vertex(t, k), t);
