@@ -136,6 +136,10 @@ constexpr double kRefineShare = 0.8;
 // Delaunay splits that face first, and so on to this depth.
 constexpr int kMaxSplitDepth = 6;
 
+// flip_to_delaunay's mark of a tet whose four faces it found locally
+// Delaunay (the first tet flag after kTetUser, which run() uses).
+constexpr uint8_t kTetFlipClean = kTetUser << 1;
+
 // Bound on the tets a walk or an edge rotation visits before giving up (a
 // broken mesh; never reached on a valid one).
 constexpr size_t kMaxWalk = 1u << 20;
@@ -157,9 +161,15 @@ TetShape tet_shape(const double* p0, const double* p1, const double* p2, const d
   s.center[0] = o.x, s.center[1] = o.y, s.center[2] = o.z;
   s.radius = finite(o) ? dist(o, a) : HUGE_VAL;
   const double* p[4] = {p0, p1, p2, p3};
-  s.shortest = HUGE_VAL;
+  // One square root: it is monotonic and correctly rounded, so the root of
+  // the smallest square is the smallest root (every tet popped is tested).
+  double shortest2 = HUGE_VAL;
   for (int i = 0; i < 4; ++i)
-    for (int j = i + 1; j < 4; ++j) s.shortest = std::min(s.shortest, dist(to_vec(p[i]), to_vec(p[j])));
+    for (int j = i + 1; j < 4; ++j) {
+      const Vec3 d = to_vec(p[i]) - to_vec(p[j]);
+      shortest2 = std::min(shortest2, dot(d, d));
+    }
+  s.shortest = std::sqrt(shortest2);
   return s;
 }
 
@@ -241,6 +251,7 @@ class Refiner {
   void split_encroached();
   // --- Lawson flips after an insertion that may leave faces not locally Delaunay ---
   void flip_to_delaunay();
+  void note_delaunay_face(TetId t, int k, TetId& run, int& run_faces);
   bool not_delaunay(HalfFace hf) const;
   bool flip23(HalfFace hf);
   bool flip32(HalfFace hf);
@@ -361,6 +372,7 @@ class Refiner {
   bool unconditional_splits_ = false;
   std::vector<std::array<VertexId, 3>> encroached_;  // subfaces left encroached (shrink_to_star)
   std::vector<HalfFace> flip_queue_;                  // faces to check (flip_to_delaunay)
+  std::vector<TetId> flip_clean_;                     // the tets it marked kTetFlipClean
   std::vector<TetId> created_;                        // replace_tets' new tets
   // shrink_to_star may take tets beyond a seed into the cavity: in the
   // last sweep, for the first try at each bad tet left (run()).
@@ -820,6 +832,11 @@ bool Refiner::not_delaunay(HalfFace hf) const {
 bool Refiner::replace_tets(const std::vector<TetId>& old,
                            const std::vector<std::array<VertexId, 4>>& fresh) {
   if (!cm_.replace_region(old, fresh, created_)) return false;
+  for (TetId t : created_)  // their neighbours' faces now face new tets (flip_to_delaunay)
+    for (int i = 0; i < 4; ++i) {
+      const HalfFace nb = m_.adjacent(make_hf(t, i));
+      if (nb != kNoHalfFace) m_.tflag[hf_tet(nb)] &= static_cast<uint8_t>(~kTetFlipClean);
+    }
   ++commits_;
   touched_.resize(m_.num_vertices(), 0);
   for (TetId t : created_) {
@@ -884,15 +901,53 @@ bool Refiner::flip32(HalfFace hf) {
 
 // Lawson's flips on the faces in flip_queue_ until each is locally
 // Delaunay or cannot be flipped (3D flips can get stuck; what is left is
-// counted at the end of refinement).
+// counted at the end of refinement). The queue holds each face from both
+// sides (its tets' four faces each, pushed k = 0..3 and so popped 3..0); a
+// tet whose four faces were all found locally Delaunay is marked
+// (kTetFlipClean), and its faces are not tested again from the other side:
+// for two positive tets the test from either side is the same lifted
+// determinant. A flip unmarks the tets beside the tets it makes (their
+// neighbours changed); the marks go at the end.
 void Refiner::flip_to_delaunay() {
+  TetId run = kNone;  // the tet whose faces were popped last, all locally Delaunay
+  int run_faces = 0;
   for (size_t n = 0; !flip_queue_.empty() && n < kMaxWalk; ++n) {
     const HalfFace hf = flip_queue_.back();
     flip_queue_.pop_back();
-    if (m_.is_dead(hf_tet(hf)) || !not_delaunay(hf)) continue;
+    const TetId t = hf_tet(hf);
+    if (m_.is_dead(t)) {
+      run = kNone;
+      continue;
+    }
+    const HalfFace nb = m_.adjacent(hf);
+    if ((nb != kNoHalfFace && (m_.tflag[hf_tet(nb)] & kTetFlipClean)) || !not_delaunay(hf)) {
+      note_delaunay_face(t, static_cast<int>(hf & 3u), run, run_faces);
+      continue;
+    }
+    run = kNone;
     if (!flip23(hf)) flip32(hf);
   }
   flip_queue_.clear();
+  for (TetId t : flip_clean_) m_.tflag[t] &= static_cast<uint8_t>(~kTetFlipClean);
+  flip_clean_.clear();
+}
+
+// Face k of tet t was found locally Delaunay: after faces 3, 2, 1, 0 of
+// one tet in a row (the order flip_to_delaunay pops them in), t is marked.
+void Refiner::note_delaunay_face(TetId t, int k, TetId& run, int& run_faces) {
+  if (k == 3) {
+    run = t, run_faces = 1;
+    return;
+  }
+  if (run != t || k != 3 - run_faces) {
+    run = kNone;
+    return;
+  }
+  if (++run_faces == 4) {
+    m_.tflag[t] |= kTetFlipClean;
+    flip_clean_.push_back(t);
+    run = kNone;
+  }
 }
 
 // The boundary edges of the split subfaces' region, per facet (edges in
@@ -1517,16 +1572,13 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
   res_.stats.refine_skipped = left;
   // Unconditional splits may leave faces that are not locally Delaunay where
   // flips got stuck: one more round over the whole mesh, and the result is
-  // not called Delaunay if any is left.
+  // not called Delaunay if any is left (checked after the improvement pass,
+  // which makes it not Delaunay by any change, and then the check is moot).
   if (unconditional_splits_) {
     for (TetId t = 0; t < m_.num_tet_slots(); ++t)
       if (!m_.is_dead(t))
         for (int k = 0; k < 4; ++k) flip_queue_.push_back(make_hf(t, k));
     flip_to_delaunay();
-    for (TetId t = 0; t < m_.num_tet_slots() && res_.delaunay; ++t)
-      if (!m_.is_dead(t))
-        for (int k = 0; k < 4; ++k)
-          if (not_delaunay(make_hf(t, k))) res_.delaunay = false;
   }
 
   if (q_.min_dihedral > 0) {
@@ -1540,6 +1592,11 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
     res_.stats.improve_points = counts.inserts;
     if (counts.flips + counts.smooths + counts.inserts > 0) res_.delaunay = false;
   }
+  if (unconditional_splits_)
+    for (TetId t = 0; t < m_.num_tet_slots() && res_.delaunay; ++t)
+      if (!m_.is_dead(t))
+        for (int k = 0; k < 4; ++k)
+          if (not_delaunay(make_hf(t, k))) res_.delaunay = false;
 
   cm_.write(plc_, res_);
   return Status::success();
