@@ -334,6 +334,7 @@ bool Improver::smooth(VertexId v) {
   if (v < smooth_failed_.size() && smooth_failed_[v] != kNever && v < touched_.size() &&
       touched_[v] <= smooth_failed_[v])
     return false;
+  if (cm_.where[v] != Where::Volume) return false;  // free_vertex's first test, before the star
   m_.vertex_star(v, star_);
   if (!free_vertex(v, star_)) return false;
   const Vec3 home = to_vec(cm_.pt(v));

@@ -136,6 +136,10 @@ constexpr double kRefineShare = 0.8;
 // Delaunay splits that face first, and so on to this depth.
 constexpr int kMaxSplitDepth = 6;
 
+// flip_to_delaunay's mark of a tet whose four faces it found locally
+// Delaunay (the first tet flag after kTetUser, which run() uses).
+constexpr uint8_t kTetFlipClean = kTetUser << 1;
+
 // Bound on the tets a walk or an edge rotation visits before giving up (a
 // broken mesh; never reached on a valid one).
 constexpr size_t kMaxWalk = 1u << 20;
@@ -157,9 +161,15 @@ TetShape tet_shape(const double* p0, const double* p1, const double* p2, const d
   s.center[0] = o.x, s.center[1] = o.y, s.center[2] = o.z;
   s.radius = finite(o) ? dist(o, a) : HUGE_VAL;
   const double* p[4] = {p0, p1, p2, p3};
-  s.shortest = HUGE_VAL;
+  // One square root: it is monotonic and correctly rounded, so the root of
+  // the smallest square is the smallest root (every tet popped is tested).
+  double shortest2 = HUGE_VAL;
   for (int i = 0; i < 4; ++i)
-    for (int j = i + 1; j < 4; ++j) s.shortest = std::min(s.shortest, dist(to_vec(p[i]), to_vec(p[j])));
+    for (int j = i + 1; j < 4; ++j) {
+      const Vec3 d = to_vec(p[i]) - to_vec(p[j]);
+      shortest2 = std::min(shortest2, dot(d, d));
+    }
+  s.shortest = std::sqrt(shortest2);
   return s;
 }
 
@@ -241,6 +251,7 @@ class Refiner {
   void split_encroached();
   // --- Lawson flips after an insertion that may leave faces not locally Delaunay ---
   void flip_to_delaunay();
+  void note_delaunay_face(TetId t, int k, TetId& run, int& run_faces);
   bool not_delaunay(HalfFace hf) const;
   bool flip23(HalfFace hf);
   bool flip32(HalfFace hf);
@@ -254,6 +265,7 @@ class Refiner {
   bool cone_face_fails(const BoundaryFace& f, VertexId third, const double* p) const;
   bool name_cone_fault(const BoundaryFace& f, const BoundaryFace& g);
   void clear_cavity();
+  void glue_cone(const TetId* cone);
   VertexId commit(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb,
                   double scale);
   bool insert(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb,
@@ -348,6 +360,9 @@ class Refiner {
     bool crowded_ = false;
   };
   BoundaryEdges bnd_edges_;
+  static void add_face_edges(BoundaryEdges& table, const std::array<VertexId, 3>& f) {
+    for (int k = 0; k < 3; ++k) table.add(edge_key(f[k], f[(k + 1) % 3]), 0);
+  }
   std::vector<TetId> ring_;
   Subface split_face_{};             // what check_constraints asks to split
   VertexId split_a_ = kNone, split_b_ = kNone;
@@ -357,14 +372,18 @@ class Refiner {
   bool unconditional_splits_ = false;
   std::vector<std::array<VertexId, 3>> encroached_;  // subfaces left encroached (shrink_to_star)
   std::vector<HalfFace> flip_queue_;                  // faces to check (flip_to_delaunay)
+  std::vector<TetId> flip_clean_;                     // the tets it marked kTetFlipClean
   std::vector<TetId> created_;                        // replace_tets' new tets
   // shrink_to_star may take tets beyond a seed into the cavity: in the
   // last sweep, for the first try at each bad tet left (run()).
   bool take_in_ = false;
   std::vector<TetId> taken_;                         // shrink_to_star's scratch
-  std::vector<std::array<VertexId, 3>> ball_faces_;  // cavity_is_ball's scratch
-  std::vector<uint64_t> ball_edges_;
-  std::vector<VertexId> ball_vertices_;
+  // cavity_is_ball's scratch: the open faces, the edges with them, and
+  // its vertices marked (ball_mark_[v] == ball_stamp_).
+  std::vector<std::array<VertexId, 3>> ball_faces_;
+  BoundaryEdges ball_edges_;
+  std::vector<uint32_t> ball_mark_;
+  uint32_t ball_stamp_ = 0;
   double scale_factor_ = kScaleFactor;                // the scale floor's factor now
   struct SideRec {
     uint64_t key;
@@ -745,34 +764,43 @@ bool Refiner::shrink_to_star(const double* p, size_t seeds) {
 // shrink_to_star changed or that have an edge in more than two boundary
 // faces let an invalid mesh through on plate_holes_binary.stl.)
 bool Refiner::cavity_is_ball() {
-  // The cavity's faces towards the rest of the mesh, and the open faces it
-  // splits (a point on the domain's boundary): together a sphere.
-  std::vector<std::array<VertexId, 3>>& faces = ball_faces_;
-  faces.clear();
-  for (const BoundaryFace& f : bnd_) faces.push_back({f.a, f.b, f.c});
+  // The cavity's faces towards the rest of the mesh (bnd_, whose edges
+  // collect_boundary() counted in bnd_edges_) and the open faces it splits
+  // (a point on the domain's boundary): together a sphere. Each edge must
+  // lie in exactly two of them; counted in hash tables, not by sorting, as
+  // every insertion with the pass on checks its cavity.
+  std::vector<std::array<VertexId, 3>>& open = ball_faces_;
+  open.clear();
   for (TetId t : cav_)
     for (int i = 0; i < 4; ++i) {
       const HalfFace hf = make_hf(t, i);
-      if (m_.adjacent(hf) == kNoHalfFace && removed(hf)) faces.push_back(face_of(hf));
+      if (m_.adjacent(hf) == kNoHalfFace && removed(hf)) open.push_back(face_of(hf));
     }
-  std::vector<uint64_t>& edges = ball_edges_;
-  std::vector<VertexId>& on = ball_vertices_;
-  edges.clear(), on.clear();
-  for (const auto& f : faces)
-    for (int k = 0; k < 3; ++k) edges.push_back(edge_key(f[k], f[(k + 1) % 3])), on.push_back(f[k]);
-  std::sort(edges.begin(), edges.end());
-  for (size_t i = 0; i < edges.size(); i += 2)
-    if (i + 1 >= edges.size() || edges[i] != edges[i + 1] ||
-        (i + 2 < edges.size() && edges[i + 2] == edges[i]))
-      return false;
-  std::sort(on.begin(), on.end());
-  on.erase(std::unique(on.begin(), on.end()), on.end());
+  const BoundaryEdges* edges = &bnd_edges_;
+  if (!open.empty()) {  // bnd_edges_ lacks the open faces' edges: a second table holds all
+    ball_edges_.reset(3 * (bnd_.size() + open.size()));
+    for (const BoundaryFace& f : bnd_) add_face_edges(ball_edges_, {f.a, f.b, f.c});
+    for (const auto& f : open) add_face_edges(ball_edges_, f);
+    edges = &ball_edges_;
+  }
+  if (edges->crowded()) return false;
+  for (uint32_t u : edges->used())
+    if (edges->slot(u).count != 2) return false;
+  // The vertices of those faces, each marked once.
+  if (++ball_stamp_ == 0) ball_mark_.assign(ball_mark_.size(), 0), ball_stamp_ = 1;
+  if (ball_mark_.size() < m_.num_vertices()) ball_mark_.resize(m_.num_vertices(), 0);
+  size_t vertices = 0;
+  auto mark = [&](VertexId v) {
+    if (ball_mark_[v] != ball_stamp_) ball_mark_[v] = ball_stamp_, ++vertices;
+  };
+  for (const BoundaryFace& f : bnd_) mark(f.a), mark(f.b), mark(f.c);
+  for (const auto& f : open) mark(f[0]), mark(f[1]), mark(f[2]);
   // Euler's formula of a sphere: V - E + F = 2.
-  if (on.size() + faces.size() != edges.size() / 2 + 2) return false;
+  if (vertices + bnd_.size() + open.size() != edges->used().size() + 2) return false;
   for (TetId t : cav_) {
     const VertexId* tv = m_.tet_vertices(t);
     for (int i = 0; i < 4; ++i) {
-      if (!std::binary_search(on.begin(), on.end(), tv[i])) return false;
+      if (ball_mark_[tv[i]] != ball_stamp_) return false;
       const HalfFace hf = make_hf(t, i);
       const HalfFace nb = m_.adjacent(hf);
       if (tag(hf) != kNoTag && !removed(hf) && nb != kNoHalfFace &&
@@ -804,6 +832,11 @@ bool Refiner::not_delaunay(HalfFace hf) const {
 bool Refiner::replace_tets(const std::vector<TetId>& old,
                            const std::vector<std::array<VertexId, 4>>& fresh) {
   if (!cm_.replace_region(old, fresh, created_)) return false;
+  for (TetId t : created_)  // their neighbours' faces now face new tets (flip_to_delaunay)
+    for (int i = 0; i < 4; ++i) {
+      const HalfFace nb = m_.adjacent(make_hf(t, i));
+      if (nb != kNoHalfFace) m_.tflag[hf_tet(nb)] &= static_cast<uint8_t>(~kTetFlipClean);
+    }
   ++commits_;
   touched_.resize(m_.num_vertices(), 0);
   for (TetId t : created_) {
@@ -868,15 +901,53 @@ bool Refiner::flip32(HalfFace hf) {
 
 // Lawson's flips on the faces in flip_queue_ until each is locally
 // Delaunay or cannot be flipped (3D flips can get stuck; what is left is
-// counted at the end of refinement).
+// counted at the end of refinement). The queue holds each face from both
+// sides (its tets' four faces each, pushed k = 0..3 and so popped 3..0); a
+// tet whose four faces were all found locally Delaunay is marked
+// (kTetFlipClean), and its faces are not tested again from the other side:
+// for two positive tets the test from either side is the same lifted
+// determinant. A flip unmarks the tets beside the tets it makes (their
+// neighbours changed); the marks go at the end.
 void Refiner::flip_to_delaunay() {
+  TetId run = kNone;  // the tet whose faces were popped last, all locally Delaunay
+  int run_faces = 0;
   for (size_t n = 0; !flip_queue_.empty() && n < kMaxWalk; ++n) {
     const HalfFace hf = flip_queue_.back();
     flip_queue_.pop_back();
-    if (m_.is_dead(hf_tet(hf)) || !not_delaunay(hf)) continue;
+    const TetId t = hf_tet(hf);
+    if (m_.is_dead(t)) {
+      run = kNone;
+      continue;
+    }
+    const HalfFace nb = m_.adjacent(hf);
+    if ((nb != kNoHalfFace && (m_.tflag[hf_tet(nb)] & kTetFlipClean)) || !not_delaunay(hf)) {
+      note_delaunay_face(t, static_cast<int>(hf & 3u), run, run_faces);
+      continue;
+    }
+    run = kNone;
     if (!flip23(hf)) flip32(hf);
   }
   flip_queue_.clear();
+  for (TetId t : flip_clean_) m_.tflag[t] &= static_cast<uint8_t>(~kTetFlipClean);
+  flip_clean_.clear();
+}
+
+// Face k of tet t was found locally Delaunay: after faces 3, 2, 1, 0 of
+// one tet in a row (the order flip_to_delaunay pops them in), t is marked.
+void Refiner::note_delaunay_face(TetId t, int k, TetId& run, int& run_faces) {
+  if (k == 3) {
+    run = t, run_faces = 1;
+    return;
+  }
+  if (run != t || k != 3 - run_faces) {
+    run = kNone;
+    return;
+  }
+  if (++run_faces == 4) {
+    m_.tflag[t] |= kTetFlipClean;
+    flip_clean_.push_back(t);
+    run = kNone;
+  }
 }
 
 // The boundary edges of the split subfaces' region, per facet (edges in
@@ -983,38 +1054,39 @@ void Refiner::clear_cavity() {
   removed_.clear();
 }
 
-// Replaces the cavity by the cone of its boundary to the new vertex.
-VertexId Refiner::commit(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb,
-                         double scale) {
-  const VertexId v = new_vertex(p, where, parent);
-  if (scale_.size() <= v) scale_.resize(v + 1, HUGE_VAL);
-  scale_[v] = scale;
-  ++commits_;
-  touched_.resize(m_.num_vertices(), 0);
-  for (const BoundaryFace& f : bnd_) touched_[f.a] = touched_[f.b] = touched_[f.c] = commits_;
-  touched_[v] = commits_;
-  for (TetId t : cav_) m_.free_tet(t);
-  cav_.clear();
+// The faces through the new vertex of the cone's tets (cone[i] on bnd_[i]),
+// glued in pairs by the boundary edge they hold, and the new subfaces (the
+// new vertex with each rim edge) tagged. Boundary edge k of face i, (v_k,
+// v_k+1) of (a, b, c), is opposite vertex (k + 2) % 3 in its tet (a, b, c,
+// new). bnd_edges_ pairs the faces when no edge lies in more than two
+// boundary faces (collect_boundary), without sorting; else they are sorted.
+void Refiner::glue_cone(const TetId* cone) {
+  auto side_hf = [&](uint32_t side) { return make_hf(cone[side / 3], static_cast<int>((side % 3 + 2) % 3)); };
+  if (!bnd_edges_.crowded()) {
+    for (uint32_t u : bnd_edges_.used()) {
+      const BoundaryEdges::Slot& e = bnd_edges_.slot(u);
+      if (e.count == 2)
+        m_.glue(side_hf(e.side[0]), side_hf(e.side[1]));
+      else
+        m_.open_face(side_hf(e.side[0]));
+    }
+    for (const auto& e : rim_) {
+      const BoundaryEdges::Slot* s = bnd_edges_.find(e.first);
+      if (!s) continue;
+      for (uint32_t k = 0; k < s->count; ++k) hfc_[side_hf(s->side[k])] = e.second;
+    }
+    return;
+  }
   struct Pending {
     uint64_t key;
     HalfFace hf;
   };
   std::vector<Pending> pending;
   pending.reserve(3 * bnd_.size());
-  for (const BoundaryFace& f : bnd_) {
-    const TetId t = new_tet();
-    m_.set_tet(t, f.a, f.b, f.c, v);
-    attr_[t] = f.attr;
-    const HalfFace base = make_hf(t, 3);
-    hfc_[base] = f.tag;
-    if (f.outside != kNoHalfFace)
-      m_.glue(base, f.outside);
-    else
-      m_.open_face(base);
-    const VertexId abc[3] = {f.a, f.b, f.c};
-    for (int i = 0; i < 3; ++i)
-      pending.push_back({edge_key(abc[(i + 1) % 3], abc[(i + 2) % 3]), make_hf(t, i)});
-    queue_.push_back(t);
+  for (size_t i = 0; i < bnd_.size(); ++i) {
+    const VertexId abc[3] = {bnd_[i].a, bnd_[i].b, bnd_[i].c};
+    for (int k = 0; k < 3; ++k)
+      pending.push_back({edge_key(abc[(k + 1) % 3], abc[(k + 2) % 3]), make_hf(cone[i], k)});
   }
   std::sort(pending.begin(), pending.end(),
             [](const Pending& x, const Pending& y) { return x.key < y.key; });
@@ -1027,12 +1099,38 @@ VertexId Refiner::commit(const double* p, Where where, int64_t parent, VertexId 
       ++i;
     }
   }
-  // The new subfaces: p with each rim edge of the split region.
   for (const auto& e : rim_) {
     auto it = std::lower_bound(pending.begin(), pending.end(), e.first,
                                [](const Pending& a, uint64_t k2) { return a.key < k2; });
     for (; it != pending.end() && it->key == e.first; ++it) hfc_[it->hf] = e.second;
   }
+}
+
+// Replaces the cavity by the cone of its boundary to the new vertex.
+VertexId Refiner::commit(const double* p, Where where, int64_t parent, VertexId sa, VertexId sb,
+                         double scale) {
+  const VertexId v = new_vertex(p, where, parent);
+  if (scale_.size() <= v) scale_.resize(v + 1, HUGE_VAL);
+  scale_[v] = scale;
+  ++commits_;
+  touched_.resize(m_.num_vertices(), 0);
+  for (const BoundaryFace& f : bnd_) touched_[f.a] = touched_[f.b] = touched_[f.c] = commits_;
+  touched_[v] = commits_;
+  for (TetId t : cav_) m_.free_tet(t);
+  cav_.clear();
+  for (const BoundaryFace& f : bnd_) {
+    const TetId t = new_tet();
+    m_.set_tet(t, f.a, f.b, f.c, v);
+    attr_[t] = f.attr;
+    const HalfFace base = make_hf(t, 3);
+    hfc_[base] = f.tag;
+    if (f.outside != kNoHalfFace)
+      m_.glue(base, f.outside);
+    else
+      m_.open_face(base);
+    queue_.push_back(t);
+  }
+  glue_cone(queue_.data() + (queue_.size() - bnd_.size()));
   for (size_t i = queue_.size() - bnd_.size(); i < queue_.size(); ++i) {
     const TetId t = queue_[i];
     for (int k = 0; k < 4; ++k) m_.set_vertex_tet(m_.vertex(t, k), t);
@@ -1474,16 +1572,13 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
   res_.stats.refine_skipped = left;
   // Unconditional splits may leave faces that are not locally Delaunay where
   // flips got stuck: one more round over the whole mesh, and the result is
-  // not called Delaunay if any is left.
+  // not called Delaunay if any is left (checked after the improvement pass,
+  // which makes it not Delaunay by any change, and then the check is moot).
   if (unconditional_splits_) {
     for (TetId t = 0; t < m_.num_tet_slots(); ++t)
       if (!m_.is_dead(t))
         for (int k = 0; k < 4; ++k) flip_queue_.push_back(make_hf(t, k));
     flip_to_delaunay();
-    for (TetId t = 0; t < m_.num_tet_slots() && res_.delaunay; ++t)
-      if (!m_.is_dead(t))
-        for (int k = 0; k < 4; ++k)
-          if (not_delaunay(make_hf(t, k))) res_.delaunay = false;
   }
 
   if (q_.min_dihedral > 0) {
@@ -1497,6 +1592,11 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
     res_.stats.improve_points = counts.inserts;
     if (counts.flips + counts.smooths + counts.inserts > 0) res_.delaunay = false;
   }
+  if (unconditional_splits_)
+    for (TetId t = 0; t < m_.num_tet_slots() && res_.delaunay; ++t)
+      if (!m_.is_dead(t))
+        for (int k = 0; k < 4; ++k)
+          if (not_delaunay(make_hf(t, k))) res_.delaunay = false;
 
   cm_.write(plc_, res_);
   return Status::success();
