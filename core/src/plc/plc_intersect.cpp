@@ -459,13 +459,20 @@ class Checker {
                 uint64_t x) const {
     return std::binary_search(data.begin() + off[f], data.begin() + off[f + 1], x);
   }
+  // The one triangle of facet f when f is a plain triangle (one loop of
+  // three vertices, no holes), else null.
+  const Tri* plain_triangle(uint32_t f) const {
+    return first_tri_[f] == kNone ? nullptr : &tris_[first_tri_[f]];
+  }
   bool in_v(uint32_t f, uint32_t x) const {
-    return in_range(fv_off_, fv_, f, x) ||
+    const Tri* t = plain_triangle(f);
+    return (t ? vertex_of(*t, x) : in_range(fv_off_, fv_, f, x)) ||
            (!emb_v_.empty() &&
             std::binary_search(emb_v_.begin(), emb_v_.end(), std::make_pair(f, EdgeKey(x))));
   }
   bool in_e(uint32_t f, EdgeKey k) const {
-    return in_range(fe_off_, fe_, f, k) ||
+    const Tri* t = plain_triangle(f);
+    return (t ? edge_of(*t, k) : in_range(fe_off_, fe_, f, k)) ||
            (!emb_e_.empty() &&
             std::binary_search(emb_e_.begin(), emb_e_.end(), std::make_pair(f, k)));
   }
@@ -477,6 +484,11 @@ class Checker {
   bool vertex_of(const Tri& t, uint32_t x) const {
     return t.v[0] == x || t.v[1] == x || t.v[2] == x;
   }
+  static bool edge_of(const Tri& t, EdgeKey k) {
+    return edge_key(t.v[0], t.v[1]) == k || edge_key(t.v[1], t.v[2]) == k ||
+           edge_key(t.v[2], t.v[0]) == k;
+  }
+  std::array<int32_t, 3> lowest_cell(const Box& b) const;
 
   bool seg_tri_beyond(uint32_t ia, uint32_t ib, const Tri& t, uint32_t v) const;
   bool tri_tri_beyond(const Tri& t1, const Tri& t2, uint32_t v) const;
@@ -492,8 +504,11 @@ class Checker {
   Points P_;
   size_t limit_;
   std::vector<Tri> tris_;
-  // Per facet, sorted: loop vertices (fv_) and loop edges (fe_), CSR.
-  std::vector<uint32_t> fv_off_, fe_off_;
+  // Per facet, sorted: loop vertices (fv_) and loop edges (fe_), CSR; empty
+  // for a plain triangle, whose vertices and edges are those of its one
+  // triangle (first_tri_; kNone for other facets): on a triangle surface
+  // that spares 48 bytes a facet.
+  std::vector<uint32_t> fv_off_, fe_off_, first_tri_;
   std::vector<uint64_t> fv_, fe_;
   // Explicit segments lying inside facets: (segment, facet) and what they add
   // to V(F) and E(F) as (facet, id / key). Sorted.
@@ -501,7 +516,6 @@ class Checker {
   std::vector<std::pair<uint32_t, uint64_t>> emb_v_, emb_e_;
   // Primitives: triangles 0..T-1, then explicit segments.
   std::vector<Box> box_;
-  std::vector<std::array<int32_t, 6>> cells_;  ///< cell range per primitive: lo[3], hi[3]
   int32_t dims_[3] = {1, 1, 1};
   double origin_[3] = {0, 0, 0}, inv_ = 1;
   std::vector<uint32_t> cell_start_, cell_items_;
@@ -515,12 +529,15 @@ void Checker::build_triangles() {
   const size_t nf = plc_.facets.size();
   fv_off_.assign(nf + 1, 0);
   fe_off_.assign(nf + 1, 0);
+  first_tri_.assign(nf, kNone);
   std::vector<std::array<uint32_t, 3>> local;
   std::vector<uint64_t> scratch;
   for (size_t fi = 0; fi < nf; ++fi) {
     const Facet& f = plc_.facets[fi];
+    const bool plain = f.loops.size() == 1 && f.loops[0].size() == 3 && f.holes.empty();
     size_t v0 = fv_.size(), e0 = fe_.size();
     for (const auto& loop : f.loops) {
+      if (plain) break;
       for (size_t i = 0; i < loop.size(); ++i) {
         fv_.push_back(loop[i]);
         fe_.push_back(edge_key(loop[i], loop[(i + 1) % loop.size()]));
@@ -535,7 +552,8 @@ void Checker::build_triangles() {
     if (f.loops.empty() || f.loops[0].size() < 3) continue;
     const int drop = choose_drop(plc_, P_, f.loops[0]);
     local.clear();
-    if (f.loops.size() == 1 && f.loops[0].size() == 3 && f.holes.empty()) {
+    if (plain) {
+      first_tri_[fi] = static_cast<uint32_t>(tris_.size());
       local.push_back({f.loops[0][0], f.loops[0][1], f.loops[0][2]});
     } else {
       triangulate_facet(P_, f, drop, local);
@@ -545,7 +563,8 @@ void Checker::build_triangles() {
       uint8_t mask = 0;
       for (int i = 0; i < 3; ++i) {
         tri.v[i] = t[i];
-        if (in_range(fe_off_, fe_, static_cast<uint32_t>(fi), edge_key(t[i], t[(i + 1) % 3])))
+        if (plain ||
+            in_range(fe_off_, fe_, static_cast<uint32_t>(fi), edge_key(t[i], t[(i + 1) % 3])))
           mask |= static_cast<uint8_t>(1u << i);
       }
       tri.facet = static_cast<uint32_t>(fi);
@@ -555,6 +574,16 @@ void Checker::build_triangles() {
       tris_.push_back(tri);
     }
   }
+}
+
+// The grid cell of a box's lower corner (clamped to the grid).
+std::array<int32_t, 3> Checker::lowest_cell(const Box& b) const {
+  std::array<int32_t, 3> c;
+  for (int k = 0; k < 3; ++k) {
+    const double x = std::floor((b.lo[k] - origin_[k]) * inv_);
+    c[k] = static_cast<int32_t>(std::min(std::max(x, 0.0), static_cast<double>(dims_[k] - 1)));
+  }
+  return c;
 }
 
 void Checker::build_grid() {
@@ -577,7 +606,6 @@ void Checker::build_grid() {
     }
     extent_sum += std::max({b.hi[0] - b.lo[0], b.hi[1] - b.lo[1], b.hi[2] - b.lo[2]});
   }
-  cells_.resize(n);
   if (n == 0) return;
   // Cell size: about twice the mean box extent, so a box spans few cells,
   // enlarged until the dense grid has at most ~4 cells per primitive. The
@@ -600,24 +628,18 @@ void Checker::build_grid() {
     dims_[k] = static_cast<int32_t>(std::floor((all.hi[k] - all.lo[k]) / h)) + 1;
   }
   inv_ = 1 / h;
-  auto cell = [&](double x, int k) {
-    const double c = std::floor((x - origin_[k]) * inv_);
-    return static_cast<int32_t>(std::min(std::max(c, 0.0), static_cast<double>(dims_[k] - 1)));
-  };
   const size_t ncell = static_cast<size_t>(dims_[0]) * dims_[1] * dims_[2];
   cell_start_.assign(ncell + 1, 0);
-  for (size_t i = 0; i < n; ++i) {
-    auto& c = cells_[i];
-    for (int k = 0; k < 3; ++k) {
-      c[k] = cell(box_[i].lo[k], k);
-      c[3 + k] = cell(box_[i].hi[k], k);
-    }
-  }
+  // A box's cells, computed again where needed rather than stored (24
+  // bytes a primitive on models of millions of triangles).
   auto for_cells = [&](size_t i, auto&& fn) {
-    const auto& c = cells_[i];
-    for (int32_t z = c[2]; z <= c[5]; ++z)
-      for (int32_t y = c[1]; y <= c[4]; ++y)
-        for (int32_t x = c[0]; x <= c[3]; ++x)
+    const std::array<int32_t, 3> lo = lowest_cell(box_[i]);
+    Box top;
+    for (int k = 0; k < 3; ++k) top.lo[k] = box_[i].hi[k];
+    const std::array<int32_t, 3> hi = lowest_cell(top);
+    for (int32_t z = lo[2]; z <= hi[2]; ++z)
+      for (int32_t y = lo[1]; y <= hi[1]; ++y)
+        for (int32_t x = lo[0]; x <= hi[0]; ++x)
           fn((static_cast<size_t>(z) * dims_[1] + y) * dims_[0] + x);
   };
   for (size_t i = 0; i < n; ++i) for_cells(i, [&](size_t id) { ++cell_start_[id + 1]; });
@@ -1029,7 +1051,8 @@ void Checker::visit_pairs() {
     local.resize(end - begin);
     for (uint32_t x = begin; x < end; ++x) {
       const uint32_t i = cell_items_[x];
-      local[x - begin] = {box_[i], {cells_[i][0], cells_[i][1], cells_[i][2]}};
+      const std::array<int32_t, 3> c = lowest_cell(box_[i]);
+      local[x - begin] = {box_[i], {c[0], c[1], c[2]}};
     }
     for (uint32_t x = begin; x < end && !full_; ++x) {
       const uint32_t i = cell_items_[x];
