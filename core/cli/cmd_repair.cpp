@@ -37,10 +37,6 @@ void repair_usage(std::FILE* out) {
                "could not fix (the message names the input facets), 2 usage error\n");
 }
 
-}  // namespace
-
-namespace {
-
 // "3 parts, 4 regions: 1 = part 0, 2 = part 1, 4 = parts 0+1" (regions
 // without a cell left out).
 std::string region_list(const RepairReport& r) {

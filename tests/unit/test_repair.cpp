@@ -510,23 +510,30 @@ Plc reversed(Plc plc, size_t first, size_t last) {
   return plc;
 }
 
-DomainShape repaired_domain(const Plc& in, bool union_of_parts, RepairReport& rep) {
+// Repairs `in`; where step 5 forms the union, again with its fallback (a
+// tetrahedralization of the arrangement instead of rays), which must find
+// the same winding numbers: the same PLC and the same regions.
+Plc repair_both_ways(const Plc& in, RepairOptions options, RepairReport& rep) {
   Plc out;
-  RepairOptions options;
-  options.union_of_parts = union_of_parts;
   const Status st = repair(in, out, rep, options);
   INFO(st.error.to_string());
   REQUIRE(st.ok());
-  if (union_of_parts && !rep.union_skipped) {
-    // The fallback (a tetrahedralization of the arrangement) finds the same
-    // winding numbers as the rays: the same PLC.
-    Plc by_mesh;
-    RepairReport mesh_rep;
-    options.debug_union_by_mesh = true;
-    REQUIRE(repair(in, by_mesh, mesh_rep, options).ok());
-    CHECK(mesh_rep.inner_facets == rep.inner_facets);
-    CHECK(write_poly(by_mesh) == write_poly(out));
-  }
+  if (!options.union_of_parts || rep.union_skipped) return out;
+  Plc by_mesh;
+  RepairReport mesh_rep;
+  options.debug_union_by_mesh = true;
+  REQUIRE(repair(in, by_mesh, mesh_rep, options).ok());
+  CHECK(mesh_rep.inner_facets == rep.inner_facets);
+  CHECK(write_poly(by_mesh) == write_poly(out));
+  CHECK(mesh_rep.facet_regions == rep.facet_regions);
+  CHECK(mesh_rep.region_parts == rep.region_parts);
+  return out;
+}
+
+DomainShape repaired_domain(const Plc& in, bool union_of_parts, RepairReport& rep) {
+  RepairOptions options;
+  options.union_of_parts = union_of_parts;
+  const Plc out = repair_both_ways(in, options, rep);
   require_meshable(out);
   Result r = tetrahedralize(out);
   REQUIRE(r.status.ok());
@@ -599,20 +606,10 @@ std::map<double, double> volume_by_region(const Result& r) {
 // Repairs `in` with parts as regions (by rays, and checks the fallback by a
 // tetrahedralization labels the same), meshes, validates and maps back.
 Result mesh_parts_as_regions(const Plc& in, RepairReport& rep, const Options& opt = {}) {
-  Plc out;
   RepairOptions options;
   options.parts_as_regions = true;
-  const Status st = repair(in, out, rep, options);
-  INFO(st.error.to_string());
-  REQUIRE(st.ok());
+  const Plc out = repair_both_ways(in, options, rep);
   REQUIRE(rep.union_skipped == 0);
-  Plc by_mesh;
-  RepairReport mesh_rep;
-  options.debug_union_by_mesh = true;
-  REQUIRE(repair(in, by_mesh, mesh_rep, options).ok());
-  CHECK(write_poly(by_mesh) == write_poly(out));
-  CHECK(mesh_rep.facet_regions == rep.facet_regions);
-  CHECK(mesh_rep.region_parts == rep.region_parts);
   require_meshable(out);
   Result r = tetrahedralize(out, opt);
   REQUIRE(r.status.ok());

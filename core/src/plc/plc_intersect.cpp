@@ -488,7 +488,7 @@ class Checker {
     return edge_key(t.v[0], t.v[1]) == k || edge_key(t.v[1], t.v[2]) == k ||
            edge_key(t.v[2], t.v[0]) == k;
   }
-  std::array<int32_t, 3> lowest_cell(const Box& b) const;
+  std::array<int32_t, 3> cell_of(const double* corner) const;
 
   bool seg_tri_beyond(uint32_t ia, uint32_t ib, const Tri& t, uint32_t v) const;
   bool tri_tri_beyond(const Tri& t1, const Tri& t2, uint32_t v) const;
@@ -576,11 +576,11 @@ void Checker::build_triangles() {
   }
 }
 
-// The grid cell of a box's lower corner (clamped to the grid).
-std::array<int32_t, 3> Checker::lowest_cell(const Box& b) const {
+// The grid cell holding a box corner (clamped to the grid).
+std::array<int32_t, 3> Checker::cell_of(const double* corner) const {
   std::array<int32_t, 3> c;
   for (int k = 0; k < 3; ++k) {
-    const double x = std::floor((b.lo[k] - origin_[k]) * inv_);
+    const double x = std::floor((corner[k] - origin_[k]) * inv_);
     c[k] = static_cast<int32_t>(std::min(std::max(x, 0.0), static_cast<double>(dims_[k] - 1)));
   }
   return c;
@@ -633,10 +633,7 @@ void Checker::build_grid() {
   // A box's cells, computed again where needed rather than stored (24
   // bytes a primitive on models of millions of triangles).
   auto for_cells = [&](size_t i, auto&& fn) {
-    const std::array<int32_t, 3> lo = lowest_cell(box_[i]);
-    Box top;
-    for (int k = 0; k < 3; ++k) top.lo[k] = box_[i].hi[k];
-    const std::array<int32_t, 3> hi = lowest_cell(top);
+    const std::array<int32_t, 3> lo = cell_of(box_[i].lo), hi = cell_of(box_[i].hi);
     for (int32_t z = lo[2]; z <= hi[2]; ++z)
       for (int32_t y = lo[1]; y <= hi[1]; ++y)
         for (int32_t x = lo[0]; x <= hi[0]; ++x)
@@ -1051,7 +1048,7 @@ void Checker::visit_pairs() {
     local.resize(end - begin);
     for (uint32_t x = begin; x < end; ++x) {
       const uint32_t i = cell_items_[x];
-      const std::array<int32_t, 3> c = lowest_cell(box_[i]);
+      const std::array<int32_t, 3> c = cell_of(box_[i].lo);
       local[x - begin] = {box_[i], {c[0], c[1], c[2]}};
     }
     for (uint32_t x = begin; x < end && !full_; ++x) {

@@ -92,6 +92,12 @@ class WindingTable {
     return id(w);
   }
   const Windings& at(int i) const { return list_[static_cast<size_t>(i)]; }
+  // The winding number of all parts together.
+  int total(int i) const {
+    int sum = 0;
+    for (const auto& pw : at(i)) sum += pw.second;
+    return sum;
+  }
   size_t size() const { return list_.size(); }
 
  private:
@@ -333,7 +339,8 @@ bool windings_by_rays(const Work& w, const std::vector<Orientation>& input_orien
   std::vector<std::pair<uint64_t, uint32_t>> edges;
   for (uint32_t f = 0; f < nf; ++f)
     for (const auto& loop : plc.facets[f].loops)
-      for (size_t i = 0; i < loop.size(); ++i) edges.push_back({edge_key(loop[i], loop[(i + 1) % loop.size()]), f});
+      for (size_t i = 0; i < loop.size(); ++i)
+        edges.push_back({edge_key(loop[i], loop[(i + 1) % loop.size()]), f});
   std::sort(edges.begin(), edges.end());
   std::vector<uint32_t> root(nf);
   std::iota(root.begin(), root.end(), 0);
@@ -445,8 +452,7 @@ std::vector<int32_t> region_labels(const WindingTable& table,
   for (const auto& side : sides)
     for (int id : side) {
       if (id == kUnset || label[size_t(id)] != -1) continue;
-      int total = 0;
-      for (const auto& pw : table.at(id)) total += pw.second;
+      const int total = table.total(id);
       label[size_t(id)] = inside(total) ? 1 : 0;
       if (parts == 0 || !inside(total)) continue;
       for (const auto& pw : table.at(id))
@@ -551,9 +557,7 @@ Status merge_into_union(Work& w, const Plc& input, const std::vector<uint32_t>& 
   for (const auto& side : sides)
     for (int id : side) {
       if (id == kUnset) continue;
-      int total = 0;
-      for (const auto& pw : table.at(id)) total += pw.second;
-      most = std::max(most, total), least = std::min(least, total);
+      most = std::max(most, table.total(id)), least = std::min(least, table.total(id));
     }
   if (most <= 0 && least >= 0) {
     report.union_skipped = 1;
@@ -608,7 +612,8 @@ std::vector<uint32_t> connected_parts(const Work& w, size_t input_facets) {
   std::vector<std::pair<uint64_t, uint32_t>> edges;
   for (uint32_t f = 0; f < nf; ++f)
     for (const auto& loop : w.plc.facets[f].loops)
-      for (size_t i = 0; i < loop.size(); ++i) edges.push_back({edge_key(loop[i], loop[(i + 1) % loop.size()]), f});
+      for (size_t i = 0; i < loop.size(); ++i)
+        edges.push_back({edge_key(loop[i], loop[(i + 1) % loop.size()]), f});
   std::sort(edges.begin(), edges.end());
   for (size_t i = 1; i < edges.size(); ++i)
     if (edges[i].first == edges[i - 1].first) join(edges[i - 1].second, edges[i].second);
