@@ -148,6 +148,14 @@ async function openModel(source) {
       input = await response.arrayBuffer();
     }
     if (id !== jobSeq) return;
+    // The renderer's start-up (its shader programs link on the main thread,
+    // hundreds of ms each with a software GPU) ends before a job starts, so
+    // that progress and Cancel never wait behind it while a model is meshed.
+    if (!viewer.warm) {
+      setPhase('starting the renderer…');
+      await viewer.ready;
+      if (id !== jobSeq) return;
+    }
     setState('meshing');
     timing.meshStart = performance.now();
     const options = meshOptions();
@@ -280,7 +288,8 @@ mesher
     demo.engine.threaded = loaded.threaded;
     demo.engine.loadMs = loaded.loadMs;
     setEngine('warming', `Mesher: ${threadsText(loaded.threaded)}; warming up…`);
-    return mesher.prepare({ options: meshOptions() });
+    // After the renderer's start-up: its shader links need a free core.
+    return viewer.ready.then(() => mesher.prepare({ options: meshOptions() }));
   })
   .then((warmed) => {
     demo.engine.runs = warmed.runs;
