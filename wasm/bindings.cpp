@@ -433,6 +433,7 @@ val repair_report_js(const cdt3d::RepairReport& r) {
   n("intersectionPoints", r.intersection_points), n("rounds", r.rounds);
   n("unresolvedPairs", r.unresolved_pairs), n("innerFacets", r.inner_facets);
   o.set("unionSkipped", val(r.union_skipped != 0));
+  n("outsideFacets", r.outside_facets);
   n("ms", r.ms);
   {
     // With parts as regions: entry a - 1 lists the parts of region attribute a.

@@ -544,6 +544,8 @@ export interface RepairReport {
   innerFacets: number;
   /** Step 5: true when crossings were resolved but the union was not formed (the facets, oriented like their input facets, do not close up); every facet is kept. */
   unionSkipped: boolean;
+  /** Step 5, where the union was not formed: facets with the outside of the model on both sides (fins, sheets beside it) dropped; they bound no volume. */
+  outsideFacets: number;
   ms: number;
   /** With partsAsRegions (unless the union was skipped): parts found, connected components of the input surface; else 0. */
   parts: number;

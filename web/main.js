@@ -747,6 +747,7 @@ const REPAIR_ROWS = [
   ['crossingPairs', 'crossing facet pairs'],
   ['intersectionPoints', 'new intersection points'],
   ['innerFacets', 'facets inside the union dropped'],
+  ['outsideFacets', 'fins outside the model dropped'],
 ];
 
 function showRepair(report) {

@@ -78,6 +78,8 @@ std::string repair_summary(const RepairReport& r) {
   std::string text = buf;
   if (r.union_skipped) {
     text += "    union of the parts: not formed (the facets, oriented like their input facets, do not close up)\n";
+    if (r.outside_facets > 0)
+      text += "    facets with the outside on both sides (fins): " + std::to_string(r.outside_facets) + " dropped\n";
   } else if (r.inner_facets > 0) {
     text += "    union of the parts: " + std::to_string(r.inner_facets) + " inner facets dropped\n";
   }
@@ -95,13 +97,14 @@ std::string repair_json(const RepairReport& r) {
       "\"filledHoles\":%zu,\"fillTriangles\":%zu,\"unfilledHoles\":%zu,"
       "\"nonplanarFacets\":%zu,\"tjunctionVertices\":%zu,\"tjunctionFacets\":%zu,"
       "\"crossingPairs\":%zu,\"crossingFacets\":%zu,\"intersectionPoints\":%zu,\"rounds\":%zu,"
-      "\"unresolvedPairs\":%zu,\"innerFacets\":%zu,\"unionSkipped\":%s,\"ms\":%.3f}",
+      "\"unresolvedPairs\":%zu,\"innerFacets\":%zu,\"unionSkipped\":%s,\"outsideFacets\":%zu,\"ms\":%.3f}",
       r.changed() ? "true" : "false", r.input_points, r.points, r.input_facets, r.facets,
       r.changed_facets.size(), r.welded_points, r.repeated_vertices, r.zero_area_polygons,
       r.degenerate_facets, r.duplicate_facets, r.filled_holes, r.fill_triangles, r.unfilled_holes,
       r.nonplanar_facets, r.tjunction_vertices,
       r.tjunction_facets, r.crossing_pairs, r.crossing_facets, r.intersection_points, r.rounds,
-      r.unresolved_pairs, r.inner_facets, r.union_skipped ? "true" : "false", r.ms);
+      r.unresolved_pairs, r.inner_facets, r.union_skipped ? "true" : "false",
+      r.outside_facets, r.ms);
   std::string json = buf;
   // "parts": N, "regionParts": [[0], [1], [0, 1]] (entry a - 1 for attribute a).
   std::string list;

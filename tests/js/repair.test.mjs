@@ -18,9 +18,6 @@ before(async () => ({ cdt, Cdt3dError } = await createInstance()));
 const manifest = [...readManifest().values()];
 const REPAIRABLE = /^invalid-(selfintersect|duplicate|degenerate|nonplanar)$/;
 const defective = manifest.filter((r) => REPAIRABLE.test(r.expected)).map((r) => r.file);
-// A model that stays open after repair (chair_model.obj once its duplicates
-// go) meshes inside its convex hull, as its native ctest does.
-const open = new Set(manifest.filter((r) => r.closed === 'no').map((r) => r.file));
 const valid = manifest.filter((r) => r.expected === 'valid' || r.expected === 'valid-plc').map((r) => r.file);
 const input = (file) => ({ bytes: readFileSync(path.join(dataDir, file)), fileName: file });
 
@@ -47,11 +44,10 @@ describe('defective models: repaired, meshed, validated', () => {
       assert.equal(repaired.report.unresolvedPairs, 0);
       assert.equal(repaired.facetSources.length, repaired.facets.length);
       // The repaired PLC passes every input check, meshes and validates.
-      const hull = { keepConvexHull: open.has(file) };
-      const mesh = cdt.tetrahedralize(repaired, { validate: true, ...hull });
+      const mesh = cdt.tetrahedralize(repaired, { validate: true });
       assert.ok(cdt.validate(repaired, mesh).ok);
       // In one go: faces name input facets.
-      const direct = cdt.tetrahedralize(input(file), { repair: true, validate: true, ...hull });
+      const direct = cdt.tetrahedralize(input(file), { repair: true, validate: true });
       assert.equal(direct.repair.changed, true);
       assert.equal(direct.stats.tets, mesh.stats.tets);
       const inputFacets = direct.repair.inputFacets;

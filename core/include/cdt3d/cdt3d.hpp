@@ -488,6 +488,9 @@ struct RepairReport {
   /// pieces, inconsistent normals, coincident faces of two parts); every
   /// facet is then kept.
   size_t union_skipped = 0;
+  /// Where the union was not formed: facets with the outside of the model on
+  /// both sides (fins, sheets beside it) dropped; they bound no volume.
+  size_t outside_facets = 0;
   // Step 5 with RepairOptions::parts_as_regions (empty or 0 otherwise, and
   // when the union was not formed).
   size_t parts = 0;               ///< parts found: connected components of the input surface

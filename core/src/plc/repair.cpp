@@ -14,7 +14,8 @@ namespace cdt3d {
 
 bool RepairReport::changed() const {
   return welded_points + repeated_vertices + zero_area_polygons + degenerate_facets +
-             duplicate_facets + filled_holes + nonplanar_facets + tjunction_vertices + crossing_pairs >
+             duplicate_facets + filled_holes + nonplanar_facets + tjunction_vertices + crossing_pairs +
+             outside_facets >
          0;
 }
 

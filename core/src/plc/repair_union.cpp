@@ -515,6 +515,89 @@ void drop_facets(Work& w, const std::vector<uint8_t>& keep,
   }
 }
 
+// Where the facets do not close up (normals that disagree, fins, open
+// pieces) there are no winding numbers, but the outside still exists: the
+// cells that a tetrahedralization of the arrangement (hull kept) connects
+// to the hull without crossing a facet. A facet with the outside on both
+// sides (a fin hinged on a seam, a sheet beside the model) bounds no volume,
+// and meshing would end on it as an open surface; such facets are dropped
+// when they are the lesser part of the surface (by area). Where they are
+// most of it (a soup of triangles, an open surface with a few pockets
+// closed by crossings) the model is no solid with fins but an open
+// surface: every facet stays, for meshing to report the opening or to keep
+// as constraints inside the hull. Returns the number dropped.
+size_t drop_outside_facets(Work& w) {
+  const size_t nf = w.plc.facets.size();
+  Options opt;
+  opt.keep_convex_hull = true;
+  opt.keep_triangles = true;
+  opt.check_intersections = false;  // step 4 left none (checked exactly)
+  const Result r = tetrahedralize(w.plc, opt);
+  const size_t nt = r.mesh.tets.size() / 4;
+  if (!r.status.ok() || r.mesh.tet_attributes.size() != nt) return 0;
+  std::unordered_map<std::array<VertexId, 3>, uint32_t, TripleHash> facet_of;
+  facet_of.reserve(r.face_facet.size());
+  for (size_t i = 0; i < r.face_facet.size(); ++i) {
+    if (r.face_facet[i] >= nf) continue;
+    std::array<VertexId, 3> k = {r.mesh.faces[3 * i], r.mesh.faces[3 * i + 1], r.mesh.faces[3 * i + 2]};
+    std::sort(k.begin(), k.end());
+    facet_of.emplace(k, r.face_facet[i]);
+  }
+  std::vector<FaceRecord> faces;
+  faces.reserve(4 * nt);
+  for (uint32_t t = 0; t < nt; ++t)
+    for (uint8_t i = 0; i < 4; ++i) {
+      std::array<VertexId, 3> k;
+      for (int j = 0, m = 0; j < 4; ++j)
+        if (j != i) k[m++] = r.mesh.tets[4 * size_t(t) + j];
+      std::sort(k.begin(), k.end());
+      faces.push_back({k, t, i});
+    }
+  std::sort(faces.begin(), faces.end());
+  // The outside: the regions (connected across faces that are no facet's)
+  // of the tets on hull faces that are no facet's.
+  std::vector<double> outside;
+  for (size_t i = 0; i < faces.size();) {
+    size_t j = i + 1;
+    while (j < faces.size() && faces[j].key == faces[i].key) ++j;
+    if (j - i == 1 && !facet_of.count(faces[i].key)) outside.push_back(r.mesh.tet_attributes[faces[i].tet]);
+    i = j;
+  }
+  std::sort(outside.begin(), outside.end());
+  auto is_outside = [&](uint32_t t) {
+    return std::binary_search(outside.begin(), outside.end(), r.mesh.tet_attributes[t]);
+  };
+  // 0: no face of the facet in the mesh (kept), 1: outside on every side, 2: touches the inside.
+  std::vector<uint8_t> seen(nf, 0);
+  bool any_inside = false;
+  for (const FaceRecord& rec : faces) {
+    const bool out = is_outside(rec.tet);
+    any_inside = any_inside || !out;
+    const auto it = facet_of.find(rec.key);
+    if (it == facet_of.end()) continue;
+    uint8_t& s = seen[it->second];
+    s = std::max<uint8_t>(s, out ? 1 : 2);
+  }
+  if (!any_inside) return 0;
+  // A policy between two readings of the model, not a geometric decision:
+  // areas in doubles are enough.
+  double outside_area = 0, inside_area = 0;
+  for (size_t f = 0; f < nf; ++f) {
+    if (seen[f] == 0 || w.plc.facets[f].loops.empty()) continue;
+    const double a = norm(newell_normal(w.plc, w.plc.facets[f].loops[0]));
+    (seen[f] == 1 ? outside_area : inside_area) += a;
+  }
+  if (!(outside_area < inside_area)) return 0;
+  std::vector<uint8_t> keep(nf, 1);
+  size_t dropped = 0;
+  for (size_t f = 0; f < nf; ++f)
+    if (seen[f] == 1) keep[f] = 0, ++dropped;
+  std::vector<std::array<int32_t, 2>> no_regions;
+  std::vector<uint8_t> no_axis;
+  if (dropped > 0) drop_facets(w, keep, no_regions, no_axis);
+  return dropped;
+}
+
 }  // namespace
 
 Status merge_into_union(Work& w, const Plc& input, const std::vector<uint32_t>& part_of_input,
@@ -537,6 +620,7 @@ Status merge_into_union(Work& w, const Plc& input, const std::vector<uint32_t>& 
   const PartOf part{w, part_of_input};
   if (!facets_close_up(w, runs_like_input, part)) {
     report.union_skipped = 1;
+    report.outside_facets = drop_outside_facets(w);
     return Status::success();
   }
 
@@ -549,6 +633,7 @@ Status merge_into_union(Work& w, const Plc& input, const std::vector<uint32_t>& 
   if (!by_rays) table = WindingTable();
   if (!by_rays && !windings_by_mesh(w, input_orientation, part, table, sides)) {
     report.union_skipped = 1;
+    report.outside_facets = drop_outside_facets(w);
     return Status::success();
   }
   // A model whose normals all point inwards winds -1 around its inside; one
@@ -561,6 +646,7 @@ Status merge_into_union(Work& w, const Plc& input, const std::vector<uint32_t>& 
     }
   if (most <= 0 && least >= 0) {
     report.union_skipped = 1;
+    report.outside_facets = drop_outside_facets(w);
     return Status::success();
   }
   const bool inverted = most <= 0;
