@@ -158,6 +158,39 @@ struct TripleHash {
 
 constexpr int kUnset = INT_MIN;
 
+// The constrained faces of a tetrahedralization of the PLC under repair
+// (sorted triple -> facet; hull faces that are no facet left out).
+std::unordered_map<std::array<VertexId, 3>, uint32_t, TripleHash> facets_by_face(const Result& r,
+                                                                                 size_t nf) {
+  std::unordered_map<std::array<VertexId, 3>, uint32_t, TripleHash> facet_of;
+  facet_of.reserve(r.face_facet.size());
+  for (size_t i = 0; i < r.face_facet.size(); ++i) {
+    if (r.face_facet[i] >= nf) continue;
+    std::array<VertexId, 3> k = {r.mesh.faces[3 * i], r.mesh.faces[3 * i + 1], r.mesh.faces[3 * i + 2]};
+    std::sort(k.begin(), k.end());
+    facet_of.emplace(k, r.face_facet[i]);
+  }
+  return facet_of;
+}
+
+// The four faces of every tet, sorted: the two sides of a face are
+// neighbours, a hull face is alone.
+std::vector<FaceRecord> sorted_tet_faces(const Result& r) {
+  const size_t nt = r.mesh.tets.size() / 4;
+  std::vector<FaceRecord> faces;
+  faces.reserve(4 * nt);
+  for (uint32_t t = 0; t < nt; ++t)
+    for (uint8_t i = 0; i < 4; ++i) {
+      std::array<VertexId, 3> k;
+      for (int j = 0, m = 0; j < 4; ++j)
+        if (j != i) k[m++] = r.mesh.tets[4 * size_t(t) + j];
+      std::sort(k.begin(), k.end());
+      faces.push_back({k, t, i});
+    }
+  std::sort(faces.begin(), faces.end());
+  return faces;
+}
+
 // The winding numbers by a tetrahedralization of the arrangement (hull
 // kept, every facet its own), flooded from the hull: 0 outside it, up by one
 // across a face from the front of its input facet to its back (in the
@@ -179,26 +212,8 @@ bool windings_by_mesh(const Work& w, const std::vector<Orientation>& input_orien
   const size_t nt = r.mesh.tets.size() / 4;
 
   // Constrained faces: sorted triple -> facet.
-  std::unordered_map<std::array<VertexId, 3>, uint32_t, TripleHash> facet_of;
-  facet_of.reserve(r.face_facet.size());
-  for (size_t i = 0; i < r.face_facet.size(); ++i) {
-    if (r.face_facet[i] >= nf) continue;  // a hull face that is no facet
-    std::array<VertexId, 3> k = {r.mesh.faces[3 * i], r.mesh.faces[3 * i + 1], r.mesh.faces[3 * i + 2]};
-    std::sort(k.begin(), k.end());
-    facet_of.emplace(k, r.face_facet[i]);
-  }
-  // Face adjacency by sorting the four faces of every tet.
-  std::vector<FaceRecord> faces;
-  faces.reserve(4 * nt);
-  for (uint32_t t = 0; t < nt; ++t)
-    for (uint8_t i = 0; i < 4; ++i) {
-      std::array<VertexId, 3> k;
-      for (int j = 0, m = 0; j < 4; ++j)
-        if (j != i) k[m++] = r.mesh.tets[4 * size_t(t) + j];
-      std::sort(k.begin(), k.end());
-      faces.push_back({k, t, i});
-    }
-  std::sort(faces.begin(), faces.end());
+  const auto facet_of = facets_by_face(r, nf);
+  const std::vector<FaceRecord> faces = sorted_tet_faces(r);
 
   // Whether the apex of tet t opposite its face i lies in front of facet f.
   auto in_front = [&](uint32_t t, uint8_t i, uint32_t f) -> int {
@@ -535,25 +550,8 @@ size_t drop_outside_facets(Work& w) {
   const Result r = tetrahedralize(w.plc, opt);
   const size_t nt = r.mesh.tets.size() / 4;
   if (!r.status.ok() || r.mesh.tet_attributes.size() != nt) return 0;
-  std::unordered_map<std::array<VertexId, 3>, uint32_t, TripleHash> facet_of;
-  facet_of.reserve(r.face_facet.size());
-  for (size_t i = 0; i < r.face_facet.size(); ++i) {
-    if (r.face_facet[i] >= nf) continue;
-    std::array<VertexId, 3> k = {r.mesh.faces[3 * i], r.mesh.faces[3 * i + 1], r.mesh.faces[3 * i + 2]};
-    std::sort(k.begin(), k.end());
-    facet_of.emplace(k, r.face_facet[i]);
-  }
-  std::vector<FaceRecord> faces;
-  faces.reserve(4 * nt);
-  for (uint32_t t = 0; t < nt; ++t)
-    for (uint8_t i = 0; i < 4; ++i) {
-      std::array<VertexId, 3> k;
-      for (int j = 0, m = 0; j < 4; ++j)
-        if (j != i) k[m++] = r.mesh.tets[4 * size_t(t) + j];
-      std::sort(k.begin(), k.end());
-      faces.push_back({k, t, i});
-    }
-  std::sort(faces.begin(), faces.end());
+  const auto facet_of = facets_by_face(r, nf);
+  const std::vector<FaceRecord> faces = sorted_tet_faces(r);
   // The outside: the regions (connected across faces that are no facet's)
   // of the tets on hull faces that are no facet's.
   std::vector<double> outside;
