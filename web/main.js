@@ -121,6 +121,7 @@ async function openModel(source) {
   demo.highlighted = 0;
   $('error').hidden = true;
   $('repair').hidden = true;
+  $('repair-parts').hidden = true;
   $('fill-holes').hidden = true;
   $('repair-report').hidden = true;
   demo.repair = null;
@@ -135,6 +136,7 @@ async function openModel(source) {
   viewer.clear();
   updateSteinerNote();
   showUp(SAMPLES.find((s) => s.file === source.sample)?.up ?? storedUp());
+  if (source.partsAsRegions) $('color-mode').value = 'region'; // what the user asked to see
   current = { id, name, source, result: null, built: null, origin: null, surface: null };
   updateVisibleCount();
   showProgress(name, qualityOption() ? [...PHASES, REFINE_PHASE] : PHASES);
@@ -159,7 +161,9 @@ async function openModel(source) {
     setState('meshing');
     timing.meshStart = performance.now();
     const options = meshOptions();
-    if (source.repair) options.repair = source.fillHoles ? { fillHoles: true } : true;
+    if (source.repair) {
+      options.repair = source.fillHoles ? { fillHoles: true } : source.partsAsRegions ? { partsAsRegions: true } : true;
+    }
     const quality = qualityOption();
     if (quality) options.quality = quality;
     demo.quality = quality;
@@ -717,6 +721,9 @@ function showError(e, name) {
   $('error-hint').hidden = !hint;
   $('repair').hidden = !(REPAIRABLE.has(error.code) && current?.source && !current.source.repair);
   $('fill-holes').hidden = !(error.code === 'open-boundary' && current?.source && !current.source.fillHoles);
+  // Parts passing through one another: their union by default, or each
+  // part and each overlap a region of its own.
+  $('repair-parts').hidden = !(error.code === 'self-intersection' && current?.source && !current.source.repair);
   $('error').hidden = false;
   $('model-status').textContent = `Error: ${error.code}`;
 }
@@ -726,6 +733,9 @@ const REPAIRABLE = new Set(['self-intersection', 'duplicate', 'degenerate', 'non
 
 $('repair').addEventListener('click', () => {
   if (current?.source) openModel({ ...current.source, repair: true });
+});
+$('repair-parts').addEventListener('click', () => {
+  if (current?.source) openModel({ ...current.source, repair: true, partsAsRegions: true });
 });
 // An open surface: "Fill holes and mesh" closes its holes, then repairs.
 $('fill-holes').addEventListener('click', () => {
@@ -748,6 +758,7 @@ const REPAIR_ROWS = [
   ['intersectionPoints', 'new intersection points'],
   ['innerFacets', 'facets inside the union dropped'],
   ['outsideFacets', 'fins outside the model dropped'],
+  ['parts', 'parts kept as regions'],
 ];
 
 function showRepair(report) {
@@ -755,6 +766,7 @@ function showRepair(report) {
   const rows = $('repair-rows');
   rows.innerHTML = '';
   for (const [key, label] of REPAIR_ROWS) {
+    if (key === 'parts' && !report.parts) continue;
     const tr = document.createElement('tr');
     tr.dataset.kind = key;
     const a = document.createElement('td');

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "cli.hpp"
+#include "repair.hpp"
 
 namespace cdt3d {
 namespace cli {
@@ -29,8 +30,8 @@ void repair_usage(std::FILE* out) {
                "              of their arrangement is meshed, bounded by internal facets\n"
                "  --parts-as-regions  keep the union, but with the facets between parts: each\n"
                "              part (connected piece of the surface) and each overlap of parts\n"
-               "              becomes a region (the labels reach the tets with `cdt3d mesh\n"
-               "              --parts-as-regions`; the .poly carries no region points)\n"
+               "              becomes a region (`cdt3d mesh --parts-as-regions`; the .poly\n"
+               "              gets a region point per region, attributes as the report's)\n"
                "  --json      print the report as one JSON object on stdout\n"
                "  -q          quiet: print nothing but errors\n"
                "exit codes: 0 repaired (or nothing to repair), 1 input error or what repair\n"
@@ -161,6 +162,9 @@ int run_repair(int argc, char** argv) {
   // Read without the input checks: what they reject is what repair fixes.
   Status st = read_plc_file(input, plc, false);
   if (st.ok()) st = repair(plc, fixed, report, options);
+  // With parts as regions the .poly says which region is which.
+  if (st.ok() && !prefix.empty() && options.parts_as_regions)
+    st = repair_steps::add_part_region_points(fixed, report);
   if (st.ok() && !prefix.empty()) st = write_text(prefix + ".poly", write_poly(fixed));
   if (!st.ok()) {
     if (json)

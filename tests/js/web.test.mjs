@@ -509,6 +509,27 @@ test('repair: an error repair can fix offers "Repair and mesh" (an open surface 
     assert.ok(highlighted > 0, `${rel}: the changed facets are not highlighted`);
     await shot(`repair-${fileName.replace(/\W+/g, '_')}`);
   }
+  // Crossing parts also offer "Repair, parts as regions": each cube and
+  // their overlap a region, coloured by region, as partsAsRegions in Node.
+  {
+    const bytes = readFileSync(path.join(repoRoot, INVALID));
+    const fileName = path.basename(INVALID);
+    const mesh = cdt.tetrahedralize({ bytes, fileName }, { ...PAGE_OPTIONS, repair: { partsAsRegions: true } });
+    assert.equal(await openFile(INVALID), 'error');
+    assert.ok(await page.isVisible('#repair-parts'), 'no "Repair, parts as regions" button');
+    const before = await page.evaluate(() => window.cdt3dDemo.timings.length);
+    await page.click('#repair-parts');
+    await page.waitForFunction((n) => window.cdt3dDemo.timings.length > n, before);
+    assert.equal(await waitForState(FINAL), 'done');
+    const report = await page.evaluate(() => window.cdt3dDemo.repair);
+    assert.equal(report.parts, 2);
+    assert.deepEqual(report.regionParts, mesh.repair.regionParts);
+    const stats = comparable(await pageStats());
+    assert.equal(stats.tets, mesh.stats.tets);
+    assert.equal(await page.inputValue('#color-mode'), 'region');
+    assert.match(await page.textContent('#legend'), /3 regions/);
+    await page.selectOption('#color-mode', 'quality');
+  }
 });
 
 test('quality: the controls reach the worker, the panel shows the histograms before and after', { skip, timeout: 90_000 }, async () => {

@@ -16,6 +16,7 @@
 #include "corpus.hpp"
 #include "geometry.hpp"
 #include "plc_intersect.hpp"
+#include "repair.hpp"
 
 using namespace cdt3d;
 
@@ -695,6 +696,22 @@ TEST_CASE("repair step 5: parts as regions", "[repair]") {
   CHECK(near(volume[1], 7));
   CHECK(near(volume[2], 7));
   CHECK(near(volume[3], 1));
+
+  SECTION("written on its own, the repaired PLC carries a region point per region") {
+    RepairOptions options;
+    options.parts_as_regions = true;
+    Plc out;
+    RepairReport again;
+    REQUIRE(repair(cubes, out, again, options).ok());
+    REQUIRE(out.regions.empty());
+    REQUIRE(repair_steps::add_part_region_points(out, again).ok());
+    CHECK(out.regions.size() == 3);
+    Plc read;
+    const std::string text = write_poly(out);
+    REQUIRE(read_plc(reinterpret_cast<const uint8_t*>(text.data()), text.size(), "repaired.poly", read).ok());
+    // Meshed without the option: the same attributes on the same volumes.
+    CHECK(volume_by_region(tetrahedralize(read)) == volume);
+  }
 
   SECTION("the hull kept: tets outside the union get 0") {
     Options opt;

@@ -86,6 +86,10 @@ std::vector<uint32_t> connected_parts(const Work& w, size_t input_facets);
 /// gets the region of report.region_parts it lies in (see
 /// map_to_input_facets). Reads result.face_facet before it is mapped.
 void label_part_regions(const RepairReport& report, Result& result);
+/// For a PLC repaired with parts as regions that is written on its own (a
+/// .poly): plc.regions gets one point per region, so that meshing the file
+/// labels its tets as label_part_regions does. Costs a tetrahedralization.
+Status add_part_region_points(Plc& plc, const RepairReport& report);
 /// Every point snapped to step 4's grid (2^-40 below the binary order of the
 /// largest coordinate), then steps 1 and 3 again on what moved.
 Status snap_to_grid(Work& w);

@@ -774,5 +774,38 @@ void label_part_regions(const RepairReport& report, Result& result) {
   }
 }
 
+Status add_part_region_points(Plc& plc, const RepairReport& report) {
+  if (report.facet_regions.empty()) return Status::success();
+  Result r = tetrahedralize(plc);
+  if (!r.status.ok()) return r.status;
+  label_part_regions(report, r);
+  const TetMeshData& m = r.mesh;
+  const size_t nt = m.tets.size() / 4;
+  if (m.tet_attributes.size() != nt) return Status::success();
+  auto pt = [&](uint32_t v) { return &m.points[3 * size_t(v)]; };
+  std::vector<double> placed;
+  for (size_t t = 0; t < nt; ++t) {
+    const double a = m.tet_attributes[t];
+    if (std::find(placed.begin(), placed.end(), a) != placed.end()) continue;
+    // The tet's centroid, rounded to doubles: kept only where it is still
+    // strictly inside the tet (exact signs), else another tet of the region.
+    const uint32_t* tv = &m.tets[4 * t];
+    double c[3];
+    for (int k = 0; k < 3; ++k) c[k] = (pt(tv[0])[k] + pt(tv[1])[k] + pt(tv[2])[k] + pt(tv[3])[k]) / 4;
+    bool inside = true;
+    for (int i = 0; i < 4 && inside; ++i) {
+      const double* f[3];
+      for (int j = 0, n = 0; j < 4; ++j)
+        if (j != i) f[n++] = pt(tv[j]);
+      const int apex = pred::orient3d(f[0], f[1], f[2], pt(tv[i]));
+      inside = apex != 0 && pred::orient3d(f[0], f[1], f[2], c) == apex;
+    }
+    if (!inside) continue;
+    plc.regions.push_back(Region{Vec3{c[0], c[1], c[2]}, a, -1});
+    placed.push_back(a);
+  }
+  return Status::success();
+}
+
 }  // namespace repair_steps
 }  // namespace cdt3d
