@@ -25,6 +25,9 @@
 #                 tetrahedralize() in a fresh process (peak: Node plus the
 #                 WASM heap, which never shrinks); a model that does not fit
 #                 the 4 GiB heap shows the package's error
+#   page          `node tests/bench/page_scale.mjs MODEL...`: the demo page
+#                 in headless Chromium, each model through its file input
+#                 (a table of its own: state, tets, seconds; no memory)
 # B/tet is the peak RSS over the final tets of the full native run (for the
 # tetgen and node rows, over the same count), so the phases compare.
 #
@@ -34,7 +37,7 @@
 #   SCALE_DIR=/tmp/cdt3d-scale               where the models go (large files)
 #   TETGEN_MAX=3500000                       tetgen only up to this many triangles (both 3M models)
 #   TETGEN_TIMEOUT=900  TIMEOUT=900          seconds before tetgen / cdt3d is killed
-#   SCALE_PHASES=1  SCALE_NODE=1  SCALE_DELAUNAY=1   0 skips those rows
+#   SCALE_PHASES=1  SCALE_NODE=1  SCALE_PAGE=1  SCALE_DELAUNAY=1   0 skips those rows
 #   CDT3D_BIN=path                           the native CLI (default .build/native, built)
 set -uo pipefail
 cd "$(dirname "$0")/../.."
@@ -138,6 +141,24 @@ for n in $SIZES; do
     fi
   done
 done
+
+# The page: every model through the demo page's file input (page_scale.mjs,
+# headless Chromium, a fresh page each), after the other rows.
+if [ "${SCALE_PAGE:-1}" = 1 ]; then
+  page_models=()
+  for n in $SIZES; do
+    for kind in $KINDS; do page_models+=("$DIR/${kind}_$n.off"); done
+  done
+  echo
+  echo "The page (headless Chromium, SwiftShader, the page's default options, a fresh page per model):"
+  echo
+  echo "| model | state | tets | s to meshed | s to shown | threads | error |"
+  echo "|---|---|---|---|---|---|---|"
+  node tests/bench/page_scale.mjs "${page_models[@]}" 2>/dev/null | while IFS= read -r line; do
+    node -e 'const r = JSON.parse(process.argv[1]); const f = (x) => (x == null ? "" : Number(x).toFixed(1));
+      console.log(`| ${r.model} | ${r.state} | ${r.tets ?? ""} | ${f(r.meshS)} | ${f(r.shownS)} | ${r.threaded ? 2 : 1} | ${r.code ? r.code + ": " : ""}${r.message ?? ""} |`);' "$line"
+  done
+fi
 
 if [ "${SCALE_DELAUNAY:-1}" = 1 ]; then
   pts="$DIR/random_1000000.node"

@@ -1,0 +1,87 @@
+// The page rows of the scale bench (bench_scale.sh): each MODEL opened
+// through the demo page's file input in headless Chromium, on a fresh page
+// (a fresh worker and WebAssembly heap), with the page's default options
+// (validation included). Prints one JSON line per model: the final state,
+// the tets, the core's clock (msTotal), the seconds from opening the file
+// to the end of meshing and to the mesh being shown, and for an error its
+// code and message. A bench, not a test: it asserts nothing.
+//
+//   node tests/bench/page_scale.mjs MODEL...
+//
+// Needs the WASM build (tests/scripts/build.sh) and /usr/bin/chromium (or
+// $CHROMIUM_PATH). PAGE_TIMEOUT (seconds, default 900) per model.
+import { existsSync, mkdtempSync, rmSync } from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+
+import { buildPage, chromiumPath, launchChromium, servePage } from '../js/page-support.mjs';
+
+const timeoutMs = 1000 * (Number(process.env.PAGE_TIMEOUT) || 900);
+
+async function meshOnPage(context, origin, file) {
+  for (const p of context.pages()) await p.close();
+  const page = await context.newPage();
+  await page.goto(`${origin}/?model=`);
+  await page.waitForFunction(() => ['ready', 'failed'].includes(document.body.dataset.engine), null, {
+    timeout: 300_000,
+  });
+  const t0 = Date.now();
+  await page.setInputFiles('#file', file);
+  await page.waitForFunction(() => window.cdt3dDemo.timings.length > 0, null, { timeout: 60_000 });
+  await page.waitForFunction(() => ['done', 'error', 'cancelled'].includes(document.body.dataset.state), null, {
+    timeout: timeoutMs,
+    polling: 500,
+  });
+  const seen = await page.evaluate(() => {
+    const demo = window.cdt3dDemo;
+    const t = demo.timings.at(-1);
+    return {
+      state: document.body.dataset.state,
+      tets: demo.stats?.tets ?? 0,
+      msTotal: demo.stats?.msTotal ?? null,
+      meshS: (t.meshEnd - t.start) / 1000,
+      shownS: Number.isFinite(t.shown) ? (t.shown - t.start) / 1000 : null,
+      code: demo.error?.code ?? null,
+      message: demo.error?.message ?? null,
+      threaded: demo.engine.threaded,
+    };
+  });
+  return { model: path.basename(file), wallS: (Date.now() - t0) / 1000, ...seen };
+}
+
+async function main() {
+  const files = process.argv.slice(2).map((f) => path.resolve(f));
+  if (files.length === 0) {
+    console.error('usage: node tests/bench/page_scale.mjs MODEL...');
+    process.exit(2);
+  }
+  if (!existsSync(chromiumPath)) {
+    console.error(`page_scale: Chromium not found at ${chromiumPath} (set CHROMIUM_PATH).`);
+    process.exit(2);
+  }
+  const buildDir = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-scale-web-'));
+  const profile = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-scale-chromium-'));
+  let served;
+  let context;
+  try {
+    await buildPage(buildDir);
+    served = await servePage(buildDir, { isolated: true });
+    context = await launchChromium(profile);
+    for (const file of files) {
+      let row;
+      try {
+        row = await meshOnPage(context, served.origin, file);
+      } catch (e) {
+        row = { model: path.basename(file), state: 'failed', message: String(e?.message ?? e).split('\n')[0] };
+      }
+      console.log(JSON.stringify(row));
+    }
+  } finally {
+    await context?.close().catch(() => {});
+    served?.server.close();
+    rmSync(profile, { recursive: true, force: true });
+    rmSync(buildDir, { recursive: true, force: true });
+  }
+}
+
+await main();
