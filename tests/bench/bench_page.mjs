@@ -19,12 +19,12 @@
 // without them (the single-threaded fallback). Needs the native and WASM
 // builds (tests/scripts/build.sh) and /usr/bin/chromium (or $CHROMIUM_PATH).
 import { execFileSync } from 'node:child_process';
-import { existsSync, mkdtempSync, rmSync, statSync } from 'node:fs';
+import { existsSync, statSync } from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 
-import { buildPage, chromiumPath, launchChromium, recordLongTasks, servePage } from '../js/page-support.mjs';
+import { chromiumPath, recordLongTasks, withServedPage } from '../js/page-support.mjs';
 
 const repoRoot = fileURLToPath(new URL('../../', import.meta.url));
 const nativeCli = path.join(repoRoot, '.build', 'native', 'core', 'cdt3d');
@@ -104,15 +104,7 @@ async function main() {
   if (!existsSync(path.join(repoRoot, 'wasm', 'dist', 'cdt3d.wasm'))) fail('wasm/dist is missing: bash tests/scripts/build.sh');
   if (!existsSync(chromiumPath)) fail(`Chromium not found at ${chromiumPath} (set CHROMIUM_PATH).`);
 
-  const buildDir = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-bench-web-'));
-  const profile = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-bench-chromium-'));
-  let served;
-  let context;
-  try {
-    await buildPage(buildDir);
-    served = await servePage(buildDir, { isolated: isolation });
-    const origin = served.origin;
-    context = await launchChromium(profile);
+  await withServedPage({ isolated: isolation }, async (context, origin) => {
     await context.addInitScript(recordLongTasks);
 
     console.log(`# ${new Date().toISOString()} load ${os.loadavg().map((l) => l.toFixed(2)).join(' ')}; ` +
@@ -167,12 +159,7 @@ async function main() {
           `${r.later.toFixed(0)} | ${(r.later / r.native).toFixed(2)}x | ${r.threads} |`,
       );
     }
-  } finally {
-    await context?.close().catch(() => {});
-    served?.server.close();
-    rmSync(profile, { recursive: true, force: true });
-    rmSync(buildDir, { recursive: true, force: true });
-  }
+  });
 }
 
 await main();

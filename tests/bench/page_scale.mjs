@@ -10,11 +10,10 @@
 //
 // Needs the WASM build (tests/scripts/build.sh) and /usr/bin/chromium (or
 // $CHROMIUM_PATH). PAGE_TIMEOUT (seconds, default 900) per model.
-import { existsSync, mkdtempSync, rmSync } from 'node:fs';
-import os from 'node:os';
+import { existsSync } from 'node:fs';
 import path from 'node:path';
 
-import { buildPage, chromiumPath, launchChromium, servePage } from '../js/page-support.mjs';
+import { chromiumPath, withServedPage } from '../js/page-support.mjs';
 
 const timeoutMs = 1000 * (Number(process.env.PAGE_TIMEOUT) || 900);
 
@@ -59,29 +58,17 @@ async function main() {
     console.error(`page_scale: Chromium not found at ${chromiumPath} (set CHROMIUM_PATH).`);
     process.exit(2);
   }
-  const buildDir = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-scale-web-'));
-  const profile = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-scale-chromium-'));
-  let served;
-  let context;
-  try {
-    await buildPage(buildDir);
-    served = await servePage(buildDir, { isolated: true });
-    context = await launchChromium(profile);
+  await withServedPage({ isolated: true }, async (context, origin) => {
     for (const file of files) {
       let row;
       try {
-        row = await meshOnPage(context, served.origin, file);
+        row = await meshOnPage(context, origin, file);
       } catch (e) {
         row = { model: path.basename(file), state: 'failed', message: String(e?.message ?? e).split('\n')[0] };
       }
       console.log(JSON.stringify(row));
     }
-  } finally {
-    await context?.close().catch(() => {});
-    served?.server.close();
-    rmSync(profile, { recursive: true, force: true });
-    rmSync(buildDir, { recursive: true, force: true });
-  }
+  });
 }
 
 await main();

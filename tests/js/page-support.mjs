@@ -2,8 +2,9 @@
 // (tests/js/web.test.mjs, tests/bench/bench_page.mjs): a production build of
 // web/, a static server for it, headless Chromium, and the main thread's
 // long tasks and long animation frames recorded from the page's start.
-import { existsSync, readFileSync, statSync } from 'node:fs';
+import { existsSync, mkdtempSync, readFileSync, rmSync, statSync } from 'node:fs';
 import http from 'node:http';
+import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 
@@ -111,4 +112,27 @@ export function recordLongTasks() {
       }
     }).observe({ type: 'long-animation-frame', buffered: true });
   } catch {}
+}
+
+/**
+ * For the page benches: builds the page into a temporary folder, serves it
+ * (`isolated` as in servePage), launches Chromium on a temporary profile and
+ * runs `fn(context, origin)`; everything is closed and removed afterwards.
+ */
+export async function withServedPage({ isolated = true } = {}, fn) {
+  const buildDir = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-bench-web-'));
+  const profile = mkdtempSync(path.join(os.tmpdir(), 'cdt3d-bench-chromium-'));
+  let served;
+  let context;
+  try {
+    await buildPage(buildDir);
+    served = await servePage(buildDir, { isolated });
+    context = await launchChromium(profile);
+    return await fn(context, served.origin);
+  } finally {
+    await context?.close().catch(() => {});
+    served?.server.close();
+    rmSync(profile, { recursive: true, force: true });
+    rmSync(buildDir, { recursive: true, force: true });
+  }
 }
