@@ -13,6 +13,7 @@
 #include <cdt3d/cdt3d.hpp>
 
 #include "refine.hpp"  // check_quality_options (core/src)
+#include "repair.hpp"  // add_part_region_points (core/src)
 
 #include <array>
 #include <chrono>
@@ -463,6 +464,9 @@ val repair_js(val input, bool fill_holes, bool union_of_parts, bool parts_as_reg
   repair_options.union_of_parts = union_of_parts;
   repair_options.parts_as_regions = parts_as_regions;
   st = cdt3d::repair(plc, fixed, report, repair_options);
+  // Handed back on its own: a region point per region says which is which
+  // (as `cdt3d repair --parts-as-regions -o` writes them).
+  if (st.ok() && parts_as_regions) st = cdt3d::repair_steps::add_part_region_points(fixed, report);
   if (!st.ok()) return failure(st.error);
   std::vector<double> xyz, hole_points, holes, regions;
   std::vector<uint32_t> counts, sizes, verts, hole_counts, segments;

@@ -145,7 +145,14 @@ test('partsAsRegions: each part and their overlap a region, as the native --part
   // Without the option the report has no regions.
   const plain = cdt.tetrahedralize(input(file), { repair: true }).repair;
   assert.deepEqual([plain.parts, plain.regionParts], [0, []]);
-  assert.deepEqual(cdt.repair(input(file), { partsAsRegions: true }).report.regionParts, [[0], [1], [0, 1]]);
+  const repaired = cdt.repair(input(file), { partsAsRegions: true });
+  assert.deepEqual(repaired.report.regionParts, [[0], [1], [0, 1]]);
+  // Handed back on its own, the PLC carries a region point per region:
+  // meshed without the option, the same labels.
+  assert.equal(repaired.regions.length, 3);
+  const again = volumeByRegion(cdt.tetrahedralize(repaired));
+  assert.deepEqual([...again.keys()].sort(), [1, 2, 3]);
+  for (const [region, v] of again) assert.ok(Math.abs(v - volume.get(region)) < 1e-12, `region ${region}: ${v}`);
   if (!skipNative) {
     const native = spawnSync(requireNativeCli(), ['mesh', path.join('tests', 'data', file), '--parts-as-regions', '--json'], {
       cwd: repoRoot,

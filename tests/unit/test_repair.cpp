@@ -628,6 +628,16 @@ TEST_CASE("repair step 5: where the union is not formed, fins outside the model 
   REQUIRE(repair(soup, soup_out, soup_rep).ok());
   CHECK(soup_rep.crossing_pairs > 0);
   CHECK(soup_rep.outside_facets == 0);
+  // Asked for a solid (fill_holes), what bounds no volume goes whatever its
+  // share: the pockets that the crossing triangles close are left, and mesh.
+  RepairOptions solid;
+  solid.fill_holes = true;
+  Plc pockets;
+  RepairReport pockets_rep;
+  REQUIRE(repair(soup, pockets, pockets_rep, solid).ok());
+  CHECK(pockets_rep.outside_facets > 0);
+  CHECK(pockets.facets.size() < soup_out.facets.size());
+  require_meshable(pockets);
 }
 
 namespace {

@@ -489,7 +489,8 @@ struct RepairReport {
   /// facet is then kept.
   size_t union_skipped = 0;
   /// Where the union was not formed: facets with the outside of the model on
-  /// both sides (fins, sheets beside it) dropped; they bound no volume.
+  /// both sides (fins, sheets beside it) dropped; they bound no volume. Only
+  /// when they are less than half of the surface's area, or with fill_holes.
   size_t outside_facets = 0;
   // Step 5 with RepairOptions::parts_as_regions (empty or 0 otherwise, and
   // when the union was not formed).
@@ -537,6 +538,9 @@ struct RepairOptions {
   /// triangles of its own vertices, of least total area (CLI --fill-holes,
   /// JS repair: { fillHoles: true }); the patch takes the marker and
   /// provenance of the facet along the loop and goes through steps 3-4.
+  /// Asks for a closed solid: where crossings were resolved but the union
+  /// was not formed, every facet with the outside on both sides goes
+  /// (RepairReport::outside_facets), not only fins that are the lesser part.
   bool fill_holes = false;
   /// After crossings were resolved, the domain is the union of the parts
   /// (the default): the cells of winding number at least 1 of the input

@@ -172,7 +172,7 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOption
   // parts are labelled too).
   if (st.ok() && left.empty() && options.union_of_parts &&
       (report.crossing_pairs > 0 || options.parts_as_regions))
-    st = repair_steps::merge_into_union(w, plc, part_of_input, report, options.debug_union_by_mesh);
+    st = repair_steps::merge_into_union(w, plc, part_of_input, report, options);
   if (!st.ok()) st = in_input_terms(st, plc, w.source);
 
   report.facet_source = w.source;

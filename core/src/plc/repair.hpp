@@ -76,7 +76,7 @@ Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection
 /// stay, and report.region_parts, facet_regions and facet_axis say which
 /// region lies on each side; empty: the plain union.
 Status merge_into_union(Work& w, const Plc& input, const std::vector<uint32_t>& part_of_input,
-                        RepairReport& report, bool by_mesh_only);
+                        RepairReport& report, const RepairOptions& options);
 /// Per input facet: its part, the connected component of w.plc's facets
 /// (joined across shared edges) holding the facets that come from it,
 /// numbered in order of their smallest input facet; kNone for an input

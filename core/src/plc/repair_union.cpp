@@ -540,8 +540,10 @@ void drop_facets(Work& w, const std::vector<uint8_t>& keep,
 // most of it (a soup of triangles, an open surface with a few pockets
 // closed by crossings) the model is no solid with fins but an open
 // surface: every facet stays, for meshing to report the opening or to keep
-// as constraints inside the hull. Returns the number dropped.
-size_t drop_outside_facets(Work& w) {
+// as constraints inside the hull; unless `solid` (fill_holes: the caller
+// asked for a closed solid), when what bounds no volume goes whatever its
+// share. Returns the number dropped.
+size_t drop_outside_facets(Work& w, bool solid) {
   const size_t nf = w.plc.facets.size();
   Options opt;
   opt.keep_convex_hull = true;
@@ -585,7 +587,7 @@ size_t drop_outside_facets(Work& w) {
     const double a = norm(newell_normal(w.plc, w.plc.facets[f].loops[0]));
     (seen[f] == 1 ? outside_area : inside_area) += a;
   }
-  if (!(outside_area < inside_area)) return 0;
+  if (!solid && !(outside_area < inside_area)) return 0;
   std::vector<uint8_t> keep(nf, 1);
   size_t dropped = 0;
   for (size_t f = 0; f < nf; ++f)
@@ -599,7 +601,8 @@ size_t drop_outside_facets(Work& w) {
 }  // namespace
 
 Status merge_into_union(Work& w, const Plc& input, const std::vector<uint32_t>& part_of_input,
-                        RepairReport& report, bool by_mesh_only) {
+                        RepairReport& report, const RepairOptions& options) {
+  const bool by_mesh_only = options.debug_union_by_mesh;
   const size_t nf = w.plc.facets.size();
   std::vector<Orientation> input_orientation(input.facets.size());
   for (size_t s = 0; s < input.facets.size(); ++s)
@@ -618,7 +621,7 @@ Status merge_into_union(Work& w, const Plc& input, const std::vector<uint32_t>& 
   const PartOf part{w, part_of_input};
   if (!facets_close_up(w, runs_like_input, part)) {
     report.union_skipped = 1;
-    report.outside_facets = drop_outside_facets(w);
+    report.outside_facets = drop_outside_facets(w, options.fill_holes);
     return Status::success();
   }
 
@@ -631,7 +634,7 @@ Status merge_into_union(Work& w, const Plc& input, const std::vector<uint32_t>& 
   if (!by_rays) table = WindingTable();
   if (!by_rays && !windings_by_mesh(w, input_orientation, part, table, sides)) {
     report.union_skipped = 1;
-    report.outside_facets = drop_outside_facets(w);
+    report.outside_facets = drop_outside_facets(w, options.fill_holes);
     return Status::success();
   }
   // A model whose normals all point inwards winds -1 around its inside; one
@@ -644,7 +647,7 @@ Status merge_into_union(Work& w, const Plc& input, const std::vector<uint32_t>& 
     }
   if (most <= 0 && least >= 0) {
     report.union_skipped = 1;
-    report.outside_facets = drop_outside_facets(w);
+    report.outside_facets = drop_outside_facets(w, options.fill_holes);
     return Status::success();
   }
   const bool inverted = most <= 0;
