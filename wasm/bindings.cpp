@@ -701,6 +701,11 @@ val guarded(F&& f) {
     return failure(cdt3d::ErrorCode::OutOfMemory,
                    "Out of WebAssembly memory (the browser's limit, or the model is too large).",
                    "");
+  } catch (const std::exception& e) {
+    // Anything else would reach JavaScript as an opaque WebAssembly.Exception
+    // (seen on the page with a 4.6M-triangle model near the heap's limit).
+    return failure(cdt3d::ErrorCode::Internal,
+                   std::string("The mesher stopped on an unexpected C++ exception: ") + e.what(), "");
   }
 }
 

@@ -122,7 +122,12 @@ function errorJSON(e, fileName) {
     else if (ArrayLike(e.facets)) json.facets = Array.from(e.facets);
     return json;
   }
-  return new Cdt3dError('internal', `cdt3d worker: ${e?.message ?? String(e)}`, { file: fileName }).toJSON();
+  // A C++ exception that no binding caught reaches here as an opaque object.
+  const opaque = typeof WebAssembly.Exception === 'function' && e instanceof WebAssembly.Exception;
+  const text = opaque
+    ? 'the mesher stopped on an uncaught WebAssembly exception (seen near the heap\'s limit: try a smaller model, or the native cdt3d)'
+    : e?.message ?? String(e);
+  return new Cdt3dError('internal', `cdt3d worker: ${text}`, { file: fileName }).toJSON();
 }
 
 function ArrayLike(v) {
