@@ -158,6 +158,16 @@ struct TripleHash {
 
 constexpr int kUnset = INT_MIN;
 
+// The PLC under repair tetrahedralized with its convex hull, every facet a
+// constraint of its own (not merged with coplanar neighbours).
+Result tetrahedralize_arrangement(const Plc& plc) {
+  Options opt;
+  opt.keep_convex_hull = true;
+  opt.keep_triangles = true;
+  opt.check_intersections = false;  // step 4 left none (checked exactly)
+  return tetrahedralize(plc, opt);
+}
+
 // The constrained faces of a tetrahedralization of the PLC under repair
 // (sorted triple -> facet; hull faces that are no facet left out).
 std::unordered_map<std::array<VertexId, 3>, uint32_t, TripleHash> facets_by_face(const Result& r,
@@ -201,11 +211,7 @@ bool windings_by_mesh(const Work& w, const std::vector<Orientation>& input_orien
                       const PartOf& part, WindingTable& table,
                       std::vector<std::array<int, 2>>& sides) {
   const size_t nf = w.plc.facets.size();
-  Options opt;
-  opt.keep_convex_hull = true;
-  opt.keep_triangles = true;
-  opt.check_intersections = false;  // step 4 left none (checked exactly)
-  const Result r = tetrahedralize(w.plc, opt);
+  const Result r = tetrahedralize_arrangement(w.plc);
   if (!r.status.ok()) return false;
   const std::vector<double>& xyz = r.mesh.points;
   auto pt = [&](uint32_t v) { return &xyz[3 * size_t(v)]; };
@@ -545,11 +551,7 @@ void drop_facets(Work& w, const std::vector<uint8_t>& keep,
 // share. Returns the number dropped.
 size_t drop_outside_facets(Work& w, bool solid) {
   const size_t nf = w.plc.facets.size();
-  Options opt;
-  opt.keep_convex_hull = true;
-  opt.keep_triangles = true;
-  opt.check_intersections = false;  // step 4 left none (checked exactly)
-  const Result r = tetrahedralize(w.plc, opt);
+  const Result r = tetrahedralize_arrangement(w.plc);
   const size_t nt = r.mesh.tets.size() / 4;
   if (!r.status.ok() || r.mesh.tet_attributes.size() != nt) return 0;
   const auto facet_of = facets_by_face(r, nf);
