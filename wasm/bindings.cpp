@@ -14,6 +14,7 @@
 
 #include "refine.hpp"  // check_quality_options (core/src)
 #include "repair.hpp"  // add_part_region_points (core/src)
+#include "status.hpp"  // current_exception_code (core/src)
 
 #include <array>
 #include <chrono>
@@ -43,23 +44,36 @@ val vec3(const cdt3d::Vec3& p) {
   return a;
 }
 
-// What meshing needs of the heap at its peak, per input point: ~1.7 KB on
+// What meshing needs of the heap at its peak, per input point: ~1.45 KB on
 // the bumpy torus of tests/bench/bench_scale.sh (the tets, the PLC, the
 // result copied out; the CAD-like models need less), with a margin. A
 // model that cannot fit is refused before the work, not minutes into it.
 constexpr double kHeapBytesPerPoint = 1800;
+// With `validate`: the validator's sorted faces and edges of every tet come
+// on top of the mesh (the pipeline's working mesh is freed first). Measured
+// heap: the 3M-triangle torus, 1.50M points, 2.17 GB without validation;
+// 3.15M triangles, 1.58M points, 3.28 GB with it (2.08 KB per point), and
+// 3.99 GB before the working mesh was freed.
+constexpr double kHeapBytesPerPointValidated = 2300;
+
+double heap_bytes_per_point(bool validate) {
+  return validate ? kHeapBytesPerPointValidated : kHeapBytesPerPoint;
+}
 
 // The 4 GiB heap (-sMAXIMUM_MEMORY) and the model sizes it holds, for the
 // error of a model that does not fit (too large up front, or out of memory).
 std::string heap_limit_text() {
   const double heap = static_cast<double>(emscripten_get_heap_max());
   const double points = heap / kHeapBytesPerPoint;
-  char text[256];
+  const double checked = heap / kHeapBytesPerPointValidated;
+  char text[320];
   std::snprintf(text, sizeof text,
                 "The WebAssembly heap is limited to %.1f GiB (wasm32); it holds models of up to "
-                "about %.1f million points (%.1f million triangles of a closed surface). Mesh "
-                "larger models with the native cdt3d.",
-                heap / (1024.0 * 1024 * 1024), points / 1e6, 2 * points / 1e6);
+                "about %.1f million points (%.1f million triangles of a closed surface), or %.1f "
+                "million points (%.1f million triangles) with validation. Mesh larger models "
+                "with the native cdt3d.",
+                heap / (1024.0 * 1024 * 1024), points / 1e6, 2 * points / 1e6, checked / 1e6,
+                2 * checked / 1e6);
   return text;
 }
 
@@ -137,8 +151,12 @@ cdt3d::Status read_then_check(std::unique_ptr<uint8_t, FreeDeleter>& data, size_
   data.reset();
   try {
     if (st.ok() && check) st = cdt3d::check_plc(plc);
-  } catch (const std::bad_alloc&) {
-    st.error = {cdt3d::ErrorCode::OutOfMemory, "Out of memory while checking the file.", name};
+  } catch (...) {  // catch (...): see current_exception_code()
+    if (cdt3d::current_exception_code() == cdt3d::ErrorCode::OutOfMemory)
+      st.error = {cdt3d::ErrorCode::OutOfMemory, "Out of memory while checking the file.", name};
+    else
+      st.error = {cdt3d::ErrorCode::Internal,
+                  "Unexpected failure while checking the file: " + cdt3d::current_exception_text(), name};
   }
   if (!st.ok()) {
     // Never hand back half a PLC (as read_plc).
@@ -506,15 +524,16 @@ val repair_js(val input, bool fill_holes, bool union_of_parts, bool parts_as_reg
 }
 
 // The too-large error of a model that cannot fit the heap, or undefined.
-val too_large(const cdt3d::Plc& plc) {
-  const double need = kHeapBytesPerPoint * static_cast<double>(plc.points.size());
+val too_large(const cdt3d::Plc& plc, bool validate) {
+  const double need = heap_bytes_per_point(validate) * static_cast<double>(plc.points.size());
   if (need <= static_cast<double>(emscripten_get_heap_max())) return val::undefined();
   size_t triangles = 0;
   for (const auto& f : plc.facets) triangles += f.loops.empty() ? 0 : f.loops[0].size() - 2;
   char text[192];
   std::snprintf(text, sizeof text,
-                "This model has %zu points and %zu triangles: meshing it needs about %.1f GiB. ",
-                plc.points.size(), triangles, need / (1024.0 * 1024 * 1024));
+                "This model has %zu points and %zu triangles: meshing it%s needs about %.1f GiB. ",
+                plc.points.size(), triangles, validate ? " and validating the mesh" : "",
+                need / (1024.0 * 1024 * 1024));
   return failure(cdt3d::ErrorCode::TooLarge, text + heap_limit_text(), plc.file);
 }
 
@@ -531,7 +550,8 @@ val tetrahedralize_js(val input, val options, val on_progress) {
   const bool fix = options["repair"].as<bool>();
   st = plc_from_js(input, plc, &ms_read, false);
   if (!st.ok()) return failure(st.error);
-  if (val refused = too_large(plc); !refused.isUndefined()) return refused;
+  if (val refused = too_large(plc, options["validate"].as<bool>()); !refused.isUndefined())
+    return refused;
   cdt3d::RepairReport report;
   if (fix) {
     cdt3d::Plc fixed;
@@ -693,20 +713,34 @@ val delaunay_js(val points) {
 
 // Catches allocation failure (built with -fwasm-exceptions): the heap stays
 // usable, and the caller gets an "out-of-memory" error instead of an abort.
+// Anything else becomes an "internal" error with its what() where the build
+// can see it. Only `catch (...)` matches in the two-thread module (see
+// current_exception_code()); a typed clause let a 4.6M-triangle model's
+// allocation failure through to JavaScript as a WebAssembly.Exception.
 template <class F>
 val guarded(F&& f) {
+  cdt3d::clear_allocation_failure();
   try {
     return f();
-  } catch (const std::bad_alloc&) {
-    return failure(cdt3d::ErrorCode::OutOfMemory,
-                   "Out of WebAssembly memory (the browser's limit, or the model is too large).",
-                   "");
-  } catch (const std::exception& e) {
-    // Anything else would reach JavaScript as an opaque WebAssembly.Exception
-    // (seen on the page with a 4.6M-triangle model near the heap's limit).
+  } catch (...) {
+    if (cdt3d::current_exception_code() == cdt3d::ErrorCode::OutOfMemory)
+      return failure(cdt3d::ErrorCode::OutOfMemory,
+                     "Out of WebAssembly memory (the browser's limit, or the model is too large).",
+                     "");
+    const std::string what = cdt3d::current_exception_text();
     return failure(cdt3d::ErrorCode::Internal,
-                   std::string("The mesher stopped on an unexpected C++ exception: ") + e.what(), "");
+                   "The mesher stopped on an unexpected C++ exception" +
+                       (what.empty() ? std::string(".") : ": " + what),
+                   "");
   }
+}
+
+// The new-handler: records the failure for current_exception_code() (the
+// two-thread module cannot tell a std::bad_alloc by its type), then fails
+// as operator new would without one.
+void on_allocation_failure() {
+  cdt3d::note_allocation_failure();
+  throw std::bad_alloc();
 }
 
 std::string version() { return CDT3D_VERSION; }
@@ -736,7 +770,10 @@ val memory_usage() {
 }  // namespace
 
 EMSCRIPTEN_BINDINGS(cdt3d) {
-  emscripten::function("_readPlc", &read_plc_js);
+  std::set_new_handler(&on_allocation_failure);
+  emscripten::function("_readPlc", +[](val bytes, val file_name) {
+    return guarded([&] { return read_plc_js(bytes, file_name); });
+  });
   emscripten::function("_tetrahedralize", +[](val input, val options, val progress) {
     return guarded([&] { return tetrahedralize_js(input, options, progress); });
   });

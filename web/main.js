@@ -122,6 +122,7 @@ async function openModel(source) {
   $('error').hidden = true;
   $('repair').hidden = true;
   $('repair-parts').hidden = true;
+  $('no-validate').hidden = true;
   $('fill-holes').hidden = true;
   $('repair-report').hidden = true;
   demo.repair = null;
@@ -724,6 +725,9 @@ function showError(e, name) {
   // Parts passing through one another: their union by default, or each
   // part and each overlap a region of its own.
   $('repair-parts').hidden = !(error.code === 'self-intersection' && current?.source && !current.source.repair);
+  // Validation needs about half as much heap again as meshing: a model over
+  // the limit with it may fit without.
+  $('no-validate').hidden = !(error.code === 'too-large' && current?.source && $('opt-validate').checked);
   $('error').hidden = false;
   $('model-status').textContent = `Error: ${error.code}`;
 }
@@ -736,6 +740,10 @@ $('repair').addEventListener('click', () => {
 });
 $('repair-parts').addEventListener('click', () => {
   if (current?.source) openModel({ ...current.source, repair: true, partsAsRegions: true });
+});
+$('no-validate').addEventListener('click', () => {
+  $('opt-validate').checked = false;
+  if (current?.source) openModel(current.source);
 });
 // An open surface: "Fill holes and mesh" closes its holes, then repairs.
 $('fill-holes').addEventListener('click', () => {

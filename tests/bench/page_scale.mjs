@@ -9,7 +9,9 @@
 //   node tests/bench/page_scale.mjs MODEL...
 //
 // Needs the WASM build (tests/scripts/build.sh) and /usr/bin/chromium (or
-// $CHROMIUM_PATH). PAGE_TIMEOUT (seconds, default 900) per model.
+// $CHROMIUM_PATH). PAGE_TIMEOUT (seconds, default 900) per model;
+// PAGE_VALIDATE=0 unticks the page's "validate" box first (validation
+// needs more heap than meshing, so the page takes larger models without it).
 import { existsSync } from 'node:fs';
 import path from 'node:path';
 
@@ -24,6 +26,7 @@ async function meshOnPage(context, origin, file) {
   await page.waitForFunction(() => ['ready', 'failed'].includes(document.body.dataset.engine), null, {
     timeout: 300_000,
   });
+  if (process.env.PAGE_VALIDATE === '0') await page.uncheck('#opt-validate');
   const t0 = Date.now();
   await page.setInputFiles('#file', file);
   await page.waitForFunction(() => window.cdt3dDemo.timings.length > 0, null, { timeout: 60_000 });
@@ -43,6 +46,10 @@ async function meshOnPage(context, origin, file) {
       code: demo.error?.code ?? null,
       message: demo.error?.message ?? null,
       threaded: demo.engine.threaded,
+      validate: document.getElementById('opt-validate').checked,
+      // An error panel's way on: "Mesh without validation" for a model over
+      // the heap's limit with validation.
+      offersNoValidate: !document.getElementById('no-validate').hidden,
     };
   });
   return { model: path.basename(file), wallS: (Date.now() - t0) / 1000, ...seen };

@@ -5,8 +5,13 @@
 #include <cdt3d/cdt3d.hpp>
 #include <cstring>
 #include <limits>
+#include <new>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include "status.hpp"
 
 using namespace cdt3d;
 
@@ -472,4 +477,30 @@ TEST_CASE("Random byte damage never crashes a reader", "[io][errors][hostile]") 
       check_clean_failure(bytes, sample.first);
     }
   }
+}
+
+// The handlers catch everything and ask current_exception_code(), because
+// the threaded WebAssembly build matches no typed catch clause (status.hpp).
+TEST_CASE("Error: an exception caught by catch (...) maps to out-of-memory or internal",
+          "[errors]") {
+  clear_allocation_failure();
+  auto code_of = [](auto&& thrower) {
+    try {
+      thrower();
+    } catch (...) {
+      return std::make_pair(current_exception_code(), current_exception_text());
+    }
+    return std::make_pair(ErrorCode::Ok, std::string());
+  };
+  CHECK(code_of([] { throw std::bad_alloc(); }).first == ErrorCode::OutOfMemory);
+  const auto other = code_of([] { throw std::runtime_error("boom"); });
+  CHECK(other.first == ErrorCode::Internal);
+  CHECK(other.second == "boom");
+  CHECK(code_of([] { throw 7; }).second.empty());
+  // Where the type cannot be seen, a failed allocation noted by the
+  // new-handler decides.
+  note_allocation_failure();
+  CHECK(code_of([] { throw 7; }).first == ErrorCode::OutOfMemory);
+  clear_allocation_failure();
+  CHECK(code_of([] { throw 7; }).first == ErrorCode::Internal);
 }

@@ -106,7 +106,7 @@ void BesideThread::join() {
 bool BesideThread::start(std::function<void()> body) {
   try {
     thread_ = std::thread(std::move(body));
-  } catch (const std::system_error&) {
+  } catch (...) {  // std::system_error: no thread to be had
     return false;
   }
   return true;

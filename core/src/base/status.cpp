@@ -1,7 +1,42 @@
 // Error codes, their stable names and one-line descriptions.
-#include <cdt3d/cdt3d.hpp>
+#include "status.hpp"
+
+#include <atomic>
+#include <exception>
+#include <new>
 
 namespace cdt3d {
+
+namespace {
+std::atomic<bool> allocation_failed{false};
+}  // namespace
+
+void note_allocation_failure() { allocation_failed.store(true); }
+void clear_allocation_failure() { allocation_failed.store(false); }
+
+ErrorCode current_exception_code() {
+#if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
+  try {
+    throw;
+  } catch (const std::bad_alloc&) {
+    return ErrorCode::OutOfMemory;
+  } catch (...) {
+  }
+#endif
+  return allocation_failed.load() ? ErrorCode::OutOfMemory : ErrorCode::Internal;
+}
+
+std::string current_exception_text() {
+#if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
+  try {
+    throw;
+  } catch (const std::exception& e) {
+    return e.what();
+  } catch (...) {
+  }
+#endif
+  return "";
+}
 
 const char* error_code_name(ErrorCode code) {
   switch (code) {

@@ -51,4 +51,25 @@ inline ErrorBuilder make_error(ErrorCode code, std::string message) {
   return ErrorBuilder(code, std::move(message));
 }
 
+/// The error code of the exception being handled, for a `catch (...)`
+/// block: OutOfMemory for std::bad_alloc, Internal otherwise.
+///
+/// Why every handler catches everything and asks here: in the WebAssembly
+/// build with threads (Emscripten 3.1.6, clang 14, -fwasm-exceptions), no
+/// typed catch clause ever matches, not even `catch (const std::bad_alloc&)`
+/// around a plain `throw std::bad_alloc()`; only `catch (...)` does. (Checked
+/// with a 20-line program: single-threaded it matches, with -pthread it does
+/// not.) A typed clause there lets the exception through to JavaScript as an
+/// opaque WebAssembly.Exception. So where a typed clause cannot match, the
+/// allocation failure is known by note_allocation_failure(), which the
+/// WebAssembly module's new-handler calls before it throws.
+ErrorCode current_exception_code();
+/// The what() of the exception being handled, or "" (for `catch (...)`; the
+/// threaded WebAssembly build cannot see it, as above).
+std::string current_exception_text();
+/// Records that an allocation failed (from any thread), for
+/// current_exception_code(); clear_allocation_failure() forgets it.
+void note_allocation_failure();
+void clear_allocation_failure();
+
 }  // namespace cdt3d

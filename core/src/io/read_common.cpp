@@ -56,7 +56,7 @@ Status read_file(const std::string& path, std::vector<uint8_t>& bytes) {
       }
     }
 #if defined(__cpp_exceptions)
-  } catch (const std::bad_alloc&) {
+  } catch (...) {  // std::bad_alloc (catch (...): see current_exception_code())
     std::fclose(f);
     return fail(ErrorCode::OutOfMemory, "Out of memory while reading the file.", path);
   }

@@ -1176,8 +1176,11 @@ Status build_guarded(TetMesh& m, const std::vector<VertexId>& vertices,
 #if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
   try {
     return build(m, vertices, to_vertex, stats, options);
-  } catch (const std::bad_alloc&) {
+  } catch (...) {  // catch (...): see current_exception_code()
     m.clear();
+    if (current_exception_code() != ErrorCode::OutOfMemory)
+      return make_error(ErrorCode::Internal, "Unexpected failure in the Delaunay tetrahedralization: " +
+                                                 current_exception_text());
     return make_error(ErrorCode::OutOfMemory, "Out of memory in the Delaunay tetrahedralization.");
   }
 #else

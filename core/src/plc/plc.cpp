@@ -7,6 +7,7 @@
 
 #include "geometry.hpp"
 #include "radix_sort.hpp"
+#include "status.hpp"
 #include "io/read_common.hpp"
 
 namespace cdt3d {
@@ -95,12 +96,11 @@ Status read_plc(const uint8_t* data, size_t size, const std::string& file_name, 
   // Nothing here throws except allocation; turn that into a status.
   try {
     return read_and_check(data, size, file_name, out, check);
-  } catch (const std::bad_alloc&) {
+  } catch (...) {  // catch (...): see current_exception_code()
     out = Plc();
-    return io::fail(ErrorCode::OutOfMemory, "Out of memory while reading the file.", file_name);
-  } catch (const std::exception& e) {
-    out = Plc();
-    return io::fail(ErrorCode::Internal, std::string("Unexpected failure: ") + e.what(), file_name);
+    if (current_exception_code() == ErrorCode::OutOfMemory)
+      return io::fail(ErrorCode::OutOfMemory, "Out of memory while reading the file.", file_name);
+    return io::fail(ErrorCode::Internal, "Unexpected failure: " + current_exception_text(), file_name);
   }
 #else
   return read_and_check(data, size, file_name, out, check);

@@ -279,6 +279,7 @@ class Pipeline {
   bool after_order(IntersectionTest& intersections);
   bool await_intersections();
   bool take_ended_test();
+  void release_work();
   // Step 1's options: two threads where the run may use them.
   DelaunayOptions delaunay_options() const {
     DelaunayOptions o;
@@ -835,6 +836,24 @@ void Pipeline::run() {
   done_ = true;
 }
 
+// The working mesh and the structures of the steps, freed once the Result
+// holds the mesh: the validator reads only the input and the Result, and
+// its sorted faces and edges of every tet then reuse the working mesh's
+// memory instead of adding to it (the WebAssembly heap's 4 GiB bound the
+// models the page can mesh and validate).
+void Pipeline::release_work() {
+  mesh_ = TetMesh();
+  d0_ = TetMesh();
+  segs_ = SegmentSet();
+  initial_segments_ = SegmentSet();
+  subfaces_ = Subfaces();
+  std::vector<HalfFace>().swap(subface_hf_);
+  std::vector<std::vector<VertexId>>().swap(facet_interior_);
+  std::vector<VertexId>().swap(volume_points_);
+  std::vector<FacetSplit>().swap(facet_splits_);
+  insides_ = FlatFaceInsides();
+}
+
 // After run(): the Result in input numbering (points, facets, segments),
 // validated against the input (validate() merges flat faces as the run did:
 // Result::flat_faces_merged), since its messages name input vertices.
@@ -842,6 +861,7 @@ void Pipeline::finish(const Plc& input) {
   report_input_ids(input);
   if (!done_) return;
   if (opt_.validate && opt_.stop_after >= Phase::Carve) {
+    release_work();
     Status v = validate(input, out_);
     if (!v.ok()) {
       out_.status = v;
@@ -907,9 +927,13 @@ Result tetrahedralize(const Plc& plc, const Options& options) {
     Pipeline p(plc, options, out);
     p.run();
     p.finish(plc);
-  } catch (const std::bad_alloc&) {
+  } catch (...) {  // catch (...): see current_exception_code()
     out = Result();
-    out.status.error = {ErrorCode::OutOfMemory, "Out of memory while meshing.", plc.file};
+    if (current_exception_code() == ErrorCode::OutOfMemory)
+      out.status.error = {ErrorCode::OutOfMemory, "Out of memory while meshing.", plc.file};
+    else
+      out.status.error = {ErrorCode::Internal,
+                          "Unexpected failure while meshing: " + current_exception_text(), plc.file};
   }
 #else
   Pipeline p(plc, options, out);
