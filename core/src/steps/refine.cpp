@@ -62,6 +62,7 @@
 #include "geometry.hpp"
 #include "improve.hpp"
 #include "predicates.hpp"
+#include "radix_sort.hpp"
 #include "spatial_sort.hpp"
 #include "status.hpp"
 #include "tet_mesh.hpp"
@@ -126,6 +127,9 @@ constexpr double kEncroachedScaleFactor = 0.2;
 // Two facets meeting at an edge at a dihedral angle below this (degrees;
 // the small input angle of issue 42) bound a thin wedge (in_thin_wedge).
 constexpr double kWedgeAngle = 10;
+// Facets of more vertices than this are not looked at for wedges
+// (small_dihedral_pairs).
+constexpr size_t kWedgeFacetSize = 64;
 
 // The guard on added points beyond 100 per point of the CDT: a plate of
 // 242 points whose thickness is a thousandth of its width needs about 400k
@@ -190,39 +194,51 @@ struct WedgePair {
 // kWedgeAngle, measured as the quality bench does (tests/bench/
 // mesh_quality.cpp): the angle between the two facets' directions away
 // from the edge, each its vertex farthest from the edge's line made
-// perpendicular to it. A threshold on the input, so doubles do.
+// perpendicular to it. A threshold on the input, so doubles do. Facets of
+// more than kWedgeFacetSize vertices are left out: the farthest vertex
+// costs a scan of the facet per edge (they are refined as before).
 std::vector<WedgePair> small_dihedral_pairs(const Plc& plc) {
-  std::unordered_map<uint64_t, std::vector<uint32_t>> by_edge;
-  for (uint32_t f = 0; f < plc.facets.size(); ++f)
+  struct EdgeFacet {
+    uint64_t key;  // edge (a, b), a < b, as a * points + b
+    uint32_t facet;
+  };
+  const uint64_t n = plc.points.size();
+  std::vector<EdgeFacet> edges;
+  for (uint32_t f = 0; f < plc.facets.size(); ++f) {
+    size_t size = 0;
+    for (const auto& loop : plc.facets[f].loops) size += loop.size();
+    if (size > kWedgeFacetSize) continue;
     for (const auto& loop : plc.facets[f].loops)
       for (size_t i = 0; i < loop.size(); ++i) {
-        const uint32_t a = loop[i], b = loop[(i + 1) % loop.size()];
-        if (a != b) by_edge[edge_key(a, b)].push_back(f);
+        const uint64_t a = loop[i], b = loop[(i + 1) % loop.size()];
+        if (a != b) edges.push_back({std::min(a, b) * n + std::max(a, b), f});
       }
+  }
+  radix_sort_by(edges, [](const EdgeFacet& e) { return e.key; }, 0, 2 * index_bits(n));
   const double cos_limit = std::cos(kWedgeAngle * 3.14159265358979323846 / 180);
   std::vector<WedgePair> out;
   std::vector<Vec3> away, far;
-  for (const auto& [key, facets] : by_edge) {
-    if (facets.size() < 2) continue;
-    const Vec3 a = plc.points[static_cast<uint32_t>(key >> 32)];
-    const Vec3 b = plc.points[static_cast<uint32_t>(key & 0xffffffffu)];
+  for (size_t lo = 0, hi = 0; lo < edges.size(); lo = hi) {
+    while (hi < edges.size() && edges[hi].key == edges[lo].key) ++hi;
+    if (hi - lo < 2) continue;
+    const Vec3 a = plc.points[edges[lo].key / n], b = plc.points[edges[lo].key % n];
     const Vec3 e = b - a;
     const double ee = dot(e, e);
     if (!(ee > 0)) continue;
-    away.assign(facets.size(), Vec3{0, 0, 0});
-    far.assign(facets.size(), a);
-    for (size_t k = 0; k < facets.size(); ++k)
-      for (const auto& loop : plc.facets[facets[k]].loops)
+    away.assign(hi - lo, Vec3{0, 0, 0});
+    far.assign(hi - lo, a);
+    for (size_t k = 0; k < hi - lo; ++k)
+      for (const auto& loop : plc.facets[edges[lo + k].facet].loops)
         for (uint32_t v : loop) {
           const Vec3 d = plc.points[v] - a;
           const Vec3 perp = d - (dot(d, e) / ee) * e;
           if (dot(perp, perp) > dot(away[k], away[k])) away[k] = perp, far[k] = plc.points[v];
         }
-    for (size_t i = 0; i < facets.size(); ++i)
-      for (size_t j = i + 1; j < facets.size(); ++j) {
+    for (size_t i = 0; i < hi - lo; ++i)
+      for (size_t j = i + 1; j < hi - lo; ++j) {
         const double d = norm(away[i]) * norm(away[j]);
         if (d > 0 && dot(away[i], away[j]) > cos_limit * d)
-          out.push_back({{facets[i], facets[j]}, a, b, {far[i], far[j]},
+          out.push_back({{edges[lo + i].facet, edges[lo + j].facet}, a, b, {far[i], far[j]},
                          norm(cross(away[i], away[j])) / d, std::min(norm(away[i]), norm(away[j]))});
       }
   }
