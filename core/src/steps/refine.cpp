@@ -62,6 +62,7 @@
 #include "geometry.hpp"
 #include "improve.hpp"
 #include "predicates.hpp"
+#include "radix_sort.hpp"
 #include "spatial_sort.hpp"
 #include "status.hpp"
 #include "tet_mesh.hpp"
@@ -123,6 +124,13 @@ constexpr double kScaleSlope = 0.25;
 // the tets for a small gain in quality below this (tests/bench/README.md).
 constexpr double kEncroachedScaleFactor = 0.2;
 
+// Two facets meeting at an edge at a dihedral angle below this (degrees;
+// the small input angle of issue 42) bound a thin wedge (in_thin_wedge).
+constexpr double kWedgeAngle = 10;
+// Facets of more vertices than this are not looked at for wedges
+// (small_dihedral_pairs).
+constexpr size_t kWedgeFacetSize = 64;
+
 // The guard on added points beyond 100 per point of the CDT: a plate of
 // 242 points whose thickness is a thousandth of its width needs about 400k
 // points at that scale on its faces to meet the bound (TetGen adds 1M).
@@ -171,6 +179,114 @@ TetShape tet_shape(const double* p0, const double* p1, const double* p2, const d
     }
   s.shortest = std::sqrt(shortest2);
   return s;
+}
+
+// Two facets meeting at an edge (a, b) at a dihedral angle below kWedgeAngle,
+// each with its vertex farthest from the edge's line.
+struct WedgePair {
+  uint32_t f[2];
+  Vec3 a, b, far[2];
+  double sin_angle;
+  double reach;  // how far the wedge reaches off the edge: the nearer far vertex
+};
+
+// The pairs of facets of plc that meet at an edge at a dihedral angle below
+// kWedgeAngle, measured as the quality bench does (tests/bench/
+// mesh_quality.cpp): the angle between the two facets' directions away
+// from the edge, each its vertex farthest from the edge's line made
+// perpendicular to it. A threshold on the input, so doubles do. Facets of
+// more than kWedgeFacetSize vertices are left out: the farthest vertex
+// costs a scan of the facet per edge (they are refined as before).
+std::vector<WedgePair> small_dihedral_pairs(const Plc& plc) {
+  struct EdgeFacet {
+    uint64_t key;  // edge (a, b), a < b, as a * points + b
+    uint32_t facet;
+  };
+  const uint64_t n = plc.points.size();
+  std::vector<EdgeFacet> edges;
+  for (uint32_t f = 0; f < plc.facets.size(); ++f) {
+    size_t size = 0;
+    for (const auto& loop : plc.facets[f].loops) size += loop.size();
+    if (size > kWedgeFacetSize) continue;
+    for (const auto& loop : plc.facets[f].loops)
+      for (size_t i = 0; i < loop.size(); ++i) {
+        const uint64_t a = loop[i], b = loop[(i + 1) % loop.size()];
+        if (a != b) edges.push_back({std::min(a, b) * n + std::max(a, b), f});
+      }
+  }
+  radix_sort_by(edges, [](const EdgeFacet& e) { return e.key; }, 0, 2 * index_bits(n));
+  const double cos_limit = std::cos(kWedgeAngle * 3.14159265358979323846 / 180);
+  std::vector<WedgePair> out;
+  std::vector<Vec3> away, far;
+  for (size_t lo = 0, hi = 0; lo < edges.size(); lo = hi) {
+    while (hi < edges.size() && edges[hi].key == edges[lo].key) ++hi;
+    if (hi - lo < 2) continue;
+    const Vec3 a = plc.points[edges[lo].key / n], b = plc.points[edges[lo].key % n];
+    const Vec3 e = b - a;
+    const double ee = dot(e, e);
+    if (!(ee > 0)) continue;
+    away.assign(hi - lo, Vec3{0, 0, 0});
+    far.assign(hi - lo, a);
+    for (size_t k = 0; k < hi - lo; ++k)
+      for (const auto& loop : plc.facets[edges[lo + k].facet].loops)
+        for (uint32_t v : loop) {
+          const Vec3 d = plc.points[v] - a;
+          const Vec3 perp = d - (dot(d, e) / ee) * e;
+          if (dot(perp, perp) > dot(away[k], away[k])) away[k] = perp, far[k] = plc.points[v];
+        }
+    for (size_t i = 0; i < hi - lo; ++i)
+      for (size_t j = i + 1; j < hi - lo; ++j) {
+        const double d = norm(away[i]) * norm(away[j]);
+        if (d > 0 && dot(away[i], away[j]) > cos_limit * d)
+          out.push_back({{edges[lo + i].facet, edges[lo + j].facet}, a, b, {far[i], far[j]},
+                         norm(cross(away[i], away[j])) / d, std::min(norm(away[i]), norm(away[j]))});
+      }
+  }
+  return out;
+}
+
+// The pairs of small_dihedral_pairs with the domain between the two facets
+// (a thin wedge of it; a notch, the outside between them as on chazelle_n3,
+// is none). The domain's side of facet f: the side of its plane, by exact
+// orientation, of the tets of cm that have a face on f; the wedge holds the
+// domain when the other facet's far vertex lies on that side.
+std::vector<WedgePair> domain_wedges(const Plc& plc, const ConstrainedMesh& cm) {
+  std::vector<WedgePair> pairs = small_dihedral_pairs(plc);
+  if (pairs.empty()) return pairs;
+  // pairs_of[f]: (pair, which side of it) for each pair f is in.
+  std::unordered_map<uint32_t, std::vector<std::pair<size_t, int>>> pairs_of;
+  for (size_t k = 0; k < pairs.size(); ++k)
+    for (int s = 0; s < 2; ++s) pairs_of[pairs[k].f[s]].push_back({k, s});
+  // sides[2k + s]: bit 1 (positive) and 2 (negative) for the domain's sides
+  // of facet f[s] of pair k, relative to the plane (a, b, far[s]).
+  std::vector<uint8_t> sides(2 * pairs.size(), 0);
+  const TetMesh& m = cm.m;
+  for (TetId t = 0; t < m.num_tet_slots(); ++t) {
+    if (m.is_dead(t)) continue;
+    for (int i = 0; i < 4; ++i) {
+      const uint32_t tag = cm.tag(make_hf(t, i));
+      if (tag == kNoTag || is_hull_tag(tag)) continue;
+      const auto it = pairs_of.find(tag - 1);
+      if (it == pairs_of.end()) continue;
+      const double* d = cm.pt(m.tet_vertices(t)[i]);
+      for (const auto& [k, s] : it->second) {
+        const WedgePair& w = pairs[k];
+        const int o = pred::orient3d(&w.a.x, &w.b.x, &w.far[s].x, d);
+        sides[2 * k + s] |= o > 0 ? 1 : o < 0 ? 2 : 0;
+      }
+    }
+  }
+  std::vector<WedgePair> out;
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    const WedgePair& w = pairs[k];
+    bool inside = true;
+    for (int s = 0; s < 2 && inside; ++s) {
+      const int o = pred::orient3d(&w.a.x, &w.b.x, &w.far[s].x, &w.far[1 - s].x);
+      inside = (sides[2 * k + s] & (o > 0 ? 1 : o < 0 ? 2 : 0)) != 0;
+    }
+    if (inside) out.push_back(w);
+  }
+  return out;
 }
 
 // Circumcentre and circumradius of triangle (a, b, c) in its plane.
@@ -279,6 +395,8 @@ class Refiner {
   // --- the three kinds of split ---
   bool split_subsegment(VertexId a, VertexId b, double lmin, int depth = 0);
   bool split_subface(const Subface& s, double lmin, int depth = 0);
+  void init_wedges();
+  bool in_thin_wedge(uint32_t tag, const Vec3& c, double r) const;
   bool fix_bad_tet(TetId t, const TetShape& shape);
 
 
@@ -416,6 +534,10 @@ class Refiner {
   uint32_t commits_ = 0;
   std::vector<double> scale_;  // per vertex: its local scale (init_scales)
   std::vector<std::array<VertexId, 2>> segments_;  // the PLC's segments (plc_segments order)
+  // Thin wedges of the domain (domain_wedges) and, per facet, the indices
+  // of those it bounds (empty for most).
+  std::vector<WedgePair> wedges_;
+  std::unordered_map<uint32_t, std::vector<uint32_t>> wedges_of_;
   void init_scales();
 };
 
@@ -1362,13 +1484,45 @@ bool Refiner::split_subsegment(VertexId a, VertexId b, double lmin, int depth) {
   return true;
 }
 
+void Refiner::init_wedges() {
+  wedges_ = domain_wedges(plc_, cm_);
+  for (uint32_t k = 0; k < wedges_.size(); ++k)
+    for (uint32_t f : wedges_[k].f) wedges_of_[f].push_back(k);
+}
+
+// Whether a split point c of a subface of facet `tag` (circumradius r)
+// lies where a thin wedge the facet bounds is thinner than r: tets across
+// the wedge there are slivers whatever point goes in, and such points only
+// move them off the wedge's edge (on cheburashka, 1,471 of the 1,605 tets
+// below 10 degrees that touched no small input angle lay between two such
+// facets; none with refinement off). Farther from the edge, where the
+// wedge is thicker, or beyond the narrower facet's reach (a scan's cap of
+// 172 degrees folded onto a large triangle bounds a wedge only as far as
+// the cap reaches; freezing all of the large one left slivers of 0.003
+// degrees on nefertiti), the facet is split as any other.
+bool Refiner::in_thin_wedge(uint32_t tag, const Vec3& c, double r) const {
+  if (wedges_of_.empty() || tag == kNoTag || is_hull_tag(tag)) return false;
+  const auto it = wedges_of_.find(tag - 1);
+  if (it == wedges_of_.end()) return false;
+  for (uint32_t k : it->second) {
+    const WedgePair& w = wedges_[k];
+    const Vec3 e = w.b - w.a, d = c - w.a;
+    const double t = std::clamp(dot(d, e) / dot(e, e), 0.0, 1.0);
+    const double off = norm(d - t * e);
+    if (off <= w.reach && off * w.sin_angle < r) return true;
+  }
+  return false;
+}
+
 // Splits subface s at its circumcentre, unless that lies beyond a
 // subsegment of the facet or encroaches upon one (then the subsegment is
-// split) or comes closer than lmin to the subface's vertices.
+// split), comes closer than lmin to the subface's vertices or lies in a
+// thin wedge (in_thin_wedge).
 bool Refiner::split_subface(const Subface& s, double lmin, int depth) {
   Vec3 c;
   double r;
   if (!triangle_circle(pt(s.v[0]), pt(s.v[1]), pt(s.v[2]), c, r) || r < kSplitFloorFactor * lmin) return false;
+  if (in_thin_wedge(s.tag, c, r)) return false;
   const double xyz[3] = {c.x, c.y, c.z};
   Subface at;
   VertexId sa = kNone, sb = kNone;
@@ -1468,6 +1622,7 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
   if (!st.ok()) return st;
   unconditional_splits_ = q_.min_dihedral > 0;
   segments_ = plc_segments(plc_);
+  init_wedges();
   init_scales();
   // Per-region volume bounds (Region::max_volume), by attribute.
   for (const Region& r : plc_.regions)
