@@ -480,9 +480,9 @@ TEST_CASE("repair --fill-holes: every boundary loop closed, oriented like the su
 namespace {
 
 // A UV sphere of radius 1 (outward) without a cap whose edge zigzags: in
-// column j the rings above 8 + round(3 sin(3 phi_j)) are left out. One hole,
-// a disc whose rim (84 edges) is far from planar.
-Plc open_sphere(int rings, int segments) {
+// column j the rings above cut + round(wave sin(3 phi_j)) are left out. One
+// hole, a disc whose rim is far from planar.
+Plc open_sphere(int rings, int segments, int cut, int wave) {
   Plc plc;
   const double pi = std::acos(-1.0);
   plc.points.push_back({0, 0, 1});
@@ -503,7 +503,7 @@ Plc open_sphere(int rings, int segments) {
     plc.facets.push_back(f);
   };
   for (int j = 0; j < segments; ++j)
-    for (int i = static_cast<int>(8 + std::lround(3 * std::sin(3 * 2 * pi * j / segments))); i < rings; ++i) {
+    for (int i = static_cast<int>(cut + std::lround(wave * std::sin(3 * 2 * pi * j / segments))); i < rings; ++i) {
       if (i + 1 < rings) add(at(i, j), at(i + 1, j), at(i + 1, j + 1));
       if (i > 0) add(at(i, j), at(i + 1, j + 1), at(i, j + 1));
     }
@@ -513,7 +513,7 @@ Plc open_sphere(int rings, int segments) {
 }  // namespace
 
 TEST_CASE("repair --fill-holes: a non-planar hole's patch is refined to its rim's scale", "[repair]") {
-  const Plc in = open_sphere(24, 48);
+  const Plc in = open_sphere(24, 48, 8, 3);  // 84 rim edges
   // The rim: the edges one input triangle uses.
   std::map<std::pair<VertexId, VertexId>, int> uses;
   for (const Facet& f : in.facets)
@@ -548,9 +548,25 @@ TEST_CASE("repair --fill-holes: a non-planar hole's patch is refined to its rim'
     for (size_t i = 0; i < l.size(); ++i) longest = std::max(longest, dist(out.points[l[i]], out.points[l[(i + 1) % l.size()]]));
   }
   CHECK(patch > rim_edges);
+  // Faired as a thin plate, the patch keeps the sphere's curvature: its
+  // points lie near the sphere (a membrane, U = 0 alone, sags to radius 0.68).
+  for (size_t v = in.points.size(); v < out.points.size(); ++v) CHECK(std::fabs(norm(out.points[v]) - 1) < 0.15);
   INFO("longest patch edge " << longest << ", rim mean " << rim_mean);
   CHECK(longest <= 3 * rim_mean);
   // (c) Closed, and it meshes and validates.
+  require_meshable(out);
+}
+
+TEST_CASE("repair --fill-holes: a hole of over 240 rim edges (ear clipping) refined without crossing the surface",
+          "[repair]") {
+  // Most of a hemisphere: the ear-clipped patch folds, and edge swaps across
+  // its folds once made it cross the sphere.
+  const Plc in = open_sphere(64, 192, 28, 6);
+  Plc out;
+  const RepairReport rep = fill_one_hole(in, out);
+  CHECK(rep.fill_triangles > 240);
+  CHECK(rep.fill_points > 240);
+  CHECK(rep.crossing_pairs == 0);
   require_meshable(out);
 }
 

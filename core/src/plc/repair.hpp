@@ -45,9 +45,9 @@ void drop_orphaned_points(Work& w, const Plc& input);
 
 // Step 3b (repair_holes.cpp, with RepairOptions::fill_holes, after the
 // T-junctions): every boundary loop closed by triangles of its vertices, of
-// least total area; a non-planar loop's patch then refined with new points
-// (report.fill_points) and faired (Liepa 2003).
-void fill_holes(Work& w, RepairReport& report);
+// least total area; with `refine`, a non-planar loop's patch then refined
+// with new points (report.fill_points) and faired (Liepa 2003).
+void fill_holes(Work& w, RepairReport& report, bool refine = true);
 /// Some edge is used by one facet alone (and no explicit segment).
 bool has_boundary(const Plc& plc);
 

@@ -10,11 +10,12 @@
 // rounded off it. A non-planar loop's patch is then refined and faired as in
 // Liepa 2003 (sections 3.2 and 3.3): triangles split at their centroids until
 // their size matches the edges around the hole, edges swapped towards
-// Delaunay, and the new points moved to the average of their neighbours, so
-// the patch's triangles fit their neighbours. Those points are constructed
-// (rounded to doubles, then to step 4's snap grid). The T-junction step and
-// step 4 then treat the patch like any other facets (a patch that crosses the
-// surface is cut along the crossing in step 4).
+// Delaunay, and the new points faired (a membrane, then a thin plate leaning
+// on the surface around the rim), so the patch's triangles fit their
+// neighbours. Those points are constructed (rounded to doubles, then to step
+// 4's snap grid). The T-junction step and step 4 then treat the patch like
+// any other facets (a patch that crosses the surface is cut along the
+// crossing in step 4).
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -240,8 +241,8 @@ using Tri = std::array<VertexId, 3>;
 // Liepa's density factor: a triangle is split while its centroid lies
 // further than sigma / sqrt(2) from each of its corners.
 constexpr double kDensity = 1.4142135623730951;  // sqrt(2)
-// Gauss-Seidel sweeps of the fairing at most; they stop sooner once no
-// point moves more than kFairSettled of the rim's scale.
+// Gauss-Seidel sweeps of each fairing stage at most; they stop sooner once
+// no point moves more than kFairSettled of the largest sigma.
 constexpr int kFairSweeps = 200;
 constexpr double kFairSettled = 1e-6;
 
@@ -251,10 +252,12 @@ uint64_t directed(VertexId a, VertexId b) { return (uint64_t{a} << 32) | b; }
 // added: per rim vertex sigma, the mean length of the surface's edges at it
 // (Liepa's sigma); and the undirected edges between two rim vertices that
 // are taken already (by the surface, later also by a patch), which a swap
-// must not make again.
+// must not make again; per rim vertex its neighbours in the surface (the
+// fixed ring the thin-plate fairing leans on).
 struct RimScale {
   std::unordered_map<VertexId, double> sigma;
   std::unordered_set<uint64_t> taken;
+  std::unordered_map<VertexId, std::vector<VertexId>> ring;
 };
 
 RimScale rim_scale(const Plc& plc, const std::vector<std::vector<FillEdge>>& loops) {
@@ -272,6 +275,8 @@ RimScale rim_scale(const Plc& plc, const std::vector<std::vector<FillEdge>>& loo
         const double len = dist(plc.points[a], plc.points[b]);
         for (auto it : {ia, ib})
           if (it != sum.end()) it->second.first += len, ++it->second.second;
+        if (ia != sum.end()) rim.ring[a].push_back(b);
+        if (ib != sum.end()) rim.ring[b].push_back(a);
         if (ia != sum.end() && ib != sum.end()) rim.taken.insert(undirected(a, b));
       }
   for (const auto& [v, s] : sum) rim.sigma[v] = s.second ? s.first / double(s.second) : 0;
@@ -312,31 +317,17 @@ class Patch {
     while (new_points() < max_points && split_pass(max_points)) relax_all();
   }
 
-  // Fairing with the rim fixed: Gauss-Seidel sweeps of the umbrella operator
-  // (each new point to the average of its neighbours, a discrete membrane;
-  // Liepa 2003, section 3.3). Undone when it leaves a triangle of three
-  // collinear points or folds more edges than the refinement did.
+  // Fairing with the rim fixed (Liepa 2003, section 3.3), by Gauss-Seidel
+  // sweeps: first the membrane, the umbrella operator U = 0 (each new point
+  // to the average of its neighbours); then from there the thin plate,
+  // U^2 = 0, whose rim vertices' umbrellas reach into the surface, so the
+  // patch leaves the rim with the surface's slope. Each stage is undone when
+  // it leaves a triangle of three collinear points or more folded edges.
   void fair() {
     if (new_points() == 0) return;
-    const std::vector<Vec3> before(plc_.points.begin() + first_new_, plc_.points.end());
-    const size_t folds_before = folded_edges();
-    const std::vector<std::vector<VertexId>> ring = neighbours();
-    double scale = 0;
-    for (const auto& [v, s] : sigma_) scale = std::max(scale, s);
-    for (int sweep = 0; sweep < kFairSweeps; ++sweep) {
-      double moved = 0;
-      for (VertexId v = first_new_; v < plc_.points.size(); ++v) {
-        Vec3 mean{0, 0, 0};
-        for (VertexId u : ring[v - first_new_]) mean = mean + plc_.points[u];
-        mean = (1.0 / double(ring[v - first_new_].size())) * mean;
-        moved = std::max(moved, dist(mean, plc_.points[v]));
-        plc_.points[v] = mean;
-      }
-      if (moved <= kFairSettled * scale) break;
-    }
-    for (VertexId v = first_new_; v < plc_.points.size(); ++v) plc_.points[v] = snapped(plc_.points[v], grid_);
-    if (has_collinear_triangle() || folded_edges() > folds_before)
-      std::copy(before.begin(), before.end(), plc_.points.begin() + first_new_);
+    const Rings ring = rings();
+    keep_if_valid([&] { sweep_until_settled([&](VertexId v) { return mean_of(ring.at(v)); }); });
+    keep_if_valid([&] { sweep_until_settled([&](VertexId v) { return thin_plate_step(ring, v); }); });
   }
 
   size_t new_points() const { return plc_.points.size() - first_new_; }
@@ -405,11 +396,24 @@ class Patch {
     if (c == d || owner(c, d) != kNone || owner(d, c) != kNone || rim_.taken.count(undirected(c, d)))
       return false;
     const Vec3 &pa = plc_.points[a], &pb = plc_.points[b], &pc = plc_.points[c], &pd = plc_.points[d];
-    if (!angles_exceed_pi(pa, pb, pc, pd)) return false;
+    if (!angles_exceed_pi(pa, pb, pc, pd) || !keeps_facing(pa, pb, pc, pd)) return false;
     if (collinear(plc_, a, d, c) || collinear(plc_, b, c, d)) return false;
     owner_.erase(directed(a, b)), owner_.erase(directed(b, a));
     set(t1, {a, d, c});
     set(t2, {b, c, d});
+    return true;
+  }
+
+  // Whether the swap of a-b for c-d leaves the quad facing the same way:
+  // each new triangle's normal at less than a right angle to each old one's.
+  // Across a fold of the patch (two triangles facing apart) a swap would
+  // move the surface itself, maybe through the surface around the hole.
+  static bool keeps_facing(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    const Vec3 old1 = cross(b - a, c - a), old2 = cross(a - b, d - b);
+    const Vec3 new1 = cross(d - a, c - a), new2 = cross(c - b, d - b);
+    for (const Vec3& o : {old1, old2})
+      for (const Vec3& n : {new1, new2})
+        if (!(dot(o, n) > 0)) return false;
     return true;
   }
 
@@ -434,15 +438,78 @@ class Patch {
     }
   }
 
-  // Per new point, its neighbours in the patch. A new point is inside the
-  // patch: each of its edges is used in both directions, so the heads of
-  // the directed edges out of it name each neighbour once.
-  std::vector<std::vector<VertexId>> neighbours() const {
-    std::vector<std::vector<VertexId>> ring(new_points());
+  using Rings = std::unordered_map<VertexId, std::vector<VertexId>>;
+
+  // Per vertex of the patch, its neighbours: in the patch, and for a rim
+  // vertex also in the surface. Every edge at a new point is inside the
+  // patch, used in both directions, so the heads of the directed edges out
+  // of a vertex name its patch neighbours (a rim vertex's missing one is
+  // along the rim, in the surface).
+  Rings rings() const {
+    Rings ring;
     for (const Tri& t : tris_)
-      for (int k = 0; k < 3; ++k)
-        if (t[k] >= first_new_) ring[t[k] - first_new_].push_back(t[(k + 1) % 3]);
+      for (int k = 0; k < 3; ++k) ring[t[k]].push_back(t[(k + 1) % 3]);
+    for (auto& [v, r] : ring) {
+      if (v >= first_new_) continue;
+      const std::vector<VertexId>& outside = rim_.ring.at(v);
+      r.insert(r.end(), outside.begin(), outside.end());
+      std::sort(r.begin(), r.end());
+      r.erase(std::unique(r.begin(), r.end()), r.end());
+    }
     return ring;
+  }
+
+  Vec3 mean_of(const std::vector<VertexId>& vs) const {
+    Vec3 sum{0, 0, 0};
+    for (VertexId u : vs) sum = sum + plc_.points[u];
+    return (1.0 / double(vs.size())) * sum;
+  }
+
+  // Where the thin plate moves new point v: U^2(v) = 0 solved for v alone,
+  // U(w) = mean of w's ring - w, U^2(v) = mean of U over v's ring - U(v),
+  // whose coefficient of v is 1 + sum over v's ring of 1 / (n_v n_w)
+  // (Kobbelt et al. 1998, "Interactive multi-resolution modeling").
+  Vec3 thin_plate_step(const Rings& ring, VertexId v) const {
+    const std::vector<VertexId>& around = ring.at(v);
+    const Vec3 uv = mean_of(around) - plc_.points[v];
+    Vec3 mean_u{0, 0, 0};
+    double diagonal = 1;
+    for (VertexId w : around) {
+      const std::vector<VertexId>& of_w = ring.at(w);
+      mean_u = mean_u + (mean_of(of_w) - plc_.points[w]);
+      diagonal += 1.0 / (double(around.size()) * double(of_w.size()));
+    }
+    const Vec3 u2 = (1.0 / double(around.size())) * mean_u - uv;
+    return plc_.points[v] - (1.0 / diagonal) * u2;
+  }
+
+  // Gauss-Seidel: each new point in turn to `target(v)`, until no point
+  // moves more than kFairSettled of the largest sigma, or kFairSweeps.
+  template <class Target>
+  void sweep_until_settled(Target target) {
+    double scale = 0;
+    for (const auto& [v, s] : sigma_) scale = std::max(scale, s);
+    for (int sweep = 0; sweep < kFairSweeps; ++sweep) {
+      double moved = 0;
+      for (VertexId v = first_new_; v < plc_.points.size(); ++v) {
+        const Vec3 to = target(v);
+        moved = std::max(moved, dist(to, plc_.points[v]));
+        plc_.points[v] = to;
+      }
+      if (moved <= kFairSettled * scale) break;
+    }
+  }
+
+  // Runs `move` on the new points, snaps them, and puts them back where
+  // they were if a triangle became three collinear points or edges folded.
+  template <class Move>
+  void keep_if_valid(Move move) {
+    const std::vector<Vec3> before(plc_.points.begin() + first_new_, plc_.points.end());
+    const size_t folds_before = folded_edges();
+    move();
+    for (VertexId v = first_new_; v < plc_.points.size(); ++v) plc_.points[v] = snapped(plc_.points[v], grid_);
+    if (has_collinear_triangle() || folded_edges() > folds_before)
+      std::copy(before.begin(), before.end(), plc_.points.begin() + first_new_);
   }
 
   bool has_collinear_triangle() const {
@@ -497,7 +564,7 @@ std::vector<Tri> refined_patch(Plc& plc, const std::vector<Tri>& tris, const Rim
 
 bool has_boundary(const Plc& plc) { return !boundary_edges(plc).empty(); }
 
-void fill_holes(Work& w, RepairReport& report) {
+void fill_holes(Work& w, RepairReport& report, bool refine) {
   const std::vector<std::vector<FillEdge>> loops = trace_loops(boundary_edges(w.plc));
   RimScale rim = rim_scale(w.plc, loops);
   // The points were snapped to this grid just before (snap_to_grid); the
@@ -511,7 +578,7 @@ void fill_holes(Work& w, RepairReport& report) {
     if (tris.empty()) {
       tris = v.size() <= kMaxOptimalLoop ? min_area_triangulation(w.plc, v) : ear_triangulation(w.plc, v);
       const size_t points = w.plc.points.size();
-      if (!tris.empty()) tris = refined_patch(w.plc, tris, rim, grid, v.size());
+      if (refine && !tris.empty()) tris = refined_patch(w.plc, tris, rim, grid, v.size());
       report.fill_points += w.plc.points.size() - points;
     }
     if (tris.empty()) {
