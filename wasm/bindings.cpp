@@ -446,7 +446,7 @@ val repair_report_js(const cdt3d::RepairReport& r) {
   n("zeroAreaPolygons", r.zero_area_polygons), n("degenerateFacets", r.degenerate_facets);
   n("duplicateFacets", r.duplicate_facets), n("nonplanarFacets", r.nonplanar_facets);
   n("filledHoles", r.filled_holes), n("fillTriangles", r.fill_triangles);
-  n("unfilledHoles", r.unfilled_holes);
+  n("fillPoints", r.fill_points), n("unfilledHoles", r.unfilled_holes);
   n("tjunctionVertices", r.tjunction_vertices), n("tjunctionFacets", r.tjunction_facets);
   n("crossingPairs", r.crossing_pairs), n("crossingFacets", r.crossing_facets);
   n("intersectionPoints", r.intersection_points), n("rounds", r.rounds);

@@ -518,9 +518,14 @@ export interface RepairReport {
   weldedPoints: number;
   /** Step 1: repeated polygon vertices dropped (or cut at). */
   repeatedVertices: number;
-  /** With fillHoles: boundary loops closed, the triangles that close them, loops left open. */
+  /**
+   * With fillHoles: boundary loops closed, the triangles that close them, the
+   * points added inside non-planar holes (the patch refined to the size of
+   * the triangles around it), loops left open.
+   */
   filledHoles: number;
   fillTriangles: number;
+  fillPoints: number;
   unfilledHoles: number;
   /** Step 1: polygons of zero area dropped. */
   zeroAreaPolygons: number;

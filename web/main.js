@@ -760,6 +760,7 @@ const REPAIR_ROWS = [
   ['repeatedVertices', 'repeated vertices dropped'],
   ['filledHoles', 'holes filled'],
   ['fillTriangles', 'triangles filling them'],
+  ['fillPoints', 'points added filling them'],
   ['nonplanarFacets', 'non-planar facets split'],
   ['tjunctionVertices', 'T-junction vertices'],
   ['crossingPairs', 'crossing facet pairs'],

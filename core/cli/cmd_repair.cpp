@@ -25,7 +25,8 @@ void repair_usage(std::FILE* out) {
                "the domain is their union (facets inside it dropped). Prints what changed.\n"
                "  -o PREFIX   write the repaired PLC as PREFIX.poly (TetGen format)\n"
                "  --fill-holes  close every boundary loop of an open surface with triangles of\n"
-               "              its vertices (least total area) before the other steps\n"
+               "              its vertices (least total area; a non-planar hole's patch then\n"
+               "              refined and smoothed) before the other steps\n"
                "  --keep-inner  keep the facets inside the union of crossing parts: every cell\n"
                "              of their arrangement is meshed, bounded by internal facets\n"
                "  --parts-as-regions  keep the union, but with the facets between parts: each\n"
@@ -67,13 +68,13 @@ std::string repair_summary(const RepairReport& r) {
       "  Repair: %zu -> %zu points, %zu -> %zu facets, %zu input facets changed (%.1f ms)\n"
       "    welded points %zu, repeated vertices %zu, zero-area polygons %zu, degenerate facets "
       "%zu, duplicate facets %zu\n"
-      "    holes filled %zu with %zu triangles, %zu left open\n"
+      "    holes filled %zu with %zu triangles and %zu new points, %zu left open\n"
       "    non-planar facets split %zu\n"
       "    T-junction vertices %zu in %zu facets\n"
       "    crossing facet pairs %zu: %zu facets split, %zu new points, %zu rounds, %zu pairs left\n",
       r.input_points, r.points, r.input_facets, r.facets, r.changed_facets.size(), r.ms,
       r.welded_points, r.repeated_vertices, r.zero_area_polygons, r.degenerate_facets,
-      r.duplicate_facets, r.filled_holes, r.fill_triangles, r.unfilled_holes, r.nonplanar_facets,
+      r.duplicate_facets, r.filled_holes, r.fill_triangles, r.fill_points, r.unfilled_holes, r.nonplanar_facets,
       r.tjunction_vertices, r.tjunction_facets, r.crossing_pairs, r.crossing_facets,
       r.intersection_points, r.rounds, r.unresolved_pairs);
   std::string text = buf;
@@ -95,13 +96,13 @@ std::string repair_json(const RepairReport& r) {
       "{\"changed\":%s,\"inputPoints\":%zu,\"points\":%zu,\"inputFacets\":%zu,\"facets\":%zu,"
       "\"changedFacets\":%zu,\"weldedPoints\":%zu,\"repeatedVertices\":%zu,"
       "\"zeroAreaPolygons\":%zu,\"degenerateFacets\":%zu,\"duplicateFacets\":%zu,"
-      "\"filledHoles\":%zu,\"fillTriangles\":%zu,\"unfilledHoles\":%zu,"
+      "\"filledHoles\":%zu,\"fillTriangles\":%zu,\"fillPoints\":%zu,\"unfilledHoles\":%zu,"
       "\"nonplanarFacets\":%zu,\"tjunctionVertices\":%zu,\"tjunctionFacets\":%zu,"
       "\"crossingPairs\":%zu,\"crossingFacets\":%zu,\"intersectionPoints\":%zu,\"rounds\":%zu,"
       "\"unresolvedPairs\":%zu,\"innerFacets\":%zu,\"unionSkipped\":%s,\"outsideFacets\":%zu,\"ms\":%.3f}",
       r.changed() ? "true" : "false", r.input_points, r.points, r.input_facets, r.facets,
       r.changed_facets.size(), r.welded_points, r.repeated_vertices, r.zero_area_polygons,
-      r.degenerate_facets, r.duplicate_facets, r.filled_holes, r.fill_triangles, r.unfilled_holes,
+      r.degenerate_facets, r.duplicate_facets, r.filled_holes, r.fill_triangles, r.fill_points, r.unfilled_holes,
       r.nonplanar_facets, r.tjunction_vertices,
       r.tjunction_facets, r.crossing_pairs, r.crossing_facets, r.intersection_points, r.rounds,
       r.unresolved_pairs, r.inner_facets, r.union_skipped ? "true" : "false",

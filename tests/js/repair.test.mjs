@@ -184,7 +184,7 @@ test('fillHoles closes the holes of open surfaces, as the native --fill-holes', 
         encoding: 'utf8',
       });
       const report = JSON.parse(native.stdout).repair;
-      for (const key of ['filledHoles', 'fillTriangles', 'unfilledHoles', 'facets', 'points']) {
+      for (const key of ['filledHoles', 'fillTriangles', 'fillPoints', 'unfilledHoles', 'facets', 'points']) {
         assert.equal(r.report[key], report[key], `${file}: ${key}`);
       }
     }

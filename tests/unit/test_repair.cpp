@@ -61,6 +61,17 @@ bool moved_by_snapping(const Plc& in, const Plc& out, size_t v) {
   return std::fabs(a.x - b.x) <= half && std::fabs(a.y - b.y) <= half && std::fabs(a.z - b.z) <= half;
 }
 
+// repair() with fill_holes on a surface with one hole: it is filled.
+RepairReport fill_one_hole(const Plc& in, Plc& out) {
+  RepairReport rep;
+  RepairOptions options;
+  options.fill_holes = true;
+  REQUIRE(repair(in, out, rep, options).ok());
+  CHECK(rep.filled_holes == 1);
+  CHECK(rep.unfilled_holes == 0);
+  return rep;
+}
+
 const char* kCube =
     "OFF\n8 12 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
     "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n"
@@ -439,13 +450,10 @@ TEST_CASE("repair --fill-holes: every boundary loop closed, oriented like the su
       "3 1 2 6\n3 2 3 7\n3 2 7 6\n3 3 0 4\n3 3 4 7\n";
   const Plc in = from_text(open, "open.off");
   Plc out;
-  RepairReport rep;
-  RepairOptions options;
-  options.fill_holes = true;
-  REQUIRE(repair(in, out, rep, options).ok());
-  CHECK(rep.filled_holes == 1);
-  CHECK(rep.unfilled_holes == 0);
+  RepairReport rep = fill_one_hole(in, out);
   CHECK(rep.fill_triangles == 3);
+  // Its triangles are as large as the cube's already: nothing to refine.
+  CHECK(rep.fill_points == 0);
   REQUIRE(out.facets.size() == in.facets.size() + 3);
   // Each new facet names the input facet along its hole (provenance).
   for (size_t f = in.facets.size(); f < out.facets.size(); ++f) CHECK(rep.facet_source[f] < in.facets.size());
@@ -463,8 +471,103 @@ TEST_CASE("repair --fill-holes: every boundary loop closed, oriented like the su
   REQUIRE(repair(in, out, rep).ok());
   CHECK(rep.filled_holes == 0);
   CHECK(tetrahedralize(out).status.error.code == ErrorCode::OpenBoundary);
+  RepairOptions options;
+  options.fill_holes = true;
   REQUIRE(repair(from_text(kCube, "cube.off"), out, rep, options).ok());
   CHECK_FALSE(rep.changed());
+}
+
+namespace {
+
+// A UV sphere of radius 1 (outward) without a cap whose edge zigzags: in
+// column j the rings above cut + round(wave sin(3 phi_j)) are left out. One
+// hole, a disc whose rim is far from planar.
+Plc open_sphere(int rings, int segments, int cut, int wave) {
+  Plc plc;
+  const double pi = std::acos(-1.0);
+  plc.points.push_back({0, 0, 1});
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const double theta = pi * i / rings, phi = 2 * pi * j / segments;
+      plc.points.push_back({std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)});
+    }
+  plc.points.push_back({0, 0, -1});
+  auto at = [&](int i, int j) -> VertexId {  // ring i: 0 the north pole, `rings` the south pole
+    if (i == 0) return 0;
+    if (i == rings) return static_cast<VertexId>(plc.points.size() - 1);
+    return static_cast<VertexId>(1 + (i - 1) * segments + j % segments);
+  };
+  auto add = [&](VertexId a, VertexId b, VertexId c) {
+    Facet f;
+    f.loops.push_back({a, b, c});
+    plc.facets.push_back(f);
+  };
+  for (int j = 0; j < segments; ++j)
+    for (int i = static_cast<int>(cut + std::lround(wave * std::sin(3 * 2 * pi * j / segments))); i < rings; ++i) {
+      if (i + 1 < rings) add(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      if (i > 0) add(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+  return plc;
+}
+
+}  // namespace
+
+TEST_CASE("repair --fill-holes: a non-planar hole's patch is refined to its rim's scale", "[repair]") {
+  const Plc in = open_sphere(24, 48, 8, 3);  // 84 rim edges
+  // The rim: the edges one input triangle uses.
+  std::map<std::pair<VertexId, VertexId>, int> uses;
+  for (const Facet& f : in.facets)
+    for (size_t i = 0; i < 3; ++i) {
+      const VertexId a = f.loops[0][i], b = f.loops[0][(i + 1) % 3];
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  double rim_length = 0;
+  size_t rim_edges = 0;
+  for (const auto& [e, n] : uses)
+    if (n == 1) rim_length += dist(in.points[e.first], in.points[e.second]), ++rim_edges;
+  REQUIRE(rim_edges >= 40);
+  const double rim_mean = rim_length / double(rim_edges);
+
+  Plc out;
+  const RepairReport rep = fill_one_hole(in, out);
+  // (a) The patch has points of its own, counted in the report.
+  CHECK(rep.fill_points > 0);
+  CHECK(out.points.size() == in.points.size() + rep.fill_points);
+  // (b) Its triangles are about as large as the surface's around the hole:
+  // no edge of a facet that is not an input triangle is longer than 3 rim
+  // edges (the least-area patch alone spans the hole with edges ~2 long).
+  std::vector<std::array<VertexId, 3>> input;
+  for (const Facet& f : in.facets) input.push_back(sorted_triangle(f.loops[0][0], f.loops[0][1], f.loops[0][2]));
+  std::sort(input.begin(), input.end());
+  double longest = 0;
+  size_t patch = 0;
+  for (const Facet& f : out.facets) {
+    const auto& l = f.loops[0];
+    if (l.size() == 3 && std::binary_search(input.begin(), input.end(), sorted_triangle(l[0], l[1], l[2]))) continue;
+    ++patch;
+    for (size_t i = 0; i < l.size(); ++i) longest = std::max(longest, dist(out.points[l[i]], out.points[l[(i + 1) % l.size()]]));
+  }
+  CHECK(patch > rim_edges);
+  // Faired as a thin plate, the patch keeps the sphere's curvature: its
+  // points lie near the sphere (a membrane, U = 0 alone, sags to radius 0.68).
+  for (size_t v = in.points.size(); v < out.points.size(); ++v) CHECK(std::fabs(norm(out.points[v]) - 1) < 0.15);
+  INFO("longest patch edge " << longest << ", rim mean " << rim_mean);
+  CHECK(longest <= 3 * rim_mean);
+  // (c) Closed, and it meshes and validates.
+  require_meshable(out);
+}
+
+TEST_CASE("repair --fill-holes: a hole of over 240 rim edges (ear clipping) refined without crossing the surface",
+          "[repair]") {
+  // Most of a hemisphere: the ear-clipped patch folds, and edge swaps across
+  // its folds once made it cross the sphere.
+  const Plc in = open_sphere(64, 192, 28, 6);
+  Plc out;
+  const RepairReport rep = fill_one_hole(in, out);
+  CHECK(rep.fill_triangles > 240);
+  CHECK(rep.fill_points > 240);
+  CHECK(rep.crossing_pairs == 0);
+  require_meshable(out);
 }
 
 namespace {

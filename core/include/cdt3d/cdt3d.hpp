@@ -469,6 +469,7 @@ struct RepairReport {
   // Step 1b, with RepairOptions::fill_holes.
   size_t filled_holes = 0;        ///< boundary loops closed
   size_t fill_triangles = 0;      ///< triangles added to close them
+  size_t fill_points = 0;         ///< points added inside non-planar holes (constructed, rounded)
   size_t unfilled_holes = 0;      ///< loops left open (no triangulation without collinear triples)
   // Step 2.
   size_t nonplanar_facets = 0;    ///< non-planar facets split into triangles
@@ -536,7 +537,9 @@ struct RepairReport {
 struct RepairOptions {
   /// After step 3 (T-junctions), close every boundary loop (edges of one facet only) with
   /// triangles of its own vertices, of least total area (CLI --fill-holes,
-  /// JS repair: { fillHoles: true }); the patch takes the marker and
+  /// JS repair: { fillHoles: true }); a non-planar loop's patch is then
+  /// refined with new points to the size of the triangles around the hole
+  /// and smoothed (Liepa 2003; RepairReport::fill_points); the patch takes the marker and
   /// provenance of the facet along the loop and goes through steps 3-4.
   /// Asks for a closed solid: where crossings were resolved but the union
   /// was not formed, every facet with the outside on both sides goes

@@ -117,6 +117,26 @@ void tidy_after_tjunctions(repair_steps::Work& w, RepairReport& report) {
   report.duplicate_facets += again.duplicate_facets;
 }
 
+// Steps 3b and 4. With `fill`: the points snapped, every hole filled (a
+// non-planar hole's patch refined with new points when `refine`), the
+// T-junctions split again; then the crossings resolved.
+Status fill_and_resolve(repair_steps::Work& w, RepairReport& report, bool fill, bool refine,
+                        std::vector<Intersection>& left) {
+  Status st;
+  if (fill) {
+    // Snapped first: a crack narrower than the grid (CAD noise: a wall
+    // ending at z = -2.7e-16 beside a face at z = 0) closes by welding
+    // instead of taking a patch that would overlap the face.
+    st = repair_steps::snap_to_grid(w);
+    if (st.ok()) repair_steps::fill_holes(w, report, refine);
+    st = repair_steps::split_at_tjunctions(w, report);
+    tidy_after_tjunctions(w, report);
+  }
+  if (st.ok()) st = check_plc(w.plc);
+  if (st.ok()) st = repair_steps::resolve_crossings(w, report, left);
+  return st;
+}
+
 }  // namespace
 
 Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOptions& options) {
@@ -156,18 +176,20 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOption
   // Holes are filled after the T-junctions are split: a crack along a
   // T-junction is no hole (its edges become shared), and a patch over it
   // would overlap the surface.
-  if (st.ok() && options.fill_holes && repair_steps::has_boundary(w.plc)) {
-    // Snapped first: a crack narrower than the grid (CAD noise: a wall
-    // ending at z = -2.7e-16 beside a face at z = 0) closes by welding
-    // instead of taking a patch that would overlap the face.
-    st = repair_steps::snap_to_grid(w);
-    if (st.ok()) repair_steps::fill_holes(w, report);
-    st = repair_steps::split_at_tjunctions(w, report);
-    tidy_after_tjunctions(w, report);
-  }
+  const bool fill = st.ok() && options.fill_holes && repair_steps::has_boundary(w.plc);
   std::vector<Intersection> left;
-  if (st.ok()) st = check_plc(w.plc);
-  if (st.ok()) st = repair_steps::resolve_crossings(w, report, left);
+  repair_steps::Work unfilled;
+  RepairReport unfilled_report;
+  if (fill) unfilled = w, unfilled_report = report;
+  if (st.ok()) st = fill_and_resolve(w, report, fill, true, left);
+  // Refining a patch moves it (edge swaps, fairing), and it may then meet
+  // the surface where step 4 cannot resolve the crossings (swaps across
+  // folds of the patch did, before they were ruled out): then the holes are
+  // filled again with the rims' own triangles alone, as without refinement.
+  if ((!st.ok() || !left.empty()) && report.fill_points > 0) {
+    w = std::move(unfilled), report = unfilled_report, left.clear();
+    st = fill_and_resolve(w, report, fill, false, left);
+  }
   // Regions are wanted whether or not parts crossed (nested or disjoint
   // parts are labelled too).
   if (st.ok() && left.empty() && options.union_of_parts &&

@@ -45,8 +45,9 @@ void drop_orphaned_points(Work& w, const Plc& input);
 
 // Step 3b (repair_holes.cpp, with RepairOptions::fill_holes, after the
 // T-junctions): every boundary loop closed by triangles of its vertices, of
-// least total area.
-void fill_holes(Work& w, RepairReport& report);
+// least total area; with `refine`, a non-planar loop's patch then refined
+// with new points (report.fill_points) and faired (Liepa 2003).
+void fill_holes(Work& w, RepairReport& report, bool refine = true);
 /// Some edge is used by one facet alone (and no explicit segment).
 bool has_boundary(const Plc& plc);
 
@@ -90,6 +91,11 @@ void label_part_regions(const RepairReport& report, Result& result);
 /// .poly): plc.regions gets one point per region, so that meshing the file
 /// labels its tets as label_part_regions does. Costs a tetrahedralization.
 Status add_part_region_points(Plc& plc, const RepairReport& report);
+/// Step 4's snap grid: a power of two 2^-40 below the binary order of the
+/// largest coordinate of the points in use (0 when all are 0).
+double snap_grid(const Plc& plc);
+/// x rounded to the nearest multiple of `grid` (a grid of 0 leaves it).
+Vec3 snapped(Vec3 x, double grid);
 /// Every point snapped to step 4's grid (2^-40 below the binary order of the
 /// largest coordinate), then steps 1 and 3 again on what moved.
 Status snap_to_grid(Work& w);

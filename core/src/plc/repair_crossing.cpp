@@ -129,6 +129,8 @@ Vec3 line_crossing(const double* p, const double* q, const double* a, const doub
   return along(p, q, (m[0] * n[0] + m[1] * n[1] + m[2] * n[2]) / nn);
 }
 
+}  // namespace
+
 // The snap grid: a power of two kSnapBits binary orders below the largest
 // coordinate magnitude of the points in use, so that x / grid and back is
 // exact and the same in every build.
@@ -153,6 +155,8 @@ Vec3 snapped(Vec3 x, double grid) {
   for (double* c : {&x.x, &x.y, &x.z}) *c = std::nearbyint(*c / grid) * grid;
   return x;
 }
+
+namespace {
 
 // Where a contact point lies in a triangle: on edge i (0..2), at vertex k
 // (at_vertex(k)), inside, or outside.
