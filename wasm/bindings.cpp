@@ -152,11 +152,7 @@ cdt3d::Status read_then_check(std::unique_ptr<uint8_t, FreeDeleter>& data, size_
   try {
     if (st.ok() && check) st = cdt3d::check_plc(plc);
   } catch (...) {  // catch (...): see current_exception_code()
-    if (cdt3d::current_exception_code() == cdt3d::ErrorCode::OutOfMemory)
-      st.error = {cdt3d::ErrorCode::OutOfMemory, "Out of memory while checking the file.", name};
-    else
-      st.error = {cdt3d::ErrorCode::Internal,
-                  "Unexpected failure while checking the file: " + cdt3d::current_exception_text(), name};
+    st.error = cdt3d::current_exception_error("checking the file", name);
   }
   if (!st.ok()) {
     // Never hand back half a PLC (as read_plc).

@@ -503,4 +503,21 @@ TEST_CASE("Error: an exception caught by catch (...) maps to out-of-memory or in
   CHECK(code_of([] { throw 7; }).first == ErrorCode::OutOfMemory);
   clear_allocation_failure();
   CHECK(code_of([] { throw 7; }).first == ErrorCode::Internal);
+  // The one error every handler builds from it.
+  auto error_of = [](auto&& thrower) {
+    try {
+      thrower();
+    } catch (...) {
+      return current_exception_error("meshing", "m.off");
+    }
+    return Error();
+  };
+  const Error oom = error_of([] { throw std::bad_alloc(); });
+  CHECK(oom.code == ErrorCode::OutOfMemory);
+  CHECK(oom.message == "Out of memory while meshing.");
+  CHECK(oom.file == "m.off");
+  const Error boom = error_of([] { throw std::runtime_error("boom"); });
+  CHECK(boom.code == ErrorCode::Internal);
+  CHECK(boom.message == "Unexpected failure while meshing: boom");
+  CHECK(error_of([] { throw 7; }).message == "Unexpected failure while meshing.");
 }

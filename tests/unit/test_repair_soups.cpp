@@ -145,6 +145,7 @@ std::string try_soup(int i) {
   if (!r.status.ok()) return "mesh: " + r.status.error.to_string();
   const Status v = validate(out, r);
   if (!v.ok()) return "validate: " + v.error.to_string();
+  if (r.stats.flat_tets > 0) return std::to_string(r.stats.flat_tets) + " numerically flat tets";
   return "";
 }
 

@@ -26,6 +26,13 @@ ErrorCode current_exception_code() {
   return allocation_failed.load() ? ErrorCode::OutOfMemory : ErrorCode::Internal;
 }
 
+Error current_exception_error(const std::string& doing, const std::string& file) {
+  if (current_exception_code() == ErrorCode::OutOfMemory)
+    return {ErrorCode::OutOfMemory, "Out of memory while " + doing + ".", file};
+  const std::string what = current_exception_text();
+  return {ErrorCode::Internal, "Unexpected failure while " + doing + (what.empty() ? "." : ": " + what), file};
+}
+
 std::string current_exception_text() {
 #if defined(__cpp_exceptions) || defined(__EXCEPTIONS)
   try {

@@ -71,5 +71,9 @@ std::string current_exception_text();
 /// current_exception_code(); clear_allocation_failure() forgets it.
 void note_allocation_failure();
 void clear_allocation_failure();
+/// The error for the exception being handled (inside `catch (...)`):
+/// out-of-memory "Out of memory while <doing>." or internal "Unexpected
+/// failure while <doing>: <what>", naming `file`.
+Error current_exception_error(const std::string& doing, const std::string& file = "");
 
 }  // namespace cdt3d

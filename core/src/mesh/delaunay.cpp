@@ -1178,10 +1178,9 @@ Status build_guarded(TetMesh& m, const std::vector<VertexId>& vertices,
     return build(m, vertices, to_vertex, stats, options);
   } catch (...) {  // catch (...): see current_exception_code()
     m.clear();
-    if (current_exception_code() != ErrorCode::OutOfMemory)
-      return make_error(ErrorCode::Internal, "Unexpected failure in the Delaunay tetrahedralization: " +
-                                                 current_exception_text());
-    return make_error(ErrorCode::OutOfMemory, "Out of memory in the Delaunay tetrahedralization.");
+    Status st;
+    st.error = current_exception_error("building the Delaunay tetrahedralization");
+    return st;
   }
 #else
   return build(m, vertices, to_vertex, stats, options);

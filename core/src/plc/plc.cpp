@@ -98,9 +98,9 @@ Status read_plc(const uint8_t* data, size_t size, const std::string& file_name, 
     return read_and_check(data, size, file_name, out, check);
   } catch (...) {  // catch (...): see current_exception_code()
     out = Plc();
-    if (current_exception_code() == ErrorCode::OutOfMemory)
-      return io::fail(ErrorCode::OutOfMemory, "Out of memory while reading the file.", file_name);
-    return io::fail(ErrorCode::Internal, "Unexpected failure: " + current_exception_text(), file_name);
+    Status st;
+    st.error = current_exception_error("reading the file", file_name);
+    return st;
   }
 #else
   return read_and_check(data, size, file_name, out, check);

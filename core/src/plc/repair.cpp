@@ -128,9 +128,11 @@ Status fill_and_resolve(repair_steps::Work& w, RepairReport& report, bool fill, 
     // ending at z = -2.7e-16 beside a face at z = 0) closes by welding
     // instead of taking a patch that would overlap the face.
     st = repair_steps::snap_to_grid(w);
-    if (st.ok()) repair_steps::fill_holes(w, report, refine);
-    st = repair_steps::split_at_tjunctions(w, report);
-    tidy_after_tjunctions(w, report);
+    if (st.ok()) {
+      repair_steps::fill_holes(w, report, refine);
+      st = repair_steps::split_at_tjunctions(w, report);
+      tidy_after_tjunctions(w, report);
+    }
   }
   if (st.ok()) st = check_plc(w.plc);
   if (st.ok()) st = repair_steps::resolve_crossings(w, report, left);

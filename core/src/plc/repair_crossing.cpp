@@ -802,13 +802,17 @@ bool handled(const Intersection& x) {
 }
 
 // Needles (collapse_needles) are triangles thinner than this many grid
-// steps: 2^20 steps, 2^-20 of the binary order of the largest coordinate,
-// about 8 float32 units in the last place there. Models that need repair
+// steps: 2^22 steps, 2^-18 of the binary order of the largest coordinate,
+// about 32 float32 units in the last place there. Models that need repair
 // mostly come from float32 data (STL stores float32, OBJ exporters print
 // 6 or 7 digits), so features that thin are noise of the export, and two
 // copies of one part that differ by it meet in needles. chair_model.obj
-// (two such copies) meshes from 2^20 on, not at 2^18.
-constexpr double kNeedleGridSteps = 0x1p+20;
+// (two such copies) does not mesh at 2^18. At 2^20 it meshed with two
+// numerically flat tets: a needle (2.4e-6 rad at a corner, 7.4e-7 wide at
+// coordinates of 0.3) was left, and segment recovery split its two long
+// sides at points 6.5e-12 apart. At 2^22: no flat tet, and half the segment
+// Steiner points (106,753 -> 51,021).
+constexpr double kNeedleGridSteps = 0x1p+22;
 /// Collapsing needles can make new ones beside them (a corner put into an
 /// edge makes the triangle across a cap again where many points lie near
 /// one line); passes beyond this are left to the exact check.

@@ -929,11 +929,7 @@ Result tetrahedralize(const Plc& plc, const Options& options) {
     p.finish(plc);
   } catch (...) {  // catch (...): see current_exception_code()
     out = Result();
-    if (current_exception_code() == ErrorCode::OutOfMemory)
-      out.status.error = {ErrorCode::OutOfMemory, "Out of memory while meshing.", plc.file};
-    else
-      out.status.error = {ErrorCode::Internal,
-                          "Unexpected failure while meshing: " + current_exception_text(), plc.file};
+    out.status.error = current_exception_error("meshing", plc.file);
   }
 #else
   Pipeline p(plc, options, out);
