@@ -482,6 +482,7 @@ function wrap(mod, abortReason) {
         regions,
         markerNames: raw.markerNames,
         facetSources: raw.facetSources,
+        segmentSources: raw.segmentSources,
         report: raw.report,
         poly: raw.poly,
       };

@@ -447,6 +447,7 @@ val repair_report_js(const cdt3d::RepairReport& r) {
   n("crossingPairs", r.crossing_pairs), n("crossingFacets", r.crossing_facets);
   n("intersectionPoints", r.intersection_points), n("rounds", r.rounds);
   n("unresolvedPairs", r.unresolved_pairs), n("innerFacets", r.inner_facets);
+  n("crossingSegments", r.crossing_segments), n("segmentSplits", r.segment_splits);
   o.set("unionSkipped", val(r.union_skipped != 0));
   n("outsideFacets", r.outside_facets);
   n("ms", r.ms);
@@ -465,7 +466,7 @@ val repair_report_js(const cdt3d::RepairReport& r) {
   return o;
 }
 
-// repair(input) -> {ok, report, facetSources, the repaired PLC as flat arrays
+// repair(input) -> {ok, report, facetSources, segmentSources, the repaired PLC as flat arrays
 // (the shape plc_from_js reads), poly: its TetGen .poly text} or an error.
 // The input is read without check_plc(): what it rejects is what repair fixes.
 val repair_js(val input, bool fill_holes, bool union_of_parts, bool parts_as_regions) {
@@ -504,6 +505,7 @@ val repair_js(val input, bool fill_holes, bool union_of_parts, bool parts_as_reg
   out.set("ok", val(true));
   out.set("report", repair_report_js(report));
   out.set("facetSources", to_js(report.facet_source));
+  out.set("segmentSources", to_js(report.segment_source));
   out.set("points", to_js(xyz));
   out.set("loopCounts", to_js(counts));
   out.set("loopSizes", to_js(sizes));

@@ -543,8 +543,12 @@ export interface RepairReport {
   crossingFacets: number;
   intersectionPoints: number;
   rounds: number;
-  /** Facet pairs still intersecting (0 on success). */
+  /** Pairs (facets, explicit segments) still intersecting (0 on success). */
   unresolvedPairs: number;
+  /** Step 4: explicit segments found crossing or touching a facet or another segment (first round). */
+  crossingSegments: number;
+  /** Step 4: pieces the explicit segments were split into, beyond one per segment (segmentSources names each piece's input segment). */
+  segmentSplits: number;
   /** Step 5: facets dropped as inside the union of crossing parts (or outside every part). */
   innerFacets: number;
   /** Step 5: true when crossings were resolved but the union was not formed (the facets, oriented like their input facets, do not close up); every facet is kept. */
@@ -575,6 +579,8 @@ export interface RepairResult {
   markerNames: MarkerName[];
   /** Per facet of the result: the input facet it comes from. */
   facetSources: Uint32Array;
+  /** Per explicit segment of the result: the input segment it is a piece of. */
+  segmentSources: Uint32Array;
   report: RepairReport;
   /** The repaired PLC as a TetGen .poly file (what `cdt3d repair -o` writes). */
   poly: string;

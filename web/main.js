@@ -765,6 +765,7 @@ const REPAIR_ROWS = [
   ['tjunctionVertices', 'T-junction vertices'],
   ['crossingPairs', 'crossing facet pairs'],
   ['intersectionPoints', 'new intersection points'],
+  ['crossingSegments', 'segments crossing or touching'],
   ['innerFacets', 'facets inside the union dropped'],
   ['outsideFacets', 'fins outside the model dropped'],
   ['parts', 'parts kept as regions'],

@@ -71,12 +71,13 @@ std::string repair_summary(const RepairReport& r) {
       "    holes filled %zu with %zu triangles and %zu new points, %zu left open\n"
       "    non-planar facets split %zu\n"
       "    T-junction vertices %zu in %zu facets\n"
-      "    crossing facet pairs %zu: %zu facets split, %zu new points, %zu rounds, %zu pairs left\n",
+      "    crossing facet pairs %zu: %zu facets split, %zu new points, %zu rounds, %zu pairs left\n"
+      "    explicit segments crossing or touching %zu: split into %zu more pieces\n",
       r.input_points, r.points, r.input_facets, r.facets, r.changed_facets.size(), r.ms,
       r.welded_points, r.repeated_vertices, r.zero_area_polygons, r.degenerate_facets,
       r.duplicate_facets, r.filled_holes, r.fill_triangles, r.fill_points, r.unfilled_holes, r.nonplanar_facets,
       r.tjunction_vertices, r.tjunction_facets, r.crossing_pairs, r.crossing_facets,
-      r.intersection_points, r.rounds, r.unresolved_pairs);
+      r.intersection_points, r.rounds, r.unresolved_pairs, r.crossing_segments, r.segment_splits);
   std::string text = buf;
   if (r.union_skipped) {
     text += "    union of the parts: not formed (the facets, oriented like their input facets, do not close up)\n";
@@ -99,13 +100,13 @@ std::string repair_json(const RepairReport& r) {
       "\"filledHoles\":%zu,\"fillTriangles\":%zu,\"fillPoints\":%zu,\"unfilledHoles\":%zu,"
       "\"nonplanarFacets\":%zu,\"tjunctionVertices\":%zu,\"tjunctionFacets\":%zu,"
       "\"crossingPairs\":%zu,\"crossingFacets\":%zu,\"intersectionPoints\":%zu,\"rounds\":%zu,"
-      "\"unresolvedPairs\":%zu,\"innerFacets\":%zu,\"unionSkipped\":%s,\"outsideFacets\":%zu,\"ms\":%.3f}",
+      "\"unresolvedPairs\":%zu,\"crossingSegments\":%zu,\"segmentSplits\":%zu,\"innerFacets\":%zu,\"unionSkipped\":%s,\"outsideFacets\":%zu,\"ms\":%.3f}",
       r.changed() ? "true" : "false", r.input_points, r.points, r.input_facets, r.facets,
       r.changed_facets.size(), r.welded_points, r.repeated_vertices, r.zero_area_polygons,
       r.degenerate_facets, r.duplicate_facets, r.filled_holes, r.fill_triangles, r.fill_points, r.unfilled_holes,
       r.nonplanar_facets, r.tjunction_vertices,
       r.tjunction_facets, r.crossing_pairs, r.crossing_facets, r.intersection_points, r.rounds,
-      r.unresolved_pairs, r.inner_facets, r.union_skipped ? "true" : "false",
+      r.unresolved_pairs, r.crossing_segments, r.segment_splits, r.inner_facets, r.union_skipped ? "true" : "false",
       r.outside_facets, r.ms);
   std::string json = buf;
   // "parts": N, "regionParts": [[0], [1], [0, 1]] (entry a - 1 for attribute a).

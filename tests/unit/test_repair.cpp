@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <string>
@@ -33,7 +34,7 @@ Plc from_text(const std::string& text, const std::string& name) {
 // The repaired PLC is a valid PLC: input checks and the exact
 // self-intersection test pass, it meshes and the result validates.
 // keep_hull: for a model that is open once repaired (chair_model.obj).
-void require_meshable(const Plc& plc, bool keep_hull = false) {
+Result require_meshable(const Plc& plc, bool keep_hull = false) {
   const Status checked = check_plc(plc);
   INFO(checked.error.to_string());
   REQUIRE(checked.ok());
@@ -52,6 +53,7 @@ void require_meshable(const Plc& plc, bool keep_hull = false) {
   // numerically flat tets (chair_model.obj had two before kNeedleGridSteps
   // was raised to 2^22).
   CHECK(r.stats.flat_tets == 0);
+  return r;
 }
 
 // Point v of the output is point v of the input moved by at most half a
@@ -920,4 +922,171 @@ TEST_CASE("repair step 5: parts as regions on two tets in general position", "[r
   }
   CHECK(volume.size() > rep.parts);  // some parts overlap
   CHECK(std::fabs(total - united.volume) < 1e-9 * united.volume);
+}
+
+namespace {
+
+// The cube [0,2]^3 as a .poly (quads 1-8), with `extra` points (numbered
+// from 9) and `segments` (2-vertex polygons, each a facet of its own, which
+// the reader makes explicit segments).
+Plc cube_with_segments(const std::vector<Vec3>& extra, const std::vector<std::array<int, 2>>& segments) {
+  std::string text = std::to_string(8 + extra.size()) + " 3 0 0\n"
+      "1 0 0 0\n2 2 0 0\n3 2 2 0\n4 0 2 0\n5 0 0 2\n6 2 0 2\n7 2 2 2\n8 0 2 2\n";
+  char line[160];
+  for (size_t i = 0; i < extra.size(); ++i) {
+    std::snprintf(line, sizeof line, "%zu %.17g %.17g %.17g\n", 9 + i, extra[i].x, extra[i].y, extra[i].z);
+    text += line;
+  }
+  text += std::to_string(6 + segments.size()) + " 0\n";
+  for (const char* quad : {"1 2 3 4", "5 6 7 8", "1 2 6 5", "2 3 7 6", "3 4 8 7", "4 1 5 8"})
+    text += std::string("1\n4 ") + quad + "\n";
+  for (const auto& sg : segments) text += "1\n2 " + std::to_string(sg[0]) + " " + std::to_string(sg[1]) + "\n";
+  text += "0\n0\n";
+  Plc plc = from_text(text, "cube_segments.poly");
+  REQUIRE(plc.segments.size() == segments.size());
+  return plc;
+}
+
+// repair() resolves every contact of the explicit segments: the result is
+// valid (check_plc, the exact self-intersection test), meshes, validates,
+// without numerically flat tets, and every output segment names an input
+// segment.
+Plc repair_segments(const Plc& in, RepairReport& rep) {
+  Plc out;
+  const Status st = repair(in, out, rep);
+  INFO(st.error.to_string());
+  REQUIRE(st.ok());
+  CHECK(rep.changed());
+  CHECK(rep.unresolved_pairs == 0);
+  REQUIRE(rep.segment_source.size() == out.segments.size());
+  for (uint32_t s : rep.segment_source) CHECK(s < in.segments.size());
+  CHECK(out.segments.size() == in.segments.size() + rep.segment_splits);
+  const Result r = require_meshable(out, true);
+  CHECK(r.stats.flat_tets == 0);
+  return out;
+}
+
+// Output segments that are pieces of input segment s, and whether their
+// points all lie within `tol` of the input segment's line.
+size_t pieces_of(const Plc& in, const Plc& out, const RepairReport& rep, uint32_t s) {
+  size_t n = 0;
+  const Vec3 a = in.points[in.segments[s][0]], d = in.points[in.segments[s][1]] - a;
+  for (size_t k = 0; k < out.segments.size(); ++k) {
+    if (rep.segment_source[k] != s) continue;
+    ++n;
+    for (VertexId v : out.segments[k]) {
+      const Vec3 c = cross(out.points[v] - a, d);
+      CHECK(std::sqrt(dot(c, c) / dot(d, d)) < 1e-9);
+    }
+  }
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("repair step 4: a segment piercing a facet is split there", "[repair]") {
+  SECTION("from inside the cube through its top") {
+    const Plc in = cube_with_segments({{0.5, 1.25, 1}, {0.7, 1.3, 3}}, {{9, 10}});
+    RepairReport rep;
+    const Plc out = repair_segments(in, rep);
+    CHECK(rep.crossing_segments == 1);
+    CHECK(rep.segment_splits == 1);
+    CHECK(pieces_of(in, out, rep, 0) == 2);
+  }
+  SECTION("through two faces of the cube") {
+    const Plc in = cube_with_segments({{-1, 0.3, 0.7}, {3.1, 1.1, 1.3}}, {{9, 10}});
+    RepairReport rep;
+    const Plc out = repair_segments(in, rep);
+    CHECK(rep.crossing_segments == 1);
+    CHECK(rep.segment_splits == 2);
+    CHECK(pieces_of(in, out, rep, 0) == 3);
+  }
+  SECTION("through a corner of the cube") {
+    const Plc in = cube_with_segments({{1, 1, 1}, {3, 3, 3}}, {{9, 10}});
+    RepairReport rep;
+    const Plc out = repair_segments(in, rep);
+    CHECK(rep.segment_splits == 1);
+    CHECK(pieces_of(in, out, rep, 0) == 2);
+    CHECK(rep.intersection_points == 0);  // split at the corner itself
+  }
+}
+
+TEST_CASE("repair step 4: crossing segments are split at their crossing", "[repair]") {
+  const Plc in = cube_with_segments({{0.5, 0.5, 1}, {1.5, 1.5, 1}, {0.5, 1.5, 1}, {1.7, 0.3, 1}},
+                                    {{9, 10}, {11, 12}});
+  RepairReport rep;
+  const Plc out = repair_segments(in, rep);
+  CHECK(rep.crossing_segments == 2);
+  CHECK(rep.segment_splits == 2);
+  CHECK(pieces_of(in, out, rep, 0) == 2);
+  CHECK(pieces_of(in, out, rep, 1) == 2);
+  // Both are split at one (constructed) point.
+  std::map<VertexId, int> uses;
+  for (const auto& sg : out.segments)
+    for (VertexId v : sg) ++uses[v];
+  CHECK(std::count_if(uses.begin(), uses.end(), [](const auto& u) { return u.second == 4; }) == 1);
+}
+
+TEST_CASE("repair step 4: a segment in a face's plane crossing its boundary", "[repair]") {
+  SECTION("one end inside the face") {
+    const Plc in = cube_with_segments({{0.5, 0.75, 0}, {1.25, -0.625, 0}}, {{9, 10}});
+    RepairReport rep;
+    const Plc out = repair_segments(in, rep);
+    CHECK(rep.crossing_segments == 1);
+    CHECK(pieces_of(in, out, rep, 0) >= 2);
+    // The piece inside the bottom face is an edge of its triangles.
+    size_t with_end = 0;
+    for (const Facet& f : out.facets)
+      for (VertexId v : f.loops[0]) with_end += out.points[v] == in.points[8];
+    CHECK(with_end >= 2);
+  }
+  SECTION("lying in the face, ending on its edge (step 3 puts the end into both faces)") {
+    // And a second segment ending inside the front face: that face takes a
+    // point inside and one on its edge.
+    const Plc in = cube_with_segments({{0.5, 0.75, 0}, {1.25, 0, 0}, {0.75, 0, 1.25}, {0.5, -1, 0.5}},
+                                      {{9, 10}, {11, 12}});
+    RepairReport rep;
+    repair_segments(in, rep);
+    CHECK(rep.tjunction_vertices >= 3);
+  }
+  SECTION("across the whole top face") {
+    const Plc in = cube_with_segments({{-0.5, 0.6, 2}, {2.5, 1.3, 2}}, {{9, 10}});
+    RepairReport rep;
+    const Plc out = repair_segments(in, rep);
+    CHECK(rep.crossing_segments == 1);
+    CHECK(pieces_of(in, out, rep, 0) >= 3);
+  }
+}
+
+TEST_CASE("repair step 4: a vertex on a segment splits it", "[repair]") {
+  // The end (1, 1, 1) of the second segment is the midpoint of the first.
+  const Plc in = cube_with_segments({{0.5, 0.5, 0.5}, {1.5, 1.5, 1.5}, {1, 1, 1}, {1, 0.2, 1.7}},
+                                    {{9, 10}, {11, 12}});
+  RepairReport rep;
+  const Plc out = repair_segments(in, rep);
+  CHECK(rep.crossing_segments == 2);
+  CHECK(rep.segment_splits == 1);
+  CHECK(rep.intersection_points == 0);  // split at the vertex itself
+  CHECK(pieces_of(in, out, rep, 0) == 2);
+  CHECK(pieces_of(in, out, rep, 1) == 1);
+}
+
+TEST_CASE("repair: valid PLCs with explicit segments come out unchanged", "[repair]") {
+  for (const char* name : {"cube_dangling.poly", "cube_internal_facet.poly"}) {
+    INFO(name);
+    Plc in, out;
+    REQUIRE(read_plc_file(corpus::kData + "/" + name, in, false).ok());
+    RepairReport rep;
+    REQUIRE(repair(in, out, rep).ok());
+    CHECK_FALSE(rep.changed());
+    CHECK(rep.crossing_segments == 0);
+    CHECK(rep.segment_splits == 0);
+    CHECK(out.segments == in.segments);
+    CHECK(out.points.size() == in.points.size());
+    REQUIRE(out.facets.size() == in.facets.size());
+    for (size_t f = 0; f < in.facets.size(); ++f) CHECK(out.facets[f].loops == in.facets[f].loops);
+    std::vector<uint32_t> all(in.segments.size());
+    for (uint32_t s = 0; s < all.size(); ++s) all[s] = s;
+    CHECK(rep.segment_source == all);
+  }
 }

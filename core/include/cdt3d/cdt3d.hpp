@@ -481,7 +481,13 @@ struct RepairReport {
   size_t crossing_facets = 0;     ///< facets re-triangulated along intersection segments
   size_t intersection_points = 0; ///< new points (constructed, rounded to doubles)
   size_t rounds = 0;              ///< rounds of step 4 (each re-checks exactly)
-  size_t unresolved_pairs = 0;    ///< facet pairs still intersecting at the end
+  size_t unresolved_pairs = 0;    ///< pairs (facets, explicit segments) still intersecting at the end
+  /// Step 4 on explicit segments: the segments found crossing or touching
+  /// a facet or another segment (first round), and the pieces repair split
+  /// them into beyond one per segment (report.segment_source names the input
+  /// segment of each piece).
+  size_t crossing_segments = 0;
+  size_t segment_splits = 0;
   // Step 5: the union of interpenetrating parts (after crossings were resolved).
   size_t inner_facets = 0;        ///< facets dropped as inside the union (or outside every part)
   /// 1 when crossings were resolved but the union was not formed (the
@@ -513,6 +519,8 @@ struct RepairReport {
   double ms = 0;
   /// Per output facet: the input facet it comes from (provenance).
   std::vector<uint32_t> facet_source;
+  /// Per output explicit segment: the input segment it is a piece of.
+  std::vector<uint32_t> segment_source;
   /// Input facets that some step changed (sorted), for highlighting.
   std::vector<uint32_t> changed_facets;
   bool changed() const;

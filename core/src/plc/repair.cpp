@@ -15,7 +15,7 @@ namespace cdt3d {
 bool RepairReport::changed() const {
   return welded_points + repeated_vertices + zero_area_polygons + degenerate_facets +
              duplicate_facets + filled_holes + nonplanar_facets + tjunction_vertices + crossing_pairs +
-             outside_facets >
+             crossing_segments + outside_facets >
          0;
 }
 
@@ -85,12 +85,14 @@ Status in_input_terms(Status st, const Plc& in, const std::vector<uint32_t>& sou
 }
 
 // The pairs still intersecting, as pairs of input cells (facets, then
-// explicit segments), for self_intersection_error on the input.
+// explicit segments, each named by its source), for self_intersection_error
+// on the input.
 std::vector<Intersection> input_pairs(const std::vector<Intersection>& left, const Plc& in,
-                                      const Plc& out, const std::vector<uint32_t>& source) {
+                                      const Plc& out, const std::vector<uint32_t>& source,
+                                      const std::vector<uint32_t>& segment_source) {
   const uint32_t nout = static_cast<uint32_t>(out.facets.size());
   const uint32_t nin = static_cast<uint32_t>(in.facets.size());
-  auto cell = [&](uint32_t r) { return r < nout ? source[r] : nin + (r - nout); };
+  auto cell = [&](uint32_t r) { return r < nout ? source[r] : nin + segment_source[r - nout]; };
   std::vector<Intersection> pairs;
   for (const Intersection& x : left) {
     uint32_t a = cell(x.a), b = cell(x.b);
@@ -160,9 +162,12 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOption
   w.source.resize(plc.facets.size());
   std::iota(w.source.begin(), w.source.end(), 0);
   w.changed.assign(plc.facets.size(), 0);
+  w.segment_source.resize(plc.segments.size());
+  std::iota(w.segment_source.begin(), w.segment_source.end(), 0);
 
   repair_steps::weld_points(w, report);
   repair_steps::clean_polygons(w, report);
+  repair_steps::clean_segments(w, false);
   repair_steps::drop_duplicate_facets(w, report);
   repair_steps::drop_orphaned_points(w, plc);
   // Parts are the input's components once identical points are welded,
@@ -200,13 +205,14 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOption
   if (!st.ok()) st = in_input_terms(st, plc, w.source);
 
   report.facet_source = w.source;
+  report.segment_source = w.segment_source;
   for (uint32_t f = 0; f < w.changed.size(); ++f)
     if (w.changed[f]) report.changed_facets.push_back(f);
   report.points = w.plc.points.size();
   report.facets = w.plc.facets.size();
   out = std::move(w.plc);
   if (st.ok() && !left.empty()) {
-    const std::vector<Intersection> pairs = input_pairs(left, plc, out, report.facet_source);
+    const std::vector<Intersection> pairs = input_pairs(left, plc, out, report.facet_source, report.segment_source);
     report.unresolved_pairs = pairs.size();
     st = self_intersection_error(plc, pairs);
     st.error.message = "Repair left intersections: " + st.error.message;

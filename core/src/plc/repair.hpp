@@ -18,6 +18,9 @@ namespace repair_steps {
 struct Work {
   Plc plc;
   std::vector<uint32_t> source;
+  /// Like `source` for `plc.segments`: the input segment of each (step 4
+  /// splits segments into pieces).
+  std::vector<uint32_t> segment_source;
   std::vector<uint8_t> changed;  ///< per input facet: some step changed it
   std::vector<VertexId> point_of_input;  ///< per input point: its point in `plc`
 
@@ -38,6 +41,9 @@ Facet part_of(const Facet& from, std::vector<VertexId> loop);
 void weld_points(Work& w, RepairReport& report);
 void clean_polygons(Work& w, RepairReport& report);
 void drop_duplicate_facets(Work& w, RepairReport& report);
+/// Explicit segments with both ends welded into one point dropped; with
+/// `repeats`, repeated segments kept once (Work::segment_source in step).
+void clean_segments(Work& w, bool repeats);
 /// Points that facets of `input` used and no facet or segment uses after
 /// step 1 are dropped (a point left behind by a dropped zero-area triangle
 /// may lie on an edge, which the PLC forbids for a free point).
@@ -65,7 +71,8 @@ Status split_at_tjunctions(Work& w, RepairReport& report);
 Status triangulate_in_place(Work& w, const std::vector<uint8_t>& which);
 
 // Step 4 (repair_crossing.cpp): crossing facets get their intersection
-// segments as edges. `left` receives the improper pairs (in the numbering of
+// segments as edges; explicit segments are split where they cross or touch
+// facets and each other, and their pieces lying in a facet become its edges. `left` receives the improper pairs (in the numbering of
 // w.plc) that remain after the last round; empty when the PLC is clean.
 Status resolve_crossings(Work& w, RepairReport& report, std::vector<Intersection>& left);
 // Step 5 (repair_union.cpp, after step 4 resolved crossings, and always

@@ -237,5 +237,34 @@ void drop_orphaned_points(Work& w, const Plc& input) {
   renumber_vertices(plc, id);
 }
 
+// Explicit segments whose ends welded into one point (identical input
+// points, or a piece shorter than step 4's grid) are dropped: a segment
+// needs two points. With `repeats`, a segment repeating an earlier one (the
+// pieces of collinear overlapping segments split at each other's ends) is
+// dropped too; the first keeps its input segment. Step 1 leaves repeats: a
+// valid PLC may have them, and it must come out unchanged.
+void clean_segments(Work& w, bool repeats) {
+  Plc& plc = w.plc;
+  std::vector<std::pair<VertexId, VertexId>> seen;
+  for (const auto& s : plc.segments) seen.push_back({std::min(s[0], s[1]), std::max(s[0], s[1])});
+  std::sort(seen.begin(), seen.end());
+  std::vector<uint8_t> taken(seen.size(), 0);
+  std::vector<std::array<VertexId, 2>> segments;
+  std::vector<uint32_t> source;
+  for (size_t s = 0; s < plc.segments.size(); ++s) {
+    const VertexId a = plc.segments[s][0], b = plc.segments[s][1];
+    if (a == b) continue;
+    // Copies of one segment all look up the first of their run in `seen`.
+    const size_t i = std::lower_bound(seen.begin(), seen.end(), std::make_pair(std::min(a, b), std::max(a, b))) -
+                     seen.begin();
+    if (repeats && taken[i]) continue;
+    taken[i] = 1;
+    segments.push_back(plc.segments[s]);
+    source.push_back(w.segment_source[s]);
+  }
+  plc.segments = std::move(segments);
+  w.segment_source = std::move(source);
+}
+
 }  // namespace repair_steps
 }  // namespace cdt3d

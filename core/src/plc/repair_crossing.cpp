@@ -25,8 +25,19 @@
 // (find_self_intersections) and the step repeats on what rounding broke, at
 // most kRounds times; whatever still intersects is reported by facet. The
 // triangulation of a triangle is done in the coordinate plane that drops one
-// axis (exact), as a flat PLC handed to triangulate_surface. Explicit
-// segments are left and reported.
+// axis (exact), as a flat PLC handed to triangulate_surface.
+//
+// Explicit segments take part in the same rounds, as a triangle with one
+// edge would: a segment crossing a triangle's plane is split at the
+// (constructed, ROUNDED) crossing point, which goes into the triangle
+// inside or on its edge; a corner of the triangle or an end of another
+// segment lying on it splits it there; two crossing segments are split at
+// their (ROUNDED) crossing point; a segment in a triangle's plane is split
+// where it crosses the triangle's edges and its pieces inside become
+// constrained edges of the triangle's triangulation. All splitting goes
+// through the points put on edges (add_edge_point), so a point on an edge
+// that is both a facet edge and a segment goes into both. Pieces keep their
+// input segment (Work::segment_source).
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -235,6 +246,86 @@ class Crossings {
     return any;
   }
 
+  /// Records what explicit segment s adds to triangle f (`cell`: s's
+  /// reference in Intersection terms, facets first, so no facet id; it is
+  /// the `other` of the pieces constrained in f). The points where the segment meets the closed triangle split the
+  /// segment and go into the triangle where they lie, like the contact
+  /// points of an edge of a triangle in add_contact (the segment plays a
+  /// triangle with one edge, edge 0; an end is at_vertex(0) or
+  /// at_vertex(1)). A segment in the plane of f also leaves its pieces
+  /// inside f as constrained edges, so the facet's triangulation has them as
+  /// edges. False when the pair adds nothing.
+  bool add_segment_contact(uint32_t f, uint32_t s, uint32_t cell) {
+    const Tri t = tri(f);
+    const VertexId p = w_.plc.segments[s][0], q = w_.plc.segments[s][1];
+    double oc[3][3], pq[2][3];
+    for (int k = 0; k < 3; ++k) {
+      for (int j = 0; j < 3; ++j) oc[j][k] = xyz(w_.plc, t[j])[k];
+      pq[0][k] = xyz(w_.plc, p)[k];
+      pq[1][k] = xyz(w_.plc, q)[k];
+    }
+    const int drop = projection_axis(t);
+    const int sp = pred::orient3d(oc[0], oc[1], oc[2], pq[0]);
+    const int sq = pred::orient3d(oc[0], oc[1], oc[2], pq[1]);
+    std::vector<ContactPoint> pts;
+    if (sp == 0) add_point(pts, 0, p, at_vertex(0), where_in(t, p, drop));
+    if (sq == 0) add_point(pts, 0, q, at_vertex(1), where_in(t, q, drop));
+    if (sp != 0 && sq != 0 && sp != sq) edge_through_plane(pts, 0, 0, p, q, pq, t, oc);
+    if (sp == 0 && sq == 0) edge_in_plane(pts, 0, 0, p, q, t, drop);
+    if (pts.empty()) return false;
+    Insert& in = inserts_[f];
+    for (const ContactPoint& c : pts) {
+      if (c.at[0] == 0) add_edge_point(p, q, c.v);  // inside the segment: split it there
+      if (c.at[1] == kInside) in.inside.push_back(c.v);
+      else if (c.at[1] >= 0 && c.at[1] < 3) add_edge_point(t[c.at[1]], t[(c.at[1] + 1) % 3], c.v);
+    }
+    if (sp == 0 && sq == 0) {
+      // The contact points all lie on pq and in the closed (convex) t:
+      // consecutive ones bound the pieces of pq inside t.
+      std::vector<std::pair<size_t, size_t>> pieces;
+      chain_along(pts, -1, -1, t, pieces);
+      for (const auto& [a, b] : pieces) {
+        if (pts[a].v == pts[b].v || on_one_edge(pts[a].at[1], pts[b].at[1])) continue;
+        in.segments.push_back({pts[a].v, pts[b].v, cell});
+      }
+    }
+    return true;
+  }
+
+  /// Explicit segments s and r meeting improperly (coplanar): an end of one
+  /// strictly inside the other splits it there, and a proper crossing
+  /// splits both at the crossing point (point_on_edges: constructed,
+  /// ROUNDED). The decisions are orient3d / orient2d signs.
+  bool add_segment_pair(uint32_t s, uint32_t r) {
+    const VertexId p = w_.plc.segments[s][0], q = w_.plc.segments[s][1];
+    const VertexId c = w_.plc.segments[r][0], d = w_.plc.segments[r][1];
+    const double *pp = xyz(w_.plc, p), *pq = xyz(w_.plc, q), *pc = xyz(w_.plc, c), *pd = xyz(w_.plc, d);
+    if (pred::orient3d(pp, pq, pc, pd) != 0) return false;
+    bool any = false;
+    auto on = [&](VertexId a, VertexId b, VertexId x) {
+      if (x == a || x == b) return;
+      if (!pred::collinear3d(xyz(w_.plc, a), xyz(w_.plc, b), xyz(w_.plc, x)) ||
+          !strictly_between(xyz(w_.plc, a), xyz(w_.plc, b), xyz(w_.plc, x)))
+        return;
+      add_edge_point(a, b, x);
+      any = true;
+    };
+    on(p, q, c), on(p, q, d), on(c, d, p), on(c, d, q);
+    if (any || p == c || p == d || q == c || q == d) return any;
+    // A projection in which the two segments are not both degenerate.
+    int drop = 0;
+    while (drop < 2 && pred::orient2d_projected(pp, pq, pc, drop) == 0 &&
+           pred::orient2d_projected(pp, pq, pd, drop) == 0)
+      ++drop;
+    const int o1 = pred::orient2d_projected(pp, pq, pc, drop);
+    const int o2 = pred::orient2d_projected(pp, pq, pd, drop);
+    const int o3 = pred::orient2d_projected(pc, pd, pp, drop);
+    const int o4 = pred::orient2d_projected(pc, pd, pq, drop);
+    if (o1 * o2 >= 0 || o3 * o4 >= 0) return false;
+    point_on_edges(p, q, c, d);  // puts the point on both
+    return true;
+  }
+
   /// Re-triangulates every triangle that got something, on its edges (from
   /// any pair: a point on an edge belongs to every facet with that edge) or
   /// inside; a polygon facet with a point on one of its edges gets it in its
@@ -271,7 +362,48 @@ class Crossings {
     }
     w_.plc.facets = std::move(facets);
     w_.source = std::move(source);
+    split_segments();
     return split;
+  }
+
+  /// Every explicit segment with points on it (add_edge_point: from a
+  /// facet's contact, another segment or its own) replaced by its pieces,
+  /// in order along it, each keeping the segment's input segment.
+  void split_segments() {
+    Plc& plc = w_.plc;
+    std::vector<std::array<VertexId, 2>> segments;
+    std::vector<uint32_t> source;
+    for (size_t s = 0; s < plc.segments.size(); ++s) {
+      const VertexId a = plc.segments[s][0], b = plc.segments[s][1];
+      const auto it = edge_points_.find({std::min(a, b), std::max(a, b)});
+      if (it == edge_points_.end()) {
+        segments.push_back(plc.segments[s]);
+        source.push_back(w_.segment_source[s]);
+        continue;
+      }
+      // Along an axis on which the ends differ (the points are rounded, so
+      // only near the line: the order is by exact coordinate comparisons).
+      std::vector<VertexId> pts = it->second;
+      const double *pa = xyz(plc, a), *pb = xyz(plc, b);
+      int k = 0;
+      while (k < 2 && pa[k] == pb[k]) ++k;
+      std::sort(pts.begin(), pts.end(), [&](VertexId x, VertexId y) {
+        const double cx = xyz(plc, x)[k], cy = xyz(plc, y)[k];
+        if (cx != cy) return pa[k] < pb[k] ? cx < cy : cx > cy;
+        return x < y;
+      });
+      pts.push_back(b);
+      VertexId from = a;
+      for (VertexId x : pts) {
+        if (x == from) continue;
+        if (from != a) ++report_.segment_splits;  // a piece beyond the first
+        segments.push_back({from, x});
+        source.push_back(w_.segment_source[s]);
+        from = x;
+      }
+    }
+    plc.segments = std::move(segments);
+    w_.segment_source = std::move(source);
   }
 
  private:
@@ -646,6 +778,11 @@ class Crossings {
         for (size_t j = i + 1; j < in.segments.size(); ++j) {
           const Insert::Segment &s1 = in.segments[i], &s2 = in.segments[j];
           if (s1.other == s2.other) continue;
+          // A piece of an explicit segment has no plane to meet: where a
+          // contact crosses it, the triangulation fails and falls back to
+          // the points alone, and the next round finds that crossing as a
+          // segment through a triangle.
+          if (s1.other >= w_.plc.facets.size() || s2.other >= w_.plc.facets.size()) continue;
           if (s1.a == s2.a || s1.a == s2.b || s1.b == s2.a || s1.b == s2.b) continue;
           const double *a = xyz(plc, s1.a), *b = xyz(plc, s1.b);
           const double *c = xyz(plc, s2.a), *d = xyz(plc, s2.b);
@@ -795,7 +932,8 @@ class Crossings {
 
 // Crossings, and touching contacts (an edge crossing the other facet's edge
 // or piercing it at one point, the facets on one side): both are cut by the
-// same piercing points. Coplanar contacts and segments are not handled.
+// same piercing points. Coplanar contacts are cut along the overlap's
+// boundary. A pair with an explicit segment is handled in every kind.
 bool handled(const Intersection& x) {
   return x.kind == IntersectionKind::Cross || x.kind == IntersectionKind::VertexInFacet ||
          x.kind == IntersectionKind::CoplanarOverlap;
@@ -1025,6 +1163,7 @@ Status tidy_after_rounding(Work& w, double grid) {
   RepairReport scratch;
   weld_points(w, scratch);
   clean_polygons(w, scratch);
+  clean_segments(w, true);
   Status st;
   for (int pass = 0; pass < kNeedlePasses; ++pass) {
     const bool any = collapse_needles(w, grid * kNeedleGridSteps);
@@ -1035,6 +1174,7 @@ Status tidy_after_rounding(Work& w, double grid) {
     drop_duplicate_facets(w, scratch);
     if (!st.ok() || !any) break;
   }
+  clean_segments(w, true);  // collapsed needles may have welded a segment's ends
   if (st.ok()) st = check_plc(w.plc);
   return st;
 }
@@ -1114,21 +1254,36 @@ bool polygons_near(const Plc& plc, const std::vector<uint8_t>& involved, std::ve
 // every handled pair, until nothing is left or kRounds.
 Status resolve_rounds(Work& w, RepairReport& report, std::vector<Intersection>& left) {
   const double grid = snap_grid(w.plc);
+  size_t first_pairs = 0;
   for (size_t round = 0;; ++round) {
     find_self_intersections(w.plc, left);
     const uint32_t facets = static_cast<uint32_t>(w.plc.facets.size());
     std::vector<uint8_t> involved(facets, 0);
-    size_t crossing = 0;
+    size_t crossing = 0, with_segments = 0;
+    std::vector<uint32_t> segments_met;
     for (const Intersection& x : left) {
-      if (!handled(x) || x.b >= facets) continue;
+      if (x.b >= facets) {  // a segment with a facet or another segment
+        if (x.a < facets) involved[x.a] = 1;
+        else segments_met.push_back(x.a - facets);
+        segments_met.push_back(x.b - facets);
+        ++with_segments;
+        continue;
+      }
+      if (!handled(x)) continue;
       involved[x.a] = involved[x.b] = 1;
       ++crossing;
     }
-    if (round == 0) report.crossing_pairs = crossing;
-    if (crossing == 0 || round == kRounds) return Status::success();
+    if (round == 0) {
+      report.crossing_pairs = crossing;
+      std::sort(segments_met.begin(), segments_met.end());
+      report.crossing_segments = static_cast<size_t>(
+          std::unique(segments_met.begin(), segments_met.end()) - segments_met.begin());
+      first_pairs = crossing + with_segments;
+    }
+    if (crossing + with_segments == 0 || round == kRounds) return Status::success();
     // Rounds that multiply the pairs do not converge (rounding keeps
     // cutting what it cut before): stop, and the pairs left are reported.
-    if (round > 1 && crossing > kGrowth * report.crossing_pairs + 64) return Status::success();
+    if (round > 1 && crossing + with_segments > kGrowth * first_pairs + 64) return Status::success();
     report.rounds = round + 1;
     if (round == 0) {
       Status st = snap_all(w, grid);
@@ -1147,8 +1302,14 @@ Status resolve_rounds(Work& w, RepairReport& report, std::vector<Intersection>& 
     }
     Crossings c(w, report, grid);
     size_t added = 0;
+    const uint32_t nf = static_cast<uint32_t>(w.plc.facets.size());
     for (const Intersection& x : left) {
-      if (!handled(x) || x.b >= w.plc.facets.size()) continue;
+      if (x.b >= nf) {
+        if (x.a >= nf) added += c.add_segment_pair(x.a - nf, x.b - nf);
+        else if (is_triangle(w.plc.facets[x.a])) added += c.add_segment_contact(x.a, x.b - nf, x.b);
+        continue;
+      }
+      if (!handled(x)) continue;
       if (!is_triangle(w.plc.facets[x.a]) || !is_triangle(w.plc.facets[x.b])) continue;
       added += c.add_contact(x.a, x.b);
     }

@@ -150,8 +150,9 @@ SegmentEnds segment_ends(const Plc& plc) {
 // number of them when it has facet holes (the .poly convention for nested
 // polygons), inside any of them otherwise. An explicit segment lying in the
 // facet is part of it (TetGen's 2-vertex polygons; the self-intersection
-// test counts its ends as the facet's vertices), so its ends are no
-// T-junctions.
+// test counts its ends as the facet's vertices), so its ends inside the
+// facet are no T-junctions; an end on a loop edge still is (the test
+// reports it as a vertex on that edge), and goes into the loop.
 Found find_in_facet(const Plc& plc, const PointGrid& grid, const SegmentEnds& ends, const Facet& f) {
   const FacetPlane pl = plane_of(plc, f);
   double lo[3], hi[3];
@@ -198,7 +199,7 @@ Found find_in_facet(const Plc& plc, const PointGrid& grid, const SegmentEnds& en
     bool embedded = false;
     for (; it != ends.end() && it->first == c.v && !embedded; ++it)
       embedded = std::binary_search(in_facet.begin(), in_facet.end(), it->second);
-    if (embedded) continue;
+    if (embedded && c.at < 0) continue;
     if (c.at >= 0)
       found.on_edge.push_back({c.loop, static_cast<size_t>(c.at), c.v});
     else
@@ -250,11 +251,13 @@ Status split_at_tjunctions(Work& w, RepairReport& report) {
     report.tjunction_vertices += n;
     ++report.tjunction_facets;
     w.mark(w.source[f]);
+    // The points on edges go into the loops first also for a facet that is
+    // triangulated: triangulate_surface takes the points inside a facet but
+    // fails on a point lying on one of its loop edges.
+    insert_on_edges(plc, plc.facets[f], std::move(found.on_edge));
     if (found.inside > 0) {
       triangulate[f] = 1;
       ++to_triangulate;
-    } else {
-      insert_on_edges(plc, plc.facets[f], std::move(found.on_edge));
     }
   }
   if (to_triangulate == 0) return Status::success();
