@@ -12,6 +12,7 @@
 
 #include "corpus.hpp"
 #include "delaunay.hpp"
+#include "predicates.hpp"
 #include "segment_recovery.hpp"
 #include "tet_mesh.hpp"
 
@@ -302,4 +303,51 @@ TEST_CASE("SegmentChain inserts, erases, copies and moves past its local room",
   REQUIRE(taken.to_vector() == std::vector<VertexId>{1, 2});
   taken.insert(taken.end(), 3);
   REQUIRE(taken.to_vector() == std::vector<VertexId>{1, 2, 3});
+}
+
+TEST_CASE("a rounded split point stays on its segment's side of the facets at its ends",
+          "[segments]") {
+  // Segment o a of facet F = (o, a, e) lies within rounding of the plane of
+  // facet G = (o, b, d), which it meets only at o (a is outside G, beside
+  // its edge o b), the way thin wedges between near-duplicate parts do
+  // (issue 43's chair: 1e-7 rad at the edge, the segments 6e-6 rad apart).
+  // Points just off o a make segment recovery split it many times; each
+  // split point is rounded to doubles, up to half an ulp off the segment,
+  // which here is as far as the segment is from G's plane. A point on the
+  // far side of that plane makes F's subfaces cross G's near o, and facet
+  // recovery then fails on every try: the discretized PLC has no CDT.
+  const Vec3 o{0.1557763147065998, -0.24139746108812687, -0.004448851477718563};
+  const Vec3 b{0.2209608156611011, -0.0473914557567241, -0.009117757063449972};
+  const Vec3 d{0.1409005364675977, -0.28467512278621143, -0.0033786176618377795};
+  Vec3 a;
+  a.x = o.x + (b.x - o.x) - 0.2 * (d.x - o.x);
+  a.y = o.y + (b.y - o.y) - 0.2 * (d.y - o.y);
+  a.z = o.z + (b.z - o.z) - 0.2 * (d.z - o.z);
+  const Vec3 e{0.17, -0.2, 0.05};
+  std::vector<Vec3> pts = {o, a, e, b, d};
+  // Vertices near o a (not on any facet): the segment is missing from D0
+  // and is split next to each of them.
+  for (int k = 1; k < 40; ++k) {
+    const double t = k / 40.0, off = 1e-4 * (1 + (k % 3)), angle = 2.4 * k;
+    pts.push_back({o.x + t * (a.x - o.x), o.y + t * (a.y - o.y) + off * std::cos(angle),
+                   o.z + t * (a.z - o.z) + off * std::sin(angle)});
+  }
+  Plc plc = plc_from_points(pts);
+  add_triangle(plc, 0, 1, 2);  // F
+  add_triangle(plc, 0, 3, 4);  // G
+  const double* P[5];
+  for (int i = 0; i < 5; ++i) P[i] = &plc.points[i].x;
+  const int side = pred::orient3d(P[0], P[3], P[4], P[1]);
+  REQUIRE(side != 0);  // a off G's plane (by rounding), so o a is strictly on one side
+  Recovered r;
+  recover(plc, r);
+  require_recovered(r);
+  size_t on_oa = 0;
+  for (const SegmentVertex& sv : r.segs.steiner) {
+    const auto& s = r.segs.input[sv.segment];
+    if (!((s[0] == 0 && s[1] == 1) || (s[0] == 1 && s[1] == 0))) continue;
+    ++on_oa;
+    CHECK(pred::orient3d(P[0], P[3], P[4], r.mesh.point(sv.vertex)) == side);
+  }
+  CHECK(on_oa >= 8);
 }

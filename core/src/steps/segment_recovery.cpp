@@ -139,6 +139,7 @@ class SegmentRecovery {
   Status insert_on_segment(uint32_t s, VertexId u, VertexId w, Vec3 point, double t,
                            VertexId origin, SplitRule rule);
   bool exact_point_on_line(VertexId u, VertexId w, double f, Vec3& q, double& tf) const;
+  bool leaves_side(uint32_t s, const double* q) const;
   void queue_destroyed(VertexId v, std::vector<std::array<uint32_t, 3>>& queue);
 
   TetMesh& mesh_;
@@ -519,6 +520,33 @@ bool SegmentRecovery::exact_point_on_line(VertexId u, VertexId w, double f, Vec3
                                   kExactLineMinBits, q, tf);
 }
 
+// Whether the point q, meant for the open segment s, fails to lie strictly
+// on the segment's side of the plane of a facet at one of its endpoints e
+// (a facet holding e but not the segment: the whole open segment lies
+// strictly on one side of its plane, as e is in it). Exact orientations.
+// Why: a rounded split point lies up to half an ulp off its segment; where
+// two facets at e meet at a dihedral angle so small that, at the point's
+// distance from e, the gap between the segment and the other facet's plane
+// is below that (thin wedges between near-duplicate parts: 1e-7 rad), the
+// point can land on the far side, the subfaces made from it then cross the
+// other facet's subfaces, and the discretized PLC has no CDT: no cavity of
+// facet recovery (§7) can hold both, and facet Steiner points (which do not
+// move segment points) cannot undo it.
+bool SegmentRecovery::leaves_side(uint32_t s, const double* q) const {
+  if (segs_.plane_start.empty()) return false;
+  for (int end = 0; end < 2; ++end) {
+    const VertexId e = segs_.input[s][end], far = segs_.input[s][1 - end];
+    if (size_t(e) + 1 >= segs_.plane_start.size()) continue;
+    for (uint32_t i = segs_.plane_start[e]; i < segs_.plane_start[e + 1]; ++i) {
+      const std::array<VertexId, 3>& P = segs_.planes[i];
+      const double *a = mesh_.point(P[0]), *b = mesh_.point(P[1]), *c = mesh_.point(P[2]);
+      const int side = pred::orient3d(a, b, c, mesh_.point(far));
+      if (side != 0 && pred::orient3d(a, b, c, q) != side) return true;
+    }
+  }
+  return false;
+}
+
 // Inserts the split point of subsegment (u, w) of segment s.
 //
 // Rounding: the point is computed in floating point and rounded to doubles,
@@ -558,7 +586,9 @@ Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Ve
   // symmetrically on parallel segments). The insertion is then refused and
   // the point moves along the subsegment; the rule's exact position matters
   // for the bound on splits, not for correctness (any vertex strictly inside
-  // the subsegment splits it). After all tries it is inserted as planned.
+  // the subsegment splits it). A rounded point on the wrong side of a facet
+  // plane at the segment's ends moves the same way (leaves_side). After all
+  // tries it is inserted as planned.
   const double tu = segs_.param(s, u), tw = segs_.param(s, w);
   double f0 = tw != tu ? (t - tu) / (tw - tu) : 0.5;
   // Prefer a point exactly on the segment's line, moved by at most
@@ -582,6 +612,7 @@ Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Ve
                         : Vec3{a.x + f * (b.x - a.x), a.y + f * (b.y - a.y), a.z + f * (b.z - a.z)};
     if (shift != 0 && !strictly_between(q)) continue;
     const double xyz[3] = {q.x, q.y, q.z};
+    if (k + 1 < kNumFlatShifts && leaves_side(s, xyz)) continue;
     inserter_.set_reject_flat(k + 1 < kNumFlatShifts);
     st = inserter_.insert_point(xyz, mesh_.vtet[u], kVertexSteiner, &res);
     if (!st.ok()) return st;
@@ -987,6 +1018,36 @@ void init_segments(const Plc& plc, SegmentSet& segs, std::vector<std::array<Vert
   segs.chain.reserve(segs.input.size());
   for (const auto& e : segs.input) segs.chain.emplace_back(e[0], e[1]);
   segs.midpoint.assign(segs.input.size(), kNone);
+
+  // The planes of the facets at each point (leaves_side), as three of the
+  // facet's points that are not collinear (a facet is planar).
+  {
+    const size_t np = plc.points.size();
+    std::vector<std::array<VertexId, 3>> plane_of(plc.facets.size(), {kNone, kNone, kNone});
+    segs.plane_start.assign(np + 1, 0);
+    for (size_t f = 0; f < plc.facets.size(); ++f) {
+      const Facet& F = plc.facets[f];
+      if (F.loops.empty() || F.loops[0].size() < 3) continue;
+      const std::vector<VertexId>& L = F.loops[0];
+      const double *a = &plc.points[L[0]].x, *b = &plc.points[L[1]].x;
+      for (size_t i = 2; i < L.size(); ++i)
+        if (!pred::collinear3d(a, b, &plc.points[L[i]].x)) {
+          plane_of[f] = {L[0], L[1], L[i]};
+          break;
+        }
+      if (plane_of[f][0] == kNone) continue;
+      for (const auto& loop : F.loops)
+        for (VertexId v : loop) ++segs.plane_start[v + 1];
+    }
+    for (size_t v = 0; v < np; ++v) segs.plane_start[v + 1] += segs.plane_start[v];
+    segs.planes.resize(segs.plane_start[np]);
+    std::vector<uint32_t> at(segs.plane_start.begin(), segs.plane_start.end() - 1);
+    for (size_t f = 0; f < plc.facets.size(); ++f) {
+      if (plane_of[f][0] == kNone) continue;
+      for (const auto& loop : plc.facets[f].loops)
+        for (VertexId v : loop) segs.planes[at[v]++] = plane_of[f];
+    }
+  }
 
   // Acute vertices (§5): two incident segments at an angle below 90°, i.e. a
   // positive dot product of their directions (exact sign).

@@ -114,6 +114,12 @@ struct SegmentSet {
   std::vector<VertexId> midpoint;            ///< per input segment: AcuteBoth split, or kNone
   std::vector<SegmentVertex> steiner;        ///< Steiner vertices on segments, in insertion order
   std::vector<uint32_t> steiner_of;          ///< per mesh vertex: index into steiner, or kNone
+  /// Per PLC point p, planes[plane_start[p] .. plane_start[p + 1]) are the
+  /// planes (three PLC points each) of the facets at p; empty when unknown.
+  /// A rounded split point must stay on its segment's side of them (see
+  /// insert_on_segment).
+  std::vector<uint32_t> plane_start;
+  std::vector<std::array<VertexId, 3>> planes;
 
   /// The record of vertex v if it is a Steiner vertex on a segment, else null.
   const SegmentVertex* on_segment(VertexId v) const {
@@ -146,6 +152,7 @@ struct SegmentRecoveryStats {
   size_t max_splits = 0;       ///< largest number of points added on one input segment
   size_t rounds = 0;           ///< passes of the outer repeat loop
   size_t flat_moves = 0;       ///< split points moved so as not to make a flat tet
+                               ///< or cross a facet plane at their segment's ends
   size_t projection = 0, shell = 0;  ///< SplitMode::Projection's splits
   size_t removed = 0;          ///< split points removed again as redundant
   /// Split points left on the segments.
