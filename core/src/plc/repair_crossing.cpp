@@ -76,6 +76,22 @@ struct Insert {
   std::vector<Segment> segments;
 };
 
+// Sorts `pts` (points on or, rounded, next to edge ab) in order from a to
+// b: by the coordinate on which a and b differ most (exact comparisons; a
+// rounded point is off the line by far less than that extent), ties by id.
+void sort_along(const Plc& plc, VertexId a, VertexId b, std::vector<VertexId>& pts) {
+  const double *pa = xyz(plc, a), *pb = xyz(plc, b);
+  int k = 0;
+  for (int j = 1; j < 3; ++j)
+    if (std::fabs(pb[j] - pa[j]) > std::fabs(pb[k] - pa[k])) k = j;
+  const bool up = pa[k] < pb[k];
+  std::sort(pts.begin(), pts.end(), [&](VertexId x, VertexId y) {
+    const double cx = xyz(plc, x)[k], cy = xyz(plc, y)[k];
+    if (cx != cy) return up ? cx < cy : cx > cy;
+    return x < y;
+  });
+}
+
 // p + s (q - p), rounded to doubles. The exact s lies in (0, 1) (the
 // orient3d signs say the crossing is inside pq); a computed s outside it, or
 // not finite (planes or lines parallel in floating point), is brought back
@@ -381,17 +397,8 @@ class Crossings {
         source.push_back(w_.segment_source[s]);
         continue;
       }
-      // Along an axis on which the ends differ (the points are rounded, so
-      // only near the line: the order is by exact coordinate comparisons).
       std::vector<VertexId> pts = it->second;
-      const double *pa = xyz(plc, a), *pb = xyz(plc, b);
-      int k = 0;
-      while (k < 2 && pa[k] == pb[k]) ++k;
-      std::sort(pts.begin(), pts.end(), [&](VertexId x, VertexId y) {
-        const double cx = xyz(plc, x)[k], cy = xyz(plc, y)[k];
-        if (cx != cy) return pa[k] < pb[k] ? cx < cy : cx > cy;
-        return x < y;
-      });
+      sort_along(plc, a, b, pts);
       pts.push_back(b);
       VertexId from = a;
       for (VertexId x : pts) {
@@ -678,16 +685,10 @@ class Crossings {
     std::vector<VertexId> loop;
     for (int i = 0; i < 3; ++i) {
       loop.push_back(flat_id(t[i]));
-      const double* a = xyz(plc, t[i]);
-      const double* b = xyz(plc, t[(i + 1) % 3]);
-      int k = 0;
-      while (k < 2 && a[k] == b[k]) ++k;
       std::vector<VertexId> pts;
       for (const auto& e : in.on_edge)
         if (e.first == i) pts.push_back(e.second);
-      std::sort(pts.begin(), pts.end(), [&](VertexId x, VertexId y) {
-        return a[k] < b[k] ? xyz(plc, x)[k] < xyz(plc, y)[k] : xyz(plc, x)[k] > xyz(plc, y)[k];
-      });
+      sort_along(plc, t[i], t[(i + 1) % 3], pts);
       for (VertexId x : pts) loop.push_back(flat_id(x));
     }
     for (VertexId x : in.inside) flat_id(x);
