@@ -28,6 +28,9 @@
 #   page          `node tests/bench/page_scale.mjs MODEL...`: the demo page
 #                 in headless Chromium, each model through its file input
 #                 (a table of its own: state, tets, seconds; no memory)
+#   reading       `cdt3d info MODEL` against `node tests/bench/wasm_scale.mjs
+#                 MODEL --read` (a table of its own: the first read in a
+#                 fresh WebAssembly instance against the native reader)
 # B/tet is the peak RSS over the final tets of the full native run (for the
 # tetgen and node rows, over the same count), so the phases compare.
 #
@@ -37,7 +40,8 @@
 #   SCALE_DIR=/tmp/cdt3d-scale               where the models go (large files)
 #   TETGEN_MAX=3500000                       tetgen only up to this many triangles (both 3M models)
 #   TETGEN_TIMEOUT=900  TIMEOUT=900          seconds before tetgen / cdt3d is killed
-#   SCALE_PHASES=1  SCALE_NODE=1  SCALE_PAGE=1  SCALE_DELAUNAY=1   0 skips those rows
+#   SCALE_PHASES=1  SCALE_NODE=1  SCALE_PAGE=1  SCALE_READ=1  SCALE_DELAUNAY=1   0 skips those rows
+#   READ_RUNS=3                              runs of each reader in the reading table
 #   CDT3D_BIN=path                           the native CLI (default .build/native, built)
 set -uo pipefail
 cd "$(dirname "$0")/../.."
@@ -157,6 +161,35 @@ if [ "${SCALE_PAGE:-1}" = 1 ]; then
   node tests/bench/page_scale.mjs "${page_models[@]}" 2>/dev/null | while IFS= read -r line; do
     node -e 'const r = JSON.parse(process.argv[1]); const f = (x) => (x == null ? "" : Number(x).toFixed(1));
       console.log(`| ${r.model} | ${r.state} | ${r.tets ?? ""} | ${f(r.meshS)} | ${f(r.shownS)} | ${r.threaded ? 2 : 1} | ${r.code ? r.code + ": " : ""}${r.message ?? ""} |`);' "$line"
+  done
+fi
+
+# The first read in WebAssembly (issue 46: within 1.5x of native): per
+# model, READ_RUNS alternating runs of the native reader (`cdt3d info`, its
+# "read time": reading the file, parsing, check_plc) and of the package's
+# readPlc() in a fresh Node process (wasm_scale.mjs --read: the first call
+# in a fresh instance, then a second); the ratio is of the medians.
+if [ "${SCALE_READ:-1}" = 1 ]; then
+  runs=${READ_RUNS:-3}
+  echo
+  echo "Reading (ms, $runs runs each, alternating; median first):"
+  echo
+  echo "| model | native read | node first readPlc | node second readPlc | first/native |"
+  echo "|---|---|---|---|---|"
+  median() { tr ' ' '\n' | grep . | sort -n | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
+  for n in $SIZES; do
+    for kind in $KINDS; do
+      model="$DIR/${kind}_$n.off"
+      [ -s "$model" ] || continue
+      nat="" first="" second=""
+      for _ in $(seq "$runs"); do
+        nat="$nat $("$BIN" info "$model" 2>/dev/null | awk '/read time/ {printf "%d", $3}')"
+        o=$(node tests/bench/wasm_scale.mjs "$model" --read 2>/dev/null)
+        first="$first $(jnum msFirst "$o")" second="$second $(jnum msSecond "$o")"
+      done
+      mn=$(echo "$nat" | median) mf=$(echo "$first" | median) ms=$(echo "$second" | median)
+      echo "| ${kind}_$n | $mn ($nat ) | $mf ($first ) | $ms ($second ) | $(ratio "$mf" "$mn") |"
+    done
   done
 fi
 

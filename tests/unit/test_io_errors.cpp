@@ -521,3 +521,98 @@ TEST_CASE("Error: an exception caught by catch (...) maps to out-of-memory or in
   CHECK(boom.message == "Unexpected failure while meshing: boom");
   CHECK(error_of([] { throw 7; }).message == "Unexpected failure while meshing.");
 }
+
+// The readers' record loops and check_plc's loops run in blocks of
+// kBlockItems (base/blocks.hpp): an error in a later block must name its own
+// record, line, vertex and facet, as one in the first block does.
+TEST_CASE("Error: a bad record past the first blocks names itself", "[io][errors]") {
+  const int n = 3 * 4096 + 17;  // vertices in a fan strip; bad ones near the end
+  const int bad = n - 5;
+  auto coords = [](int i) {
+    return std::to_string(i % 2) + " " + std::to_string(i / 2) + " " + std::to_string(i % 3);
+  };
+  std::string off = "OFF\n" + std::to_string(n) + " " + std::to_string(n - 2) + " 0\n";
+  std::string obj;
+  for (int i = 0; i < n; ++i) {
+    off += (i == bad ? std::string("1 nan 0") : coords(i)) + "\n";
+    obj += "v " + (i == bad ? std::string("1 nan 0") : coords(i)) + "\n";
+  }
+  Status s = read_text(off, "b.off");
+  expect(s, ErrorCode::NonFinite, 3 + bad);
+  CHECK(s.error.vertex == bad);
+  s = read_text(obj, "b.obj");
+  expect(s, ErrorCode::NonFinite, 1 + bad);
+  CHECK(s.error.vertex == bad);
+
+  // Faces: the one before the last uses a vertex beyond the count.
+  std::string faces;
+  for (int i = 0; i + 2 < n; ++i) {
+    const int last = i == n - 4 ? n : i + 2;
+    faces += "3 " + std::to_string(i) + " " + std::to_string(i + 1) + " " +
+             std::to_string(last) + "\n";
+  }
+  std::string good = "OFF\n" + std::to_string(n) + " " + std::to_string(n - 2) + " 0\n";
+  for (int i = 0; i < n; ++i) good += coords(i) + "\n";
+  s = read_text(good + faces, "f.off");
+  expect(s, ErrorCode::IndexOutOfRange, 3 + n + (n - 4));
+  CHECK(s.error.facet == n - 4);
+
+  // Binary STL and PLY records.
+  std::vector<float> tris;
+  for (int t = 0; t < n; ++t) {
+    const float z = static_cast<float>(t);
+    const float tri[9] = {0, 0, z, 1, 0, z, 0, 1, z};
+    tris.insert(tris.end(), tri, tri + 9);
+  }
+  tris[9 * bad + 4] = std::numeric_limits<float>::quiet_NaN();
+  s = read_bytes(stl_binary(static_cast<uint32_t>(n), tris), "b.stl");
+  CHECK(s.error.code == ErrorCode::NonFinite);
+  CHECK(s.error.record == bad);
+  CHECK(s.error.vertex == 3 * bad + 1);
+
+  std::string h = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(n) +
+                  "\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
+  std::vector<uint8_t> ply(h.begin(), h.end());
+  for (int i = 0; i < n; ++i) {
+    put_f32(ply, static_cast<float>(i));
+    put_f32(ply, i == bad ? std::numeric_limits<float>::infinity() : 0.0f);
+    put_f32(ply, 0);
+  }
+  s = read_bytes(ply, "b.ply");
+  CHECK(s.error.code == ErrorCode::NonFinite);
+  CHECK(s.error.record == bad);
+}
+
+TEST_CASE("Error: check_plc names a bad facet past the first blocks", "[io][errors]") {
+  // A strip of n - 2 triangles over n points on two lines, all valid but for
+  // one facet near the end.
+  const int n = 2 * 4096 + 101;
+  Plc plc;
+  for (int i = 0; i < n; ++i) {
+    plc.points.push_back({static_cast<double>(i / 2), static_cast<double>(i % 2), 0});
+  }
+  for (int i = 0; i + 2 < n; ++i) {
+    Facet f;
+    f.loops.push_back({static_cast<VertexId>(i), static_cast<VertexId>(i + 1),
+                       static_cast<VertexId>(i + 2)});
+    plc.facets.push_back(f);
+  }
+  REQUIRE(check_plc(plc).ok());
+  const int bad = n - 7;
+  Plc repeated = plc;
+  repeated.facets[bad].loops[0][2] = repeated.facets[bad].loops[0][0];
+  Status s = check_plc(repeated);
+  CHECK(s.error.code == ErrorCode::DegenerateFacet);
+  CHECK(s.error.facet == bad);
+  Plc duplicated = plc;
+  duplicated.facets.push_back(plc.facets[bad]);
+  s = check_plc(duplicated);
+  CHECK(s.error.code == ErrorCode::DuplicateFacet);
+  CHECK(s.error.facet == n - 2);
+  CHECK(s.error.other_facet == bad);
+  Plc welded = plc;
+  welded.points[n - 3] = welded.points[n - 9];
+  s = check_plc(welded);
+  CHECK(s.error.code == ErrorCode::InvalidArgument);
+  CHECK(s.error.vertex == n - 3);
+}

@@ -383,7 +383,7 @@ struct Recorder {
 };
 }  // namespace
 
-TEST_CASE("progress reports every phase in order and ends at 1; cancel stops the run", "[pipeline]") {
+TEST_CASE("progress reports every phase in order and ends at 1, and cancel stops the run", "[pipeline]") {
   const Plc plc = box_with_pocket();
   Recorder rec;
   Options opt;

@@ -989,7 +989,7 @@ TEST_CASE("incircle_coplanar_sos is the limit of insphere_sos", "[predicates][so
   CHECK(ties > 1000);
 }
 
-TEST_CASE("filters decide random inputs; out-of-range inputs are counted", "[predicates]") {
+TEST_CASE("filters decide random inputs, and out-of-range inputs are counted", "[predicates]") {
   Rng r(21);
   const pred::Counters before = pred::counters();
   std::vector<P3> pts(4096);

@@ -5,6 +5,7 @@
 #include <set>
 #include <vector>
 
+#include "blocks.hpp"
 #include "delaunay.hpp"
 #include "radix_sort.hpp"
 #include "spatial_sort.hpp"
@@ -271,4 +272,29 @@ TEST_CASE("replace_tets matches the faces of new ghost tets", "[tet_mesh]") {
   const Status st = check_mesh(m);
   INFO(st.error.message);
   CHECK(st.ok());
+}
+
+TEST_CASE("for_blocks covers 0..n-1 in order and stops when asked", "[tet_mesh][blocks]") {
+  for (size_t n : {size_t(0), size_t(1), kBlockItems - 1, kBlockItems, kBlockItems + 1,
+                   3 * kBlockItems + 5}) {
+    std::vector<size_t> seen;
+    size_t calls = 0;
+    CHECK(for_blocks(n, [&](size_t begin, size_t end) {
+      ++calls;
+      CHECK(end - begin <= kBlockItems);
+      for (size_t i = begin; i < end; ++i) seen.push_back(i);
+      return true;
+    }));
+    CHECK(calls == (n + kBlockItems - 1) / kBlockItems);
+    REQUIRE(seen.size() == n);
+    for (size_t i = 0; i < n; ++i) CHECK(seen[i] == i);
+  }
+  // A body that returns false ends the loop: no later block runs.
+  const uint64_t n = uint64_t(5) * kBlockItems;
+  uint64_t last = 0;
+  CHECK_FALSE(for_blocks(n, [&](uint64_t begin, uint64_t end) {
+    last = end;
+    return begin < 2 * kBlockItems;
+  }));
+  CHECK(last == 3 * kBlockItems);
 }

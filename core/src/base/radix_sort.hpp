@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "blocks.hpp"
+
 namespace cdt3d {
 
 /// Below this many elements radix_sort_by sorts by comparisons instead.
@@ -39,7 +41,11 @@ void radix_sort_by(std::vector<T>& a, KeyFn key, int lo, int hi) {
   std::vector<size_t> count(kBuckets);
   for (int shift = lo; shift < hi; shift += kDigit) {
     std::fill(count.begin(), count.end(), 0);
-    for (const T& r : a) ++count[(key(r) >> shift) & (kBuckets - 1)];
+    // Both passes over `a` in blocks (blocks.hpp).
+    for_blocks(a.size(), [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i) ++count[(key(a[i]) >> shift) & (kBuckets - 1)];
+      return true;
+    });
     if (std::find(count.begin(), count.end(), a.size()) != count.end()) continue;  // one digit
     size_t sum = 0;
     for (size_t& c : count) {
@@ -47,7 +53,11 @@ void radix_sort_by(std::vector<T>& a, KeyFn key, int lo, int hi) {
       c = sum;
       sum += here;
     }
-    for (const T& r : a) tmp[count[(key(r) >> shift) & (kBuckets - 1)]++] = r;
+    for_blocks(a.size(), [&](size_t begin, size_t end) {
+      for (size_t i = begin; i < end; ++i)
+        tmp[count[(key(a[i]) >> shift) & (kBuckets - 1)]++] = a[i];
+      return true;
+    });
     a.swap(tmp);
   }
 }

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <vector>
 
+#include "blocks.hpp"
 #include "io/read_common.hpp"
 
 namespace cdt3d {
@@ -112,74 +113,99 @@ Status read_obj(const uint8_t* data, size_t size, const std::string& file, Plc& 
   out.facets.reserve(count_face_lines(reinterpret_cast<const char*>(data), size));
   Token t;
   std::vector<uint32_t> corners;
-  while (r.next(t)) {
-    if (t.is("v")) {
-      const Subject who{"vertex", static_cast<int64_t>(b.file_vertex_count())};
-      double c[3];
-      const TextReader::Mark args = r.mark();
-      if (fast_coords(r, c)) {
-        Status s = b.add_vertex(c[0], c[1], c[2], t.line, -1);
-        if (!s.ok()) return s;
-        r.skip_line();
+  // The statements in blocks (blocks.hpp): at most one per byte, so the
+  // blocks end at the end of the file; a failed statement leaves its error
+  // in `bad` and stops the loop.
+  Status bad;
+  for_blocks(size + 1, [&](size_t begin, size_t end) {
+    for (size_t statement = begin; statement < end; ++statement) {
+      if (!r.next(t)) return false;
+      if (t.is("v")) {
+        const Subject who{"vertex", static_cast<int64_t>(b.file_vertex_count())};
+        double c[3];
+        const TextReader::Mark args = r.mark();
+        if (fast_coords(r, c)) {
+          Status s = b.add_vertex(c[0], c[1], c[2], t.line, -1);
+          if (!s.ok()) {
+            bad = std::move(s);
+            return false;
+          }
+          r.skip_line();
+          continue;
+        }
+        r.reset(args);
+        for (double& x : c) {
+          Token v;
+          if (!r.next_on_line(v)) {
+            Status e = fail(ErrorCode::Parse, "A 'v' line needs three coordinates.", file, t.line);
+            e.error.vertex = who.index;
+            bad = std::move(e);
+            return false;
+          }
+          Status s = parse_coord(v, x, file, who);
+          if (!s.ok()) {
+            bad = std::move(s);
+            return false;
+          }
+        }
+        Status s = check_coords(c[0], c[1], c[2], file, t.line, -1, who);
+        if (s.ok()) s = b.add_vertex(c[0], c[1], c[2], t.line, -1);
+        if (!s.ok()) {
+          bad = std::move(s);
+          return false;
+        }
+      } else if (t.is("f") || t.is("fo")) {
+        const int64_t facet = static_cast<int64_t>(out.facets.size());
+        const TextReader::Mark args = r.mark();
+        if (fast_corners(r, b.file_vertex_count(), corners)) {
+          b.add_facet(t.line, -1).loops.emplace_back(corners.begin(), corners.end());
+          r.skip_line();
+          continue;
+        }
+        r.reset(args);
+        corners.clear();
+        Token c;
+        while (r.next_on_line(c)) {
+          uint32_t v = 0;
+          Status s = corner_index(c, b.file_vertex_count(), file, facet, v);
+          if (!s.ok()) {
+            bad = std::move(s);
+            return false;
+          }
+          corners.push_back(v);
+        }
+        Facet& f = b.add_facet(t.line, -1);
+        f.loops.emplace_back(corners.begin(), corners.end());
+      } else if (t.is("l") || t.is("p")) {
+        corners.clear();
+        Token c;
+        while (r.next_on_line(c)) {
+          uint32_t v = 0;
+          Status s = corner_index(c, b.file_vertex_count(), file, -1, v);
+          if (!s.ok()) {
+            bad = std::move(s);
+            return false;
+          }
+          corners.push_back(v);
+        }
+        if (t.is("p") || corners.size() == 1) {
+          for (uint32_t v : corners) b.add_isolated(v, t.line, -1);
+        } else {
+          for (size_t k = 0; k + 1 < corners.size(); ++k) {
+            b.add_segment(corners[k], corners[k + 1], t.line, -1);
+          }
+        }
+      } else if (t.is("g") || t.is("o")) {
+        // A group or object names the faces after it (a Gmsh physical name).
+        b.start_named_group(r.rest_of_line(kMaxNameSize), 1);
         continue;
       }
-      r.reset(args);
-      for (double& x : c) {
-        Token v;
-        if (!r.next_on_line(v)) {
-          Status e = fail(ErrorCode::Parse, "A 'v' line needs three coordinates.", file, t.line);
-          e.error.vertex = who.index;
-          return e;
-        }
-        Status s = parse_coord(v, x, file, who);
-        if (!s.ok()) return s;
-      }
-      Status s = check_coords(c[0], c[1], c[2], file, t.line, -1, who);
-      if (s.ok()) s = b.add_vertex(c[0], c[1], c[2], t.line, -1);
-      if (!s.ok()) return s;
-    } else if (t.is("f") || t.is("fo")) {
-      const int64_t facet = static_cast<int64_t>(out.facets.size());
-      const TextReader::Mark args = r.mark();
-      if (fast_corners(r, b.file_vertex_count(), corners)) {
-        b.add_facet(t.line, -1).loops.emplace_back(corners.begin(), corners.end());
-        r.skip_line();
-        continue;
-      }
-      r.reset(args);
-      corners.clear();
-      Token c;
-      while (r.next_on_line(c)) {
-        uint32_t v = 0;
-        Status s = corner_index(c, b.file_vertex_count(), file, facet, v);
-        if (!s.ok()) return s;
-        corners.push_back(v);
-      }
-      Facet& f = b.add_facet(t.line, -1);
-      f.loops.emplace_back(corners.begin(), corners.end());
-    } else if (t.is("l") || t.is("p")) {
-      corners.clear();
-      Token c;
-      while (r.next_on_line(c)) {
-        uint32_t v = 0;
-        Status s = corner_index(c, b.file_vertex_count(), file, -1, v);
-        if (!s.ok()) return s;
-        corners.push_back(v);
-      }
-      if (t.is("p") || corners.size() == 1) {
-        for (uint32_t v : corners) b.add_isolated(v, t.line, -1);
-      } else {
-        for (size_t k = 0; k + 1 < corners.size(); ++k) {
-          b.add_segment(corners[k], corners[k + 1], t.line, -1);
-        }
-      }
-    } else if (t.is("g") || t.is("o")) {
-      // A group or object names the faces after it (a Gmsh physical name).
-      b.start_named_group(r.rest_of_line(kMaxNameSize), 1);
-      continue;
+      // Everything else (vt, vn, vp, s, usemtl, mtllib, ...) is ignored.
+      r.skip_line();
     }
-    // Everything else (vt, vn, vp, s, usemtl, mtllib, ...) is ignored.
-    r.skip_line();
-  }
+    return true;
+  });
+  if (!bad.ok()) return bad;
   return b.finish();
 }
 

@@ -6,6 +6,7 @@
 // follows the values we need on a record's last line is ignored.
 #include <vector>
 
+#include "blocks.hpp"
 #include "io/read_common.hpp"
 
 namespace cdt3d {
@@ -110,69 +111,81 @@ Status read_off(const uint8_t* data, size_t size, const std::string& file, Plc& 
   // Each vertex line needs at least 6 bytes ("0 0 0\n"): never reserve more
   // than the file can hold.
   b.reserve_vertices(nv, r.remaining() / 6 + 1, nv);
-  for (uint64_t i = 0; i < nv; ++i) {
-    const Subject who{"vertex", static_cast<int64_t>(i)};
-    double c[3];
-    const TextReader::Mark record = r.mark();
-    if (!fast_vertex(r, c)) {
-      r.reset(record);
-      for (double& x : c) {
-        s = expect_coord(r, x, file, who);
-        if (!s.ok()) return s;
+  // The records in blocks (base/blocks.hpp); a failed record leaves its
+  // error in s and stops the loop.
+  for_blocks(nv, [&](uint64_t begin, uint64_t end) {
+    for (uint64_t i = begin; i < end; ++i) {
+      const Subject who{"vertex", static_cast<int64_t>(i)};
+      double c[3];
+      const TextReader::Mark record = r.mark();
+      if (!fast_vertex(r, c)) {
+        r.reset(record);
+        for (double& x : c) {
+          s = expect_coord(r, x, file, who);
+          if (!s.ok()) return false;
+        }
+        s = check_coords(c[0], c[1], c[2], file, r.last_line(), -1, who);
+        if (!s.ok()) return false;
       }
-      s = check_coords(c[0], c[1], c[2], file, r.last_line(), -1, who);
-      if (!s.ok()) return s;
+      s = b.add_vertex(c[0], c[1], c[2], r.last_line(), -1);
+      if (!s.ok()) return false;
+      r.skip_line();
     }
-    s = b.add_vertex(c[0], c[1], c[2], r.last_line(), -1);
-    if (!s.ok()) return s;
-    r.skip_line();
-  }
+    return true;
+  });
+  if (!s.ok()) return s;
 
   out.facets.reserve(static_cast<size_t>(nf < r.remaining() / 8 + 1 ? nf : r.remaining() / 8 + 1));
   std::vector<VertexId> quick;
-  for (uint64_t f = 0; f < nf; ++f) {
-    const TextReader::Mark record = r.mark();
-    int64_t face_line = 0;
-    if (fast_face(r, nv, quick, face_line)) {
-      b.add_facet(face_line, -1).loops.emplace_back(quick.begin(), quick.end());
-      r.skip_line();  // optional face colour
-      continue;
-    }
-    r.reset(record);
-    uint64_t n = 0;
-    s = expect_count(r, n, face_line, file, "face vertex count");
-    if (!s.ok()) return s;
-    if (n > r.remaining() / 2 + 1) {
-      Status e = fail(ErrorCode::Truncated,
-                      "Face " + std::to_string(f) + " declares " + std::to_string(n) +
-                          " vertices but the file ends before.",
-                      file, face_line);
-      e.error.facet = static_cast<int64_t>(f);
-      return e;
-    }
-    Facet& facet = b.add_facet(face_line, -1);
-    facet.loops.emplace_back();
-    std::vector<VertexId>& loop = facet.loops.back();
-    loop.reserve(static_cast<size_t>(n));
-    for (uint64_t k = 0; k < n; ++k) {
-      int64_t v = 0, vline = 0;
-      s = expect_int(r, v, vline, file, "face vertex index");
-      if (!s.ok()) {
-        s.error.facet = static_cast<int64_t>(f);
-        return s;
+  for_blocks(nf, [&](uint64_t begin, uint64_t end) {
+    for (uint64_t f = begin; f < end; ++f) {
+      const TextReader::Mark record = r.mark();
+      int64_t face_line = 0;
+      if (fast_face(r, nv, quick, face_line)) {
+        b.add_facet(face_line, -1).loops.emplace_back(quick.begin(), quick.end());
+        r.skip_line();  // optional face colour
+        continue;
       }
-      if (v < 0 || static_cast<uint64_t>(v) >= nv) {
-        Status e = fail(ErrorCode::IndexOutOfRange,
-                        "Face " + std::to_string(f) + " uses vertex index " + std::to_string(v) +
-                            ", outside 0.." + std::to_string(static_cast<int64_t>(nv) - 1) + ".",
-                        file, vline);
+      r.reset(record);
+      uint64_t n = 0;
+      s = expect_count(r, n, face_line, file, "face vertex count");
+      if (!s.ok()) return false;
+      if (n > r.remaining() / 2 + 1) {
+        Status e = fail(ErrorCode::Truncated,
+                        "Face " + std::to_string(f) + " declares " + std::to_string(n) +
+                            " vertices but the file ends before.",
+                        file, face_line);
         e.error.facet = static_cast<int64_t>(f);
-        return e;
+        s = std::move(e);
+        return false;
       }
-      loop.push_back(static_cast<VertexId>(v));
+      Facet& facet = b.add_facet(face_line, -1);
+      facet.loops.emplace_back();
+      std::vector<VertexId>& loop = facet.loops.back();
+      loop.reserve(static_cast<size_t>(n));
+      for (uint64_t k = 0; k < n; ++k) {
+        int64_t v = 0, vline = 0;
+        s = expect_int(r, v, vline, file, "face vertex index");
+        if (!s.ok()) {
+          s.error.facet = static_cast<int64_t>(f);
+          return false;
+        }
+        if (v < 0 || static_cast<uint64_t>(v) >= nv) {
+          Status e = fail(ErrorCode::IndexOutOfRange,
+                          "Face " + std::to_string(f) + " uses vertex index " + std::to_string(v) +
+                              ", outside 0.." + std::to_string(static_cast<int64_t>(nv) - 1) + ".",
+                          file, vline);
+          e.error.facet = static_cast<int64_t>(f);
+          s = std::move(e);
+          return false;
+        }
+        loop.push_back(static_cast<VertexId>(v));
+      }
+      r.skip_line();  // optional face colour
     }
-    r.skip_line();  // optional face colour
-  }
+    return true;
+  });
+  if (!s.ok()) return s;
   return b.finish();
 }
 

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <memory>
 
+#include "blocks.hpp"
 #include "io/read_common.hpp"
 
 namespace cdt3d {
@@ -345,54 +346,77 @@ class PlyReader {
     const bool is_vertex = static_cast<int>(e) == vertex_elem_;
     const bool is_face = static_cast<int>(e) == face_elem_;
     double xyz[3] = {0, 0, 0};
-    for (uint64_t rec = 0; rec < el.count; ++rec) {
-      const int64_t record = static_cast<int64_t>(rec);
-      std::vector<VertexId>* loop = nullptr;
-      if (is_face) {
-        Facet& f = builder_.add_facet(-1, record);
-        f.loops.emplace_back();
-        loop = &f.loops.back();
-      }
-      for (size_t k = 0; k < el.props.size(); ++k) {
-        const Property& p = el.props[k];
-        Value v;
-        if (!p.list) {
-          if (!c.read(p.type, v)) return truncated(el, rec, -1);
-          if (is_vertex) {
-            for (int a = 0; a < 3; ++a) {
-              if (xyz_[a] == static_cast<int>(k)) xyz[a] = v.d;
+    // The records in blocks (blocks.hpp); a failed record leaves its error
+    // in `bad` and stops the loop.
+    Status bad;
+    for_blocks(el.count, [&](uint64_t begin, uint64_t end) {
+      for (uint64_t rec = begin; rec < end; ++rec) {
+        const int64_t record = static_cast<int64_t>(rec);
+        std::vector<VertexId>* loop = nullptr;
+        if (is_face) {
+          Facet& f = builder_.add_facet(-1, record);
+          f.loops.emplace_back();
+          loop = &f.loops.back();
+        }
+        for (size_t k = 0; k < el.props.size(); ++k) {
+          const Property& p = el.props[k];
+          Value v;
+          if (!p.list) {
+            if (!c.read(p.type, v)) {
+              bad = truncated(el, rec, -1);
+              return false;
             }
+            if (is_vertex) {
+              for (int a = 0; a < 3; ++a) {
+                if (xyz_[a] == static_cast<int>(k)) xyz[a] = v.d;
+              }
+            }
+            continue;
           }
-          continue;
-        }
-        if (!c.read(p.count_type, v)) return truncated(el, rec, -1);
-        if (v.i < 0) {
-          return fail(ErrorCode::Parse,
-                      "Negative list length in record " + std::to_string(rec) + " of element " +
-                          el.label + ".",
-                      file_, -1, record);
-        }
-        const uint64_t n = static_cast<uint64_t>(v.i);
-        const size_t item = type_size(p.type);
-        if (n > c.remaining() / item) return truncated(el, rec, -1);
-        if (is_face && static_cast<int>(k) == index_prop_) {
-          loop->reserve(static_cast<size_t>(n));
-          for (uint64_t j = 0; j < n; ++j) {
-            c.read(p.type, v);
-            Status s = add_corner(v, *loop, record, -1, record);
-            if (!s.ok()) return s;
+          if (!c.read(p.count_type, v)) {
+            bad = truncated(el, rec, -1);
+            return false;
           }
-        } else {
-          c.skip(n * item);
+          if (v.i < 0) {
+            bad = fail(ErrorCode::Parse,
+                       "Negative list length in record " + std::to_string(rec) + " of element " +
+                           el.label + ".",
+                       file_, -1, record);
+            return false;
+          }
+          const uint64_t n = static_cast<uint64_t>(v.i);
+          const size_t item = type_size(p.type);
+          if (n > c.remaining() / item) {
+            bad = truncated(el, rec, -1);
+            return false;
+          }
+          if (is_face && static_cast<int>(k) == index_prop_) {
+            loop->reserve(static_cast<size_t>(n));
+            for (uint64_t j = 0; j < n; ++j) {
+              c.read(p.type, v);
+              Status s = add_corner(v, *loop, record, -1, record);
+              if (!s.ok()) {
+                bad = std::move(s);
+                return false;
+              }
+            }
+          } else {
+            c.skip(n * item);
+          }
+        }
+        if (is_vertex) {
+          const Subject who{"vertex", record};
+          Status s = check_coords(xyz[0], xyz[1], xyz[2], file_, -1, record, who);
+          if (s.ok()) s = builder_.add_vertex(xyz[0], xyz[1], xyz[2], -1, record);
+          if (!s.ok()) {
+            bad = std::move(s);
+            return false;
+          }
         }
       }
-      if (is_vertex) {
-        const Subject who{"vertex", record};
-        Status s = check_coords(xyz[0], xyz[1], xyz[2], file_, -1, record, who);
-        if (s.ok()) s = builder_.add_vertex(xyz[0], xyz[1], xyz[2], -1, record);
-        if (!s.ok()) return s;
-      }
-    }
+      return true;
+    });
+    if (!bad.ok()) return bad;
     return Status::success();
   }
 

@@ -7,6 +7,7 @@
 // "solid" but holds control bytes and cannot be parsed as ASCII.
 #include <cstring>
 
+#include "blocks.hpp"
 #include "io/read_common.hpp"
 
 namespace cdt3d {
@@ -74,22 +75,29 @@ Status read_binary(const uint8_t* data, size_t size, const std::string& file, Pl
   // A closed triangle surface has about half as many points as triangles.
   b.reserve_vertices(3 * count, 3 * count, count / 2 + 16);
   out.facets.reserve(static_cast<size_t>(count));
-  for (uint64_t t = 0; t < count; ++t) {
-    const uint8_t* rec = data + 84 + 50 * t + 12;  // skip the normal
-    for (int k = 0; k < 3; ++k) {
-      const double x = le_float(rec + 12 * k);
-      const double y = le_float(rec + 12 * k + 4);
-      const double z = le_float(rec + 12 * k + 8);
-      const int64_t v = static_cast<int64_t>(3 * t) + k;
-      Status s = check_coords(x, y, z, file, -1, static_cast<int64_t>(t), Subject{"vertex", v});
-      if (!s.ok()) return s;
-      s = b.add_vertex(x, y, z, -1, static_cast<int64_t>(t));
-      if (!s.ok()) return s;
+  // The records in blocks (blocks.hpp); a failed record leaves its error in
+  // `bad` and stops the loop.
+  Status bad;
+  for_blocks(count, [&](uint64_t begin, uint64_t end) {
+    for (uint64_t t = begin; t < end; ++t) {
+      const uint8_t* rec = data + 84 + 50 * t + 12;  // skip the normal
+      for (int k = 0; k < 3; ++k) {
+        const double x = le_float(rec + 12 * k);
+        const double y = le_float(rec + 12 * k + 4);
+        const double z = le_float(rec + 12 * k + 8);
+        const int64_t v = static_cast<int64_t>(3 * t) + k;
+        bad = check_coords(x, y, z, file, -1, static_cast<int64_t>(t), Subject{"vertex", v});
+        if (!bad.ok()) return false;
+        bad = b.add_vertex(x, y, z, -1, static_cast<int64_t>(t));
+        if (!bad.ok()) return false;
+      }
+      Facet& f = b.add_facet(-1, static_cast<int64_t>(t));
+      const uint32_t v0 = static_cast<uint32_t>(3 * t);
+      f.loops.push_back({v0, v0 + 1, v0 + 2});
     }
-    Facet& f = b.add_facet(-1, static_cast<int64_t>(t));
-    const uint32_t v0 = static_cast<uint32_t>(3 * t);
-    f.loops.push_back({v0, v0 + 1, v0 + 2});
-  }
+    return true;
+  });
+  if (!bad.ok()) return bad;
   return b.finish();
 }
 
@@ -113,62 +121,91 @@ Status read_ascii(const uint8_t* data, size_t size, const std::string& file, Plc
   PlcBuilder b(out, file, 0);
   b.start_named_group(r.rest_of_line(kMaxNameSize), 0);
   b.reserve_vertices(size / 64, size / 64, size / 400);
-  while (r.next(t)) {
-    if (t.is_nocase("endsolid")) {
-      r.skip_line();
-      // Some exporters pad the file with NUL bytes after the last solid.
-      bool padding = true;
-      for (size_t i = r.pos(); i < size && padding; ++i)
-        padding = data[i] == 0 || is_space(data[i]);
-      if (padding || !r.next(t)) break;
-      if (!t.is_nocase("solid")) {
-        return fail(ErrorCode::Parse, "Expected 'solid' or the end of the file after 'endsolid'.",
-                    file, t.line);
+  // The facets in blocks (blocks.hpp): at most one per byte, so the blocks
+  // end at the end of the file; a failed facet leaves its error in `bad`
+  // and stops the loop.
+  Status bad;
+  for_blocks(size + 1, [&](size_t begin, size_t end) {
+    for (size_t statement = begin; statement < end; ++statement) {
+      if (!r.next(t)) return false;
+      if (t.is_nocase("endsolid")) {
+        r.skip_line();
+        // Some exporters pad the file with NUL bytes after the last solid.
+        bool padding = true;
+        for (size_t i = r.pos(); i < size && padding; ++i)
+          padding = data[i] == 0 || is_space(data[i]);
+        if (padding || !r.next(t)) return false;
+        if (!t.is_nocase("solid")) {
+          bad = fail(ErrorCode::Parse, "Expected 'solid' or the end of the file after 'endsolid'.",
+                     file, t.line);
+          return false;
+        }
+        // Several solids in one file: read them all, each a marker of its own.
+        b.start_named_group(r.rest_of_line(kMaxNameSize), 1);
+        continue;
       }
-      // Several solids in one file: read them all, each a marker of its own.
-      b.start_named_group(r.rest_of_line(kMaxNameSize), 1);
-      continue;
-    }
-    if (!t.is_nocase("facet")) {
-      return fail(ErrorCode::Parse,
-                  "Expected 'facet' or 'endsolid' in the ASCII STL, found " + quote(t) + ".", file,
-                  t.line);
-    }
-    const int64_t facet_line = t.line;
-    r.skip_line();  // "normal nx ny nz": ignored (often not even unit length)
-    Status s = expect_word(r, "outer", file);
-    if (s.ok()) s = expect_word(r, "loop", file);
-    if (!s.ok()) return s;
-    const uint32_t first = static_cast<uint32_t>(b.file_vertex_count());
-    for (int k = 0; k < 3; ++k) {
-      s = expect_word(r, "vertex", file);
-      if (!s.ok()) return s;
-      const int64_t v = static_cast<int64_t>(b.file_vertex_count());
-      double c[3];
-      for (double& x : c) {
-        s = expect_coord(r, x, file, Subject{"vertex", v});
-        if (!s.ok()) return s;
+      if (!t.is_nocase("facet")) {
+        bad = fail(ErrorCode::Parse,
+                   "Expected 'facet' or 'endsolid' in the ASCII STL, found " + quote(t) + ".", file,
+                   t.line);
+        return false;
       }
-      s = check_coords(c[0], c[1], c[2], file, r.last_line(), -1, Subject{"vertex", v});
-      if (s.ok()) s = b.add_vertex(c[0], c[1], c[2], r.last_line(), -1);
-      if (!s.ok()) return s;
+      const int64_t facet_line = t.line;
+      r.skip_line();  // "normal nx ny nz": ignored (often not even unit length)
+      Status s = expect_word(r, "outer", file);
+      if (s.ok()) s = expect_word(r, "loop", file);
+      if (!s.ok()) {
+        bad = std::move(s);
+        return false;
+      }
+      const uint32_t first = static_cast<uint32_t>(b.file_vertex_count());
+      for (int k = 0; k < 3; ++k) {
+        s = expect_word(r, "vertex", file);
+        if (!s.ok()) {
+          bad = std::move(s);
+          return false;
+        }
+        const int64_t v = static_cast<int64_t>(b.file_vertex_count());
+        double c[3];
+        for (double& x : c) {
+          s = expect_coord(r, x, file, Subject{"vertex", v});
+          if (!s.ok()) {
+            bad = std::move(s);
+            return false;
+          }
+        }
+        s = check_coords(c[0], c[1], c[2], file, r.last_line(), -1, Subject{"vertex", v});
+        if (s.ok()) s = b.add_vertex(c[0], c[1], c[2], r.last_line(), -1);
+        if (!s.ok()) {
+          bad = std::move(s);
+          return false;
+        }
+      }
+      if (!r.next(t)) {
+        bad = fail(ErrorCode::Truncated, "The file ends early: expected 'endloop'.", file,
+                   r.last_line());
+        return false;
+      }
+      if (t.is_nocase("vertex")) {
+        bad = fail(ErrorCode::Parse, "STL facets must be triangles: this loop has a 4th vertex.",
+                   file, t.line);
+        return false;
+      }
+      if (!t.is_nocase("endloop")) {
+        bad = fail(ErrorCode::Parse, "Expected 'endloop' in the ASCII STL.", file, t.line);
+        return false;
+      }
+      s = expect_word(r, "endfacet", file);
+      if (!s.ok()) {
+        bad = std::move(s);
+        return false;
+      }
+      Facet& f = b.add_facet(facet_line, -1);
+      f.loops.push_back({first, first + 1, first + 2});
     }
-    if (!r.next(t)) {
-      return fail(ErrorCode::Truncated, "The file ends early: expected 'endloop'.", file,
-                  r.last_line());
-    }
-    if (t.is_nocase("vertex")) {
-      return fail(ErrorCode::Parse, "STL facets must be triangles: this loop has a 4th vertex.",
-                  file, t.line);
-    }
-    if (!t.is_nocase("endloop")) {
-      return fail(ErrorCode::Parse, "Expected 'endloop' in the ASCII STL.", file, t.line);
-    }
-    s = expect_word(r, "endfacet", file);
-    if (!s.ok()) return s;
-    Facet& f = b.add_facet(facet_line, -1);
-    f.loops.push_back({first, first + 1, first + 2});
-  }
+    return true;
+  });
+  if (!bad.ok()) return bad;
   return b.finish();
 }
 

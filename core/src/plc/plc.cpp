@@ -5,6 +5,7 @@
 #include <exception>
 #include <new>
 
+#include "blocks.hpp"
 #include "geometry.hpp"
 #include "radix_sort.hpp"
 #include "status.hpp"
@@ -135,18 +136,22 @@ std::vector<uint64_t> packed_edges(const Plc& plc) {
     edges.push_back(edge_key(a, b));
   };
   for (const auto& s : plc.segments) add(s[0], s[1]);
-  for (const Facet& f : plc.facets) {
-    for (const auto& loop : f.loops) {
-      const size_t m = loop.size();
-      for (size_t i = 0; i < m; ++i) add(loop[i], loop[i + 1 == m ? 0 : i + 1]);
+  for_blocks(plc.facets.size(), [&](size_t begin, size_t end) {
+    for (size_t fi = begin; fi < end; ++fi) {
+      for (const auto& loop : plc.facets[fi].loops) {
+        const size_t m = loop.size();
+        for (size_t i = 0; i < m; ++i) add(loop[i], loop[i + 1 == m ? 0 : i + 1]);
+      }
     }
-  }
+    return true;
+  });
   // Vertex ids are below the point count: a key of 2b bits sorts in 2b/11
   // radix passes, the same order as the packed value.
   const int b = index_bits(plc.points.size() + 1);
   if (b <= 31) {
     const uint64_t mask = (uint64_t(1) << b) - 1;
-    radix_sort_by(edges, [b, mask](uint64_t e) { return ((e >> 32) << b) | (e & mask); }, 0, 2 * b);
+    radix_sort_by(
+        edges, [b, mask](uint64_t e) { return ((e >> 32) << b) | (e & mask); }, 0, 2 * b);
   } else {
     std::sort(edges.begin(), edges.end());
   }
@@ -176,13 +181,16 @@ PlcInfo plc_info(const Plc& plc) {
   auto mark = [&used](VertexId v) {
     if (v < used.size()) used[v] = 1;
   };
-  for (const Facet& f : plc.facets) {
-    for (const auto& loop : f.loops) {
-      ++info.loops;
-      if (loop.size() >= 3) info.triangles += loop.size() - 2;
-      for (VertexId v : loop) mark(v);
+  for_blocks(plc.facets.size(), [&](size_t begin, size_t end) {
+    for (size_t fi = begin; fi < end; ++fi) {
+      for (const auto& loop : plc.facets[fi].loops) {
+        ++info.loops;
+        if (loop.size() >= 3) info.triangles += loop.size() - 2;
+        for (VertexId v : loop) mark(v);
+      }
     }
-  }
+    return true;
+  });
   for (const auto& s : plc.segments) {
     mark(s[0]);
     mark(s[1]);

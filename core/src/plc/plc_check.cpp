@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "blocks.hpp"
 #include "hash.hpp"
 #include "plc_check.hpp"
 #include "predicates.hpp"
@@ -47,21 +48,31 @@ const double* at(const Plc& plc, VertexId v) { return &plc.points[v].x; }
 // Whether two of the n items are equal, by an open-addressing hash table:
 // hash(i) and equal(i, j) on item indices. One pass, no sort: the checks
 // below sort only when this finds a pair, to name the same pair as always.
+// A slot keeps the item's index and the top 32 bits of its hash, so that
+// equal() (which reads the other item, a cache miss on large inputs) runs
+// only on a full hash match.
 template <typename Hash, typename Equal>
 bool any_equal_pair(size_t n, Hash hash, Equal equal) {
   size_t cap = 16;
   while (cap < 2 * n) cap *= 2;
-  std::vector<uint32_t> slot(cap, UINT32_MAX);
-  for (uint32_t i = 0; i < n; ++i) {
-    for (size_t h = hash(i) & (cap - 1);; h = (h + 1) & (cap - 1)) {
-      if (slot[h] == UINT32_MAX) {
-        slot[h] = i;
-        break;
+  constexpr uint64_t kEmpty = UINT64_MAX;  // no item has index 2^32 - 1
+  std::vector<uint64_t> slot(cap, kEmpty);
+  // In blocks (base/blocks.hpp): a block that finds a pair stops the loop.
+  return !for_blocks(n, [&](size_t begin, size_t end) {
+    for (uint32_t i = static_cast<uint32_t>(begin); i < end; ++i) {
+      const uint64_t h = hash(i);
+      const uint64_t tag = h >> 32 << 32;
+      for (size_t s = h & (cap - 1);; s = (s + 1) & (cap - 1)) {
+        if (slot[s] == kEmpty) {
+          slot[s] = tag | i;
+          break;
+        }
+        if ((slot[s] & ~uint64_t(UINT32_MAX)) == tag && equal(static_cast<uint32_t>(slot[s]), i))
+          return false;
       }
-      if (equal(slot[h], i)) return true;
     }
-  }
-  return false;
+    return true;
+  });
 }
 
 // Distinct points: identical coordinates must have been welded. A hash pass
@@ -306,29 +317,32 @@ Status check_duplicates(const Plc& plc) {
   std::vector<uint32_t> keys;
   std::vector<size_t> start(nf + 1, 0);
   std::vector<std::vector<VertexId>> loops;
-  for (size_t fi = 0; fi < nf; ++fi) {
-    const Facet& f = plc.facets[fi];
-    start[fi] = keys.size();
-    keys.push_back(static_cast<uint32_t>(f.loops.size()));
-    if (f.loops.size() == 1) {
-      const size_t at = keys.size();
-      keys.push_back(static_cast<uint32_t>(f.loops[0].size()));
-      keys.insert(keys.end(), f.loops[0].begin(), f.loops[0].end());
-      std::sort(keys.begin() + static_cast<std::ptrdiff_t>(at) + 1, keys.end());
-      continue;
+  for_blocks(nf, [&](size_t begin, size_t end) {
+    for (size_t fi = begin; fi < end; ++fi) {
+      const Facet& f = plc.facets[fi];
+      start[fi] = keys.size();
+      keys.push_back(static_cast<uint32_t>(f.loops.size()));
+      if (f.loops.size() == 1) {
+        const size_t at = keys.size();
+        keys.push_back(static_cast<uint32_t>(f.loops[0].size()));
+        keys.insert(keys.end(), f.loops[0].begin(), f.loops[0].end());
+        std::sort(keys.begin() + static_cast<std::ptrdiff_t>(at) + 1, keys.end());
+        continue;
+      }
+      loops.assign(f.loops.begin(), f.loops.end());
+      for (auto& l : loops) std::sort(l.begin(), l.end());
+      std::sort(loops.begin(), loops.end(),
+                [](const std::vector<VertexId>& x, const std::vector<VertexId>& y) {
+                  if (x.size() != y.size()) return x.size() < y.size();
+                  return x < y;
+                });
+      for (const auto& l : loops) {
+        keys.push_back(static_cast<uint32_t>(l.size()));
+        keys.insert(keys.end(), l.begin(), l.end());
+      }
     }
-    loops.assign(f.loops.begin(), f.loops.end());
-    for (auto& l : loops) std::sort(l.begin(), l.end());
-    std::sort(loops.begin(), loops.end(),
-              [](const std::vector<VertexId>& x, const std::vector<VertexId>& y) {
-                if (x.size() != y.size()) return x.size() < y.size();
-                return x < y;
-              });
-    for (const auto& l : loops) {
-      keys.push_back(static_cast<uint32_t>(l.size()));
-      keys.insert(keys.end(), l.begin(), l.end());
-    }
-  }
+    return true;
+  });
   start[nf] = keys.size();
   auto key_less = [&](size_t x, size_t y) {
     return std::lexicographical_compare(keys.begin() + static_cast<std::ptrdiff_t>(start[x]),
@@ -406,10 +420,15 @@ Status check_duplicates(const Plc& plc) {
 }  // namespace
 
 Status check_plc_points(const Plc& plc) {
-  for (size_t i = 0; i < plc.points.size(); ++i) {
-    Status s = check_point(plc, plc.points[i], "Point", i, static_cast<int64_t>(i));
-    if (!s.ok()) return s;
-  }
+  Status s;
+  for_blocks(plc.points.size(), [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
+      s = check_point(plc, plc.points[i], "Point", i, static_cast<int64_t>(i));
+      if (!s.ok()) return false;
+    }
+    return true;
+  });
+  if (!s.ok()) return s;
   if (plc.points.size() > 0xfffffffeull) {
     return make_error(ErrorCode::TooLarge, "More points than 32-bit ids allow.").file(plc.file);
   }
@@ -422,10 +441,14 @@ Status check_plc(const Plc& plc) {
   s = check_distinct_points(plc);
   if (!s.ok()) return s;
   std::vector<VertexId> scratch;
-  for (size_t fi = 0; fi < plc.facets.size(); ++fi) {
-    s = check_facet(plc, fi, scratch);
-    if (!s.ok()) return s;
-  }
+  for_blocks(plc.facets.size(), [&](size_t begin, size_t end) {
+    for (size_t fi = begin; fi < end; ++fi) {
+      s = check_facet(plc, fi, scratch);
+      if (!s.ok()) return false;
+    }
+    return true;
+  });
+  if (!s.ok()) return s;
   for (size_t i = 0; i < plc.segments.size(); ++i) {
     const auto& seg = plc.segments[i];
     if (seg[0] >= plc.points.size() || seg[1] >= plc.points.size()) {

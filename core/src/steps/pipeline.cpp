@@ -551,6 +551,9 @@ bool Pipeline::mesh_steps(FacetRecoveryStats& fst) {
     s.ms_degeneracy += ms;
   }
 
+  // Segments are split by recover_segments only in steps 2 and 3.
+  segs_.release_planes();
+
   // Step 4. On a large PLC the self-intersection test may still run beside:
   // step 4 does not wait for it, its verdict comes when it has ended, at the
   // latest after step 4 (run()). An intersecting PLC makes step 4's work

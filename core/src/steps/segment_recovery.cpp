@@ -538,7 +538,7 @@ bool SegmentRecovery::leaves_side(uint32_t s, const double* q) const {
     const VertexId e = segs_.input[s][end], far = segs_.input[s][1 - end];
     if (size_t(e) + 1 >= segs_.plane_start.size()) continue;
     for (uint32_t i = segs_.plane_start[e]; i < segs_.plane_start[e + 1]; ++i) {
-      const std::array<VertexId, 3>& P = segs_.planes[i];
+      const std::array<VertexId, 3>& P = segs_.planes[segs_.plane_facets[i]];
       const double *a = mesh_.point(P[0]), *b = mesh_.point(P[1]), *c = mesh_.point(P[2]);
       const int side = pred::orient3d(a, b, c, mesh_.point(far));
       if (side != 0 && pred::orient3d(a, b, c, q) != side) return true;
@@ -1023,7 +1023,7 @@ void init_segments(const Plc& plc, SegmentSet& segs, std::vector<std::array<Vert
   // facet's points that are not collinear (a facet is planar).
   {
     const size_t np = plc.points.size();
-    std::vector<std::array<VertexId, 3>> plane_of(plc.facets.size(), {kNone, kNone, kNone});
+    segs.planes.assign(plc.facets.size(), {kNone, kNone, kNone});
     segs.plane_start.assign(np + 1, 0);
     for (size_t f = 0; f < plc.facets.size(); ++f) {
       const Facet& F = plc.facets[f];
@@ -1032,20 +1032,20 @@ void init_segments(const Plc& plc, SegmentSet& segs, std::vector<std::array<Vert
       const double *a = &plc.points[L[0]].x, *b = &plc.points[L[1]].x;
       for (size_t i = 2; i < L.size(); ++i)
         if (!pred::collinear3d(a, b, &plc.points[L[i]].x)) {
-          plane_of[f] = {L[0], L[1], L[i]};
+          segs.planes[f] = {L[0], L[1], L[i]};
           break;
         }
-      if (plane_of[f][0] == kNone) continue;
+      if (segs.planes[f][0] == kNone) continue;
       for (const auto& loop : F.loops)
         for (VertexId v : loop) ++segs.plane_start[v + 1];
     }
     for (size_t v = 0; v < np; ++v) segs.plane_start[v + 1] += segs.plane_start[v];
-    segs.planes.resize(segs.plane_start[np]);
+    segs.plane_facets.resize(segs.plane_start[np]);
     std::vector<uint32_t> at(segs.plane_start.begin(), segs.plane_start.end() - 1);
     for (size_t f = 0; f < plc.facets.size(); ++f) {
-      if (plane_of[f][0] == kNone) continue;
+      if (segs.planes[f][0] == kNone) continue;
       for (const auto& loop : plc.facets[f].loops)
-        for (VertexId v : loop) segs.planes[at[v]++] = plane_of[f];
+        for (VertexId v : loop) segs.plane_facets[at[v]++] = static_cast<uint32_t>(f);
     }
   }
 

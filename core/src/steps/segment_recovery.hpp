@@ -114,12 +114,23 @@ struct SegmentSet {
   std::vector<VertexId> midpoint;            ///< per input segment: AcuteBoth split, or kNone
   std::vector<SegmentVertex> steiner;        ///< Steiner vertices on segments, in insertion order
   std::vector<uint32_t> steiner_of;          ///< per mesh vertex: index into steiner, or kNone
-  /// Per PLC point p, planes[plane_start[p] .. plane_start[p + 1]) are the
-  /// planes (three PLC points each) of the facets at p; empty when unknown.
-  /// A rounded split point must stay on its segment's side of them (see
-  /// insert_on_segment).
-  std::vector<uint32_t> plane_start;
+  /// The plane of each facet (three PLC points that are not collinear; kNone
+  /// for a facet without one), and per PLC point p the facets at p:
+  /// plane_facets[plane_start[p] .. plane_start[p + 1]). Empty when unknown
+  /// and after segment recovery (release_planes). A rounded split point must
+  /// stay on its segment's side of them (see insert_on_segment).
   std::vector<std::array<VertexId, 3>> planes;
+  std::vector<uint32_t> plane_start;
+  std::vector<uint32_t> plane_facets;
+
+  /// Frees the planes once no segment is split by recover_segments any more
+  /// (12 bytes per facet and 4 per facet corner: 240 MB on a 10M-triangle
+  /// surface, which would otherwise stay through steps 4 and 5).
+  void release_planes() {
+    std::vector<std::array<VertexId, 3>>().swap(planes);
+    std::vector<uint32_t>().swap(plane_start);
+    std::vector<uint32_t>().swap(plane_facets);
+  }
 
   /// The record of vertex v if it is a Steiner vertex on a segment, else null.
   const SegmentVertex* on_segment(VertexId v) const {
