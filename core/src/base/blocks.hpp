@@ -3,14 +3,12 @@
 // A WebAssembly engine runs a function's first calls as quickly compiled
 // baseline code and swaps in optimised code only at a later call (V8 has no
 // on-stack replacement for WebAssembly). A loop over a million items in one
-// call therefore runs at baseline speed to its end, 2-3x slower than the same
-// loop in a later call: in a fresh module, the first read of a 1M-triangle
-// OFF spent ~0.6 s more than the second in the reader's record loop,
-// check_plc's facet loop and the edge sort (tests/bench/README.md, "The first
-// read in WebAssembly, in blocks"). for_blocks runs such a loop as calls of one function
-// that is not inlined, a block of items per call, so that the engine can
-// switch to optimised code after the first blocks. Native builds inline it:
-// the same loop, split in two levels.
+// call therefore runs at baseline speed to its end, several times slower
+// than the same loop in a later call (tests/bench/README.md, "The first read
+// in WebAssembly, in blocks", has the profile). for_blocks runs such a loop
+// as calls of one function that is not inlined, a block of items per call,
+// so that the engine can switch to optimised code after the first blocks.
+// Native builds inline it: the same loop, split in two levels.
 #pragma once
 
 #include <cstddef>

@@ -151,11 +151,10 @@ constexpr uint64_t kPow5[23] = {1ull,
 // least 74 bits) and the remainder is the sticky bit. n is then rounded to
 // 53 bits, to nearest with ties to even; a dropped half with the sticky bit
 // set lies above the tie. Every value in range is a normal double
-// (1e-22 <= m * 10^e10 < 2^64 * 1e22), so the bits are built directly. The
-// earlier version stepped between neighbours of a floating-point estimate,
-// comparing with their midpoints (frexp, ldexp, nextafter and up to four
-// 128-bit products per number): about a fifth of a WebAssembly read of a
-// 17-digit OFF.
+// (1e-22 <= m * 10^e10 < 2^64 * 1e22), so the bits are built directly. Why
+// one pass: stepping between neighbours of a floating-point estimate took a
+// large share of a WebAssembly read (tests/bench/README.md, "The first read
+// in WebAssembly, in blocks").
 bool exact_decimal(uint64_t m, int e10, double& out) {
   if (m == 0 || e10 < -22 || e10 > 22) return false;
   U128 n = 0;
