@@ -12,6 +12,7 @@
 
 #include <cdt3d/cdt3d.hpp>
 
+#include "plc_check.hpp"  // check_welded_plc (core/src)
 #include "refine.hpp"  // check_quality_options (core/src)
 #include "repair.hpp"  // add_part_region_points (core/src)
 #include "status.hpp"  // current_exception_code (core/src)
@@ -150,7 +151,7 @@ cdt3d::Status read_then_check(std::unique_ptr<uint8_t, FreeDeleter>& data, size_
   cdt3d::Status st = cdt3d::read_plc(data.get(), size, name, plc, false);
   data.reset();
   try {
-    if (st.ok() && check) st = cdt3d::check_plc(plc);
+    if (st.ok() && check) st = cdt3d::check_welded_plc(plc);
   } catch (...) {  // catch (...): see current_exception_code()
     st.error = cdt3d::current_exception_error("checking the file", name);
   }

@@ -40,7 +40,8 @@
 #   SCALE_DIR=/tmp/cdt3d-scale               where the models go (large files)
 #   TETGEN_MAX=3500000                       tetgen only up to this many triangles (both 3M models)
 #   TETGEN_TIMEOUT=900  TIMEOUT=900          seconds before tetgen / cdt3d is killed
-#   SCALE_PHASES=1  SCALE_NODE=1  SCALE_PAGE=1  SCALE_READ=1  SCALE_DELAUNAY=1   0 skips those rows
+#   SCALE_MESH=1  SCALE_PHASES=1  SCALE_NODE=1  SCALE_PAGE=1  SCALE_READ=1  SCALE_DELAUNAY=1
+#                                            0 skips those rows (SCALE_MESH: the meshing table)
 #   READ_RUNS=3                              runs of each reader in the reading table
 #   CDT3D_BIN=path                           the native CLI (default .build/native, built)
 set -uo pipefail
@@ -105,6 +106,7 @@ for n in $SIZES; do
     fi
     tris=$(sed -n 2p "$model" | awk '{print $2}')
     name="${kind}_$n"
+    [ "${SCALE_MESH:-1}" = 1 ] || continue  # the model only (for the later tables)
     # Native, full run.
     timed x "$TIMEOUT" "$BIN" mesh "$model" --json
     tets=$(jnum tets "$T_OUT")

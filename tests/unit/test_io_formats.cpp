@@ -626,8 +626,8 @@ TEST_CASE("TetGen .node: points only", "[io][node]") {
 
 // exact_decimal, parse_double's path for 16- to 19-digit mantissas (the
 // WASM build's strtod is slow), against glibc's strtod, which rounds
-// correctly: random mantissas and exponents, and exact ties (integers halfway
-// between two doubles above 2^53, which must go to the even one).
+// correctly: random mantissas and exponents, and exact ties (values halfway
+// between two doubles, which must go to the even one).
 TEST_CASE("exact_decimal rounds like a correctly rounded strtod", "[io]") {
   uint64_t state = 0x9E3779B97F4A7C15ull;
   auto next = [&state] {
@@ -658,10 +658,61 @@ TEST_CASE("exact_decimal rounds like a correctly rounded strtod", "[io]") {
     CHECK(got == ((V & 1) ? hi : lo));
     CHECK(got == std::strtod(std::to_string(tie).c_str(), nullptr));
   }
+  // Ties below a negative power of ten (the reciprocal path, which must hand
+  // them to the exact division): (2V + 1) * 5^k / 10^k = (2V + 1) / 2^k.
+  for (int i = 0; i < 20000; ++i) {
+    const uint64_t V = (uint64_t{1} << 52) | (next() >> 12);
+    const int k = 1 + static_cast<int>(next() % 4);
+    uint64_t tie = 2 * V + 1;
+    for (int j = 0; j < k; ++j) tie *= 5;
+    double got = 0;
+    REQUIRE(io::exact_decimal(tie, -k, got));
+    const double lo = std::ldexp(static_cast<double>(V), 1 - k), hi = std::nextafter(lo, HUGE_VAL);
+    CHECK(got == ((V & 1) ? hi : lo));
+  }
   CHECK(checked > 150000);
   double out = 0;
   CHECK_FALSE(io::exact_decimal(12345, 23, out));
   CHECK_FALSE(io::exact_decimal(0, 0, out));
+}
+
+// parse_decimal, parse_double's path where there is no from_chars (the
+// WebAssembly build, which natively only this test runs), against glibc's
+// correctly rounded strtod: random decimals with leading and trailing zeros,
+// up to 25 digits around the point (digits read eight at a time and one at
+// a time), signs and exponents; and tokens that are not numbers.
+TEST_CASE("parse_decimal reads like a correctly rounded strtod", "[io]") {
+  uint64_t state = 0xD1B54A32D192ED03ull;
+  auto next = [&state] {
+    state ^= state << 13, state ^= state >> 7, state ^= state << 17;
+    return state;
+  };
+  auto digits = [&](int k) {
+    std::string d;
+    for (int i = 0; i < k; ++i) d += static_cast<char>('0' + next() % 10);
+    return d;
+  };
+  int checked = 0;
+  for (int i = 0; i < 200000; ++i) {
+    std::string text;
+    if (next() % 4 == 0) text += (next() % 2) ? "-" : "+";
+    text += std::string(next() % 3, '0') + digits(static_cast<int>(next() % 12));
+    if (next() % 4 != 0) text += "." + std::string(next() % 4, '0') + digits(static_cast<int>(next() % 22));
+    if (text.find_first_of("0123456789") == std::string::npos) text += "7";
+    if (next() % 3 == 0) text += "e" + std::to_string(static_cast<int>(next() % 61) - 30);
+    double got = 0;
+    REQUIRE(io::parse_decimal(text.data(), text.size(), got) == io::NumParse::Ok);
+    double want = std::strtod(text.c_str(), nullptr);
+    if (want == 0) want = 0.0;  // -0 -> +0
+    if (got != want || std::signbit(got) != std::signbit(want)) FAIL_CHECK(text << ": " << got << " != " << want);
+    ++checked;
+  }
+  CHECK(checked == 200000);
+  double out = 0;
+  for (const char* bad : {"1.2.3", "12345678x", "1234567890123x", "0.12345678-", "e5", "-", "1e"})
+    CHECK(io::parse_decimal(bad, std::strlen(bad), out) == io::NumParse::Bad);
+  CHECK(io::parse_decimal("123456789012345678", 18, out) == io::NumParse::Ok);
+  CHECK(out == 123456789012345678.0);
 }
 
 // TextReader::next takes the usual token inline and the rest through the

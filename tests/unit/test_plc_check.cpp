@@ -1,4 +1,5 @@
 // check_plc on PLCs built in code, plc_info and plc_segments.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cdt3d/cdt3d.hpp>
 #include <cmath>
@@ -172,6 +173,72 @@ TEST_CASE("check_plc: duplicate facets", "[plc_check]") {
   CHECK(s.error.facet == 4);
   CHECK(s.error.other_facet == 1);
   CHECK(s.error.line == 20);
+}
+
+// Facets are compared in groups that share their key's first vertex: a
+// fan of many triangles around one vertex is one large group (sorted), a
+// few facets are compared pairwise; facets with several loops too.
+TEST_CASE("check_plc: duplicate facets in a fan and with holes", "[plc_check]") {
+  Plc plc;
+  plc.points.push_back({0, 0, 0});
+  const int n = 40;
+  for (int i = 0; i < n; ++i) {
+    const double t = 6.283185307179586 * i / n;
+    plc.points.push_back({std::cos(t), std::sin(t), 0});
+  }
+  for (int i = 0; i < n; ++i) {
+    plc.facets.push_back(tri(0, static_cast<VertexId>(1 + i), static_cast<VertexId>(1 + (i + 1) % n)));
+  }
+  CHECK(check_plc(plc).ok());
+  plc.facets.push_back(tri(static_cast<VertexId>(1 + 17), 0, static_cast<VertexId>(1 + 18), 30));
+  Status s = check_plc(plc);
+  CHECK(s.error.code == ErrorCode::DuplicateFacet);
+  CHECK(s.error.facet == n);
+  CHECK(s.error.other_facet == 17);
+  CHECK(s.error.line == 30);
+  // Two square facets with a square hole, in the plane z = 0; the second
+  // lists its loops the other way round, then a third is the same facet.
+  Plc holes;
+  holes.points = {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}, {1, 1, 0}, {2, 1, 0},
+                  {2, 2, 0}, {1, 2, 0}, {3, 3, 0}, {3.5, 3, 0}, {3.5, 3.5, 0}};
+  Facet a;
+  a.loops = {{0, 1, 2, 3}, {4, 5, 6, 7}};
+  Facet b;
+  b.loops = {{8, 9, 10}, {0, 1, 2, 3}};
+  holes.facets = {a, b};
+  CHECK(check_plc(holes).ok());
+  Facet c;
+  c.loops = {{10, 8, 9}, {3, 0, 1, 2}};
+  holes.facets.push_back(c);
+  s = check_plc(holes);
+  CHECK(s.error.code == ErrorCode::DuplicateFacet);
+  CHECK(s.error.facet == 2);
+  CHECK(s.error.other_facet == 1);
+}
+
+TEST_CASE("plc_segments: the same edges as sorting every facet edge", "[plc_check]") {
+  // Random triangles over 60 points (valid or not: plc_segments only reads
+  // the loops), with many edges shared by several triangles.
+  Plc plc;
+  for (int i = 0; i < 60; ++i) plc.points.push_back({double(i), double(i * i % 7), 0});
+  uint64_t state = 12345;
+  auto next = [&state] {
+    state ^= state << 13, state ^= state >> 7, state ^= state << 17;
+    return static_cast<VertexId>(state % 60);
+  };
+  std::vector<std::array<VertexId, 2>> want;
+  for (int f = 0; f < 3000; ++f) {
+    const VertexId v[3] = {next(), next(), next()};
+    plc.facets.push_back(tri(v[0], v[1], v[2]));
+    for (int k = 0; k < 3; ++k) {
+      const VertexId x = v[k], y = v[(k + 1) % 3];
+      if (x != y) want.push_back({std::min(x, y), std::max(x, y)});
+    }
+  }
+  std::sort(want.begin(), want.end());
+  want.erase(std::unique(want.begin(), want.end()), want.end());
+  CHECK(plc_segments(plc) == want);
+  CHECK(plc_info(plc).segments == want.size());
 }
 
 TEST_CASE("check_plc: holes and regions must be finite", "[plc_check]") {

@@ -75,6 +75,27 @@ namespace {
 
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
 
+// The eight characters at p as a number when all are digits (false
+// otherwise), in a few 64-bit operations instead of eight steps: where
+// there is no from_chars (WebAssembly), parsing the digits of 17-digit
+// coordinates is most of a text file's read. The first character is the
+// lowest byte of the little-endian load.
+bool eight_digits(const char* p, uint64_t& out) {
+  uint64_t x = 0;
+  std::memcpy(&x, p, 8);
+  // A byte b below '0' sets its top bit in x - '0'...'0' (the lowest such
+  // byte receives no borrow); one above '9' sets it in x + 0x46...46 or, from
+  // 0xb0 up, in x - '0'...'0'.
+  const uint64_t d = x - 0x3030303030303030ull;
+  if ((d | (x + 0x4646464646464646ull)) & 0x8080808080808080ull) return false;
+  // Neighbouring digits into pairs (even bytes), pairs into fours (even
+  // 16-bit lanes), then the two fours: no lane ever carries into the next.
+  uint64_t v = (d * 10 + (d >> 8)) & 0x00ff00ff00ff00ffull;
+  v = (v * 100 + (v >> 16)) & 0x0000ffff0000ffffull;
+  out = (v & 0xffffffffull) * 10000 + (v >> 32);
+  return true;
+}
+
 // Powers of ten that are exact in binary64.
 constexpr double kPow10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
                                1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
@@ -141,22 +162,92 @@ constexpr uint64_t kPow5[23] = {1ull,
                                 476837158203125ull,
                                 2384185791015625ull};
 
+// floor(2^s / 5^d) with s = 127 + bit_length(5^d), for d = 1..22: a 128-bit
+// reciprocal of 5^d normalized to [2^127, 2^128) (5^d is never a power of
+// two), by long division one bit at a time (at compile time).
+struct Reciprocals5 {
+  U128 t[23] = {};
+  int s[23] = {};
+  constexpr Reciprocals5() {
+    for (int d = 1; d <= 22; ++d) {
+      const uint64_t D = kPow5[d];
+      int len = 0;
+      while ((D >> len) != 0) ++len;
+      s[d] = 127 + len;
+      U128 q = 0;
+      uint64_t r = 1;  // the leading 1 of 2^s; 1 < D
+      for (int i = 0; i < s[d]; ++i) {
+        r <<= 1;
+        q <<= 1;
+        if (r >= D) {
+          r -= D;
+          q |= 1;
+        }
+      }
+      t[d] = q;
+    }
+  }
+};
+constexpr Reciprocals5 kRecip5{};
+
+// The double nearest to top * 2^shift (top in [2^52, 2^53)), or false when
+// that is not a normal double.
+bool make_double(uint64_t top, int shift, double& out) {
+  const int biased = shift + 52 + 1023;
+  if (biased < 1 || biased > 2046) return false;
+  const uint64_t bits = (static_cast<uint64_t>(biased) << 52) | (top & ((uint64_t{1} << 52) - 1));
+  std::memcpy(&out, &bits, sizeof out);
+  return true;
+}
+
+// m / 10^d for d in 1..22, by one multiplication with the reciprocal of 5^d
+// (no 128-bit division, which WebAssembly does in software). With M = m
+// shifted to [2^63, 2^64) and T = kRecip5.t[d], the exact X = M * 2^s / 5^d
+// lies in [P, P + M) for P = M * T (192 bits), since 2^s / 5^d is in
+// [T, T + 1). So X's top 64 bits H are P's unless the middle word of P is
+// all ones (a carry from below may reach H); then this returns false and the
+// caller divides exactly. Otherwise X / 2^128 = H + f with 0 < f < 1 (f > 0
+// because 2^s / 5^d is never an integer), so below the kept 53 bits the
+// rounding sees rest + f: never an exact tie, above half when rest >= half.
+bool reciprocal_decimal(uint64_t m, int d, double& out) {
+  const int l = __builtin_clzll(m);
+  const uint64_t M = m << l;
+  const U128 T = kRecip5.t[d];
+  const U128 lo = static_cast<U128>(M) * static_cast<uint64_t>(T);
+  const U128 hi = static_cast<U128>(M) * static_cast<uint64_t>(T >> 64);
+  const U128 mid = hi + (lo >> 64);  // P >> 64, exact (< 2^128)
+  const uint64_t H = static_cast<uint64_t>(mid >> 64);
+  if (static_cast<uint64_t>(mid) == UINT64_MAX) return false;
+  const int drop = (H >> 63) ? 11 : 10;  // H >= 2^62 since M >= 2^63, T >= 2^127
+  uint64_t top = H >> drop;
+  const uint64_t rest = H & ((uint64_t{1} << drop) - 1);
+  int shift = drop + 128 - kRecip5.s[d] - l - d;
+  if (rest >= (uint64_t{1} << (drop - 1))) ++top;
+  if (top == (uint64_t{1} << 53)) {
+    top >>= 1;
+    ++shift;
+  }
+  return make_double(top, shift, out);
+}
+
 }  // namespace
 
-// In one pass of exact integer arithmetic: the value is n * 2^shift with n
-// an integer of at most 128 bits, plus a sticky bit that says whether a
-// nonzero remainder below n's last bit was dropped. For e10 >= 0, n = m *
-// 5^e10 exactly (< 2^64 * 5^22 < 2^116); for e10 = -d < 0, n is the
-// quotient of m * 2^k by 5^d (k puts m's top bit at bit 126, so n has at
-// least 74 bits) and the remainder is the sticky bit. n is then rounded to
-// 53 bits, to nearest with ties to even; a dropped half with the sticky bit
-// set lies above the tie. Every value in range is a normal double
-// (1e-22 <= m * 10^e10 < 2^64 * 1e22), so the bits are built directly. Why
-// one pass: stepping between neighbours of a floating-point estimate took a
-// large share of a WebAssembly read (tests/bench/README.md, "The first read
-// in WebAssembly, in blocks").
+// In exact integer arithmetic: the value is n * 2^shift with n an integer
+// of at most 128 bits, plus a sticky bit that says whether a nonzero
+// remainder below n's last bit was dropped. For e10 >= 0, n = m * 5^e10
+// exactly (< 2^64 * 5^22 < 2^116); for e10 = -d < 0, reciprocal_decimal
+// answers all but a few cases, and otherwise n is the quotient of m * 2^k by
+// 5^d (k puts m's top bit at bit 126, so n has at least 74 bits) and the
+// remainder is the sticky bit. n is then rounded to 53 bits, to nearest with
+// ties to even; a dropped half with the sticky bit set lies above the tie.
+// Every value in range is a normal double (1e-22 <= m * 10^e10 < 2^64 *
+// 1e22), so the bits are built directly. Why no floating-point estimate and
+// no division where it can be avoided: both took a large share of a
+// WebAssembly read (tests/bench/README.md, "The first read in WebAssembly,
+// without random access").
 bool exact_decimal(uint64_t m, int e10, double& out) {
   if (m == 0 || e10 < -22 || e10 > 22) return false;
+  if (e10 < 0 && reciprocal_decimal(m, -e10, out)) return true;
   U128 n = 0;
   int shift = 0;
   bool sticky = false;
@@ -188,12 +279,8 @@ bool exact_decimal(uint64_t m, int e10, double& out) {
       ++shift;
     }
   }
-  // top in [2^52, 2^53): the value is top * 2^shift, exponent shift + 52.
-  const int biased = shift + 52 + 1023;
-  if (biased < 1 || biased > 2046) return false;
-  const uint64_t bits = (static_cast<uint64_t>(biased) << 52) | (top & ((uint64_t{1} << 52) - 1));
-  std::memcpy(&out, &bits, sizeof out);
-  return true;
+  // top in [2^52, 2^53): the value is top * 2^shift.
+  return make_double(top, shift, out);
 }
 
 NumParse parse_double(const char* p, size_t n, double& out) {
@@ -212,6 +299,10 @@ NumParse parse_double(const char* p, size_t n, double& out) {
     return NumParse::Ok;
   }
 #endif
+  return parse_decimal(p, n, out);
+}
+
+NumParse parse_decimal(const char* p, size_t n, double& out) {
   // Fast path (Clinger): a mantissa below 2^53 and a power of ten up to 1e22
   // are both exact, so one multiplication or division rounds correctly.
   size_t i = 0;
@@ -224,8 +315,15 @@ NumParse parse_double(const char* p, size_t n, double& out) {
   int digits = 0;
   int64_t exp10 = 0;
   bool any = false, exact = true;
+  uint64_t eight = 0;
   for (; i < n && is_digit(p[i]); ++i) {
     any = true;
+    if (m != 0 && digits <= 11 && n - i >= 8 && eight_digits(p + i, eight)) {
+      m = m * 100000000 + eight;
+      digits += 8;
+      i += 7;
+      continue;
+    }
     const int d = p[i] - '0';
     if (m == 0 && d == 0) continue;
     if (digits < 19) {
@@ -239,6 +337,13 @@ NumParse parse_double(const char* p, size_t n, double& out) {
   if (i < n && p[i] == '.') {
     for (++i; i < n && is_digit(p[i]); ++i) {
       any = true;
+      if (m != 0 && digits <= 11 && n - i >= 8 && eight_digits(p + i, eight)) {
+        m = m * 100000000 + eight;
+        digits += 8;
+        exp10 -= 8;
+        i += 7;
+        continue;
+      }
       const int d = p[i] - '0';
       if (m == 0 && d == 0) {
         --exp10;
@@ -608,7 +713,19 @@ PlcBuilder::PlcBuilder(Plc& plc, const std::string& file, int64_t index_base)
     : plc_(plc), file_(file), base_(index_base) {
   plc_ = Plc();
   plc_.file = file;
-  table_.assign(64, kNone);
+  table_.assign(64, kEmptySlot);
+}
+
+// A slot holds a point id in its low 32 bits and the top 32 bits of the
+// point's hash in its high bits, so that a probe compares coordinates (a
+// read of another point, at random on large inputs) only on a full hash
+// match. kEmptySlot is never a slot's value: no point has id kNone.
+void PlcBuilder::insert_slot(std::vector<uint64_t>& table, uint32_t id) const {
+  const uint64_t mask = table.size() - 1;
+  const uint64_t hash = hash_point(plc_.points[id]);
+  uint64_t h = hash & mask;
+  while (table[h] != kEmptySlot) h = (h + 1) & mask;
+  table[h] = (hash >> 32 << 32) | id;
 }
 
 void PlcBuilder::reserve_vertices(uint64_t count, uint64_t cap, uint64_t distinct) {
@@ -619,67 +736,90 @@ void PlcBuilder::reserve_vertices(uint64_t count, uint64_t cap, uint64_t distinc
   size_t want = 64;
   while (want < 2 * d + 2) want *= 2;
   if (want > table_.size()) {
-    table_.assign(want, kNone);
-    const uint64_t mask = want - 1;
-    for (uint32_t id = 0; id < plc_.points.size(); ++id) {
-      uint64_t h = hash_point(plc_.points[id]) & mask;
-      while (table_[h] != kNone) h = (h + 1) & mask;
-      table_[h] = id;
-    }
+    table_.assign(want, kEmptySlot);
+    for (uint32_t id = 0; id < plc_.points.size(); ++id) insert_slot(table_, id);
   }
 }
 
 void PlcBuilder::grow_table() {
   // Rebuilt from the points vector in id order: deterministic.
-  std::vector<uint32_t> t(table_.size() * 2, kNone);
-  const uint64_t mask = t.size() - 1;
-  for (uint32_t id = 0; id < plc_.points.size(); ++id) {
-    uint64_t h = hash_point(plc_.points[id]) & mask;
-    while (t[h] != kNone) h = (h + 1) & mask;
-    t[h] = id;
-  }
+  std::vector<uint64_t> t(table_.size() * 2, kEmptySlot);
+  for (uint32_t id = 0; id < plc_.points.size(); ++id) insert_slot(t, id);
   table_.swap(t);
 }
 
-uint32_t PlcBuilder::weld(const Vec3& p) {
+uint32_t PlcBuilder::weld(const Vec3& p, uint64_t hash) {
   // Neighbouring records often repeat a recent point (adjacent STL triangles
-  // share corners): check the last few ids before hashing. Same result either
+  // share corners): check the last few ids before probing. Same result either
   // way, since each distinct point has exactly one id.
   for (uint32_t id : recent_) {
     if (id != kNone && plc_.points[id] == p) return id;
   }
-  const uint32_t id = lookup_or_insert(p);
+  const uint32_t id = lookup_or_insert(p, hash);
   recent_[recent_next_] = id;
   recent_next_ = (recent_next_ + 1) % kRecent;
   return id;
 }
 
-uint32_t PlcBuilder::lookup_or_insert(const Vec3& p) {
+uint32_t PlcBuilder::lookup_or_insert(const Vec3& p, uint64_t hash) {
   if (2 * (plc_.points.size() + 1) > table_.size()) grow_table();
   const uint64_t mask = table_.size() - 1;
-  uint64_t h = hash_point(p) & mask;
-  while (table_[h] != kNone) {
-    const uint32_t id = table_[h];
-    if (plc_.points[id] == p) return id;
+  const uint64_t tag = hash >> 32 << 32;
+  uint64_t h = hash & mask;
+  while (table_[h] != kEmptySlot) {
+    const uint64_t slot = table_[h];
+    if ((slot >> 32 << 32) == tag && plc_.points[static_cast<uint32_t>(slot)] == p)
+      return static_cast<uint32_t>(slot);
     h = (h + 1) & mask;
   }
   const uint32_t id = static_cast<uint32_t>(plc_.points.size());
-  table_[h] = id;
+  table_[h] = tag | id;
   plc_.points.push_back(p);
   return id;
 }
 
-Status PlcBuilder::add_vertex(double x, double y, double z, int64_t line, int64_t record) {
-  if (remap_.size() >= kMaxItems) {
-    return fail(ErrorCode::TooLarge, "The file has more than 4294967294 vertices.", file_, line,
-                record);
-  }
-  // -0 and +0 are the same point: store +0 so equality and hashing agree.
+namespace {
+
+// -0 and +0 are the same point: store +0 so equality and hashing agree.
+Vec3 plus_zero(double x, double y, double z) {
   Vec3 p;
   p.x = x == 0 ? 0.0 : x;
   p.y = y == 0 ? 0.0 : y;
   p.z = z == 0 ? 0.0 : z;
-  remap_.push_back(weld(p));
+  return p;
+}
+
+}  // namespace
+
+Status PlcBuilder::add_vertex(double x, double y, double z, int64_t line, int64_t record) {
+  const double c[3] = {x, y, z};
+  return add_vertices(c, 1, line, record);
+}
+
+Status PlcBuilder::add_vertices(const double* xyz, size_t count, int64_t line, int64_t record) {
+  if (count > kMaxItems - remap_.size()) {
+    return fail(ErrorCode::TooLarge, "The file has more than 4294967294 vertices.", file_, line,
+                record);
+  }
+  // Each record's first probe is loaded before any record is welded: the
+  // loads are independent, so their cache misses overlap instead of coming
+  // one after the other (the table is read at random). Only a prefetch:
+  // lookup_or_insert probes again, after the inserts before it.
+  Vec3 p[kWeldBatch];
+  uint64_t hash[kWeldBatch];
+  for (size_t b = 0; b < count; b += kWeldBatch) {
+    const size_t m = count - b < kWeldBatch ? count - b : kWeldBatch;
+    const uint64_t mask = table_.size() - 1;
+    uint64_t touched = 0;
+    for (size_t k = 0; k < m; ++k) {
+      const double* c = xyz + 3 * (b + k);
+      p[k] = plus_zero(c[0], c[1], c[2]);
+      hash[k] = hash_point(p[k]);
+      touched += table_[hash[k] & mask];
+    }
+    prefetch_sink_ += touched;
+    for (size_t k = 0; k < m; ++k) remap_.push_back(weld(p[k], hash[k]));
+  }
   return Status::success();
 }
 
@@ -764,7 +904,7 @@ Status PlcBuilder::finish() {
   }
   plc_.file_vertices = static_cast<size_t>(n);
   plc_.welded_vertices = static_cast<size_t>(n - plc_.points.size());
-  std::vector<uint32_t>().swap(table_);
+  std::vector<uint64_t>().swap(table_);
   return Status::success();
 }
 

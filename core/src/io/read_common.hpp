@@ -47,6 +47,10 @@ enum class NumParse {
 /// exponent notation. -0 is returned as +0 so that welding needs no special case.
 NumParse parse_double(const char* p, size_t n, double& out);
 
+/// parse_double without the standard library's from_chars: the path of
+/// builds that lack it (WebAssembly), the same results.
+NumParse parse_decimal(const char* p, size_t n, double& out);
+
 /// m * 10^e10 correctly rounded (to nearest, ties to even), for 0 < m < 2^64
 /// and |e10| <= 22; false outside that range. parse_double's path for
 /// mantissas of 16 to 19 digits (17-digit "%.17g" output): strtod, its
@@ -257,6 +261,11 @@ class PlcBuilder {
   /// Adds one vertex record (coordinates already checked with check_coords).
   /// TooLarge past kMaxItems records.
   Status add_vertex(double x, double y, double z, int64_t line, int64_t record);
+  /// add_vertex on `count` records (xyz: 3 coordinates each), faster on
+  /// large inputs; an error names `line` or `record`.
+  Status add_vertices(const double* xyz, size_t count, int64_t line, int64_t record);
+  /// Records per add_vertices call that readers collect.
+  static constexpr size_t kWeldBatch = 64;
 
   uint64_t file_vertex_count() const { return remap_.size(); }
   /// Index base used in messages (0 or 1), when known only after the header.
@@ -285,21 +294,24 @@ class PlcBuilder {
     uint32_t a, b;
     int64_t line, record;
   };
-  uint32_t weld(const Vec3& p);
-  uint32_t lookup_or_insert(const Vec3& p);
+  uint32_t weld(const Vec3& p, uint64_t hash);
+  uint32_t lookup_or_insert(const Vec3& p, uint64_t hash);
   void grow_table();
+  void insert_slot(std::vector<uint64_t>& table, uint32_t id) const;
   Status out_of_range(uint64_t index, int64_t line, int64_t record, int64_t facet) const;
 
   Plc& plc_;
   const std::string& file_;
   int64_t base_;
   std::vector<uint32_t> remap_;  // file vertex record -> point id
-  std::vector<uint32_t> table_;  // open addressing: point id or kNone
+  static constexpr uint64_t kEmptySlot = UINT64_MAX;
+  std::vector<uint64_t> table_;  // open addressing: hash tag | point id, or kEmptySlot
   std::vector<Ref> segments_;
   std::vector<Ref> isolated_;
   static constexpr int kRecent = 6;
   uint32_t recent_[kRecent] = {kNone, kNone, kNone, kNone, kNone, kNone};
   int recent_next_ = 0;
+  uint64_t prefetch_sink_ = 0;  // keeps add_vertices' early loads
   int marker_ = 0;
   int next_marker_ = -1;  // -1: no named group yet
 };

@@ -6,8 +6,9 @@
 #include <new>
 
 #include "blocks.hpp"
+#include "group_by_key.hpp"
 #include "geometry.hpp"
-#include "radix_sort.hpp"
+#include "plc_check.hpp"
 #include "status.hpp"
 #include "io/read_common.hpp"
 
@@ -80,7 +81,7 @@ Status read_and_check(const uint8_t* data, size_t size, const std::string& file_
   if (s.ok() && out.points.empty()) {
     s = io::fail(ErrorCode::Empty, "The file contains no vertices.", file_name);
   }
-  if (s.ok() && check) s = check_plc(out);
+  if (s.ok() && check) s = check_welded_plc(out);
   if (!s.ok()) {
     // Never hand back half a PLC.
     out = Plc();
@@ -145,17 +146,35 @@ std::vector<uint64_t> packed_edges(const Plc& plc) {
     }
     return true;
   });
-  // Vertex ids are below the point count: a key of 2b bits sorts in 2b/11
-  // radix passes, the same order as the packed value.
-  const int b = index_bits(plc.points.size() + 1);
-  if (b <= 31) {
-    const uint64_t mask = (uint64_t(1) << b) - 1;
-    radix_sort_by(
-        edges, [b, mask](uint64_t e) { return ((e >> 32) << b) | (e & mask); }, 0, 2 * b);
-  } else {
+  // Grouped by the smaller vertex (base/group_by_key.hpp), each group's
+  // larger vertices sorted and made unique: the same order as sorting the
+  // packed values, in one counting pass that follows the vertex numbering.
+  const size_t np = plc.points.size();
+  const bool in_range = std::all_of(edges.begin(), edges.end(),
+                                    [np](uint64_t e) { return (e >> 32) < np && uint32_t(e) < np; });
+  if (!in_range || edges.size() > UINT32_MAX) {  // an unchecked PLC
     std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    return edges;
   }
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::vector<uint32_t> other, end;
+  group_by_key(
+      edges.size(), np, [&edges](size_t i) { return static_cast<size_t>(edges[i] >> 32); },
+      [&edges](size_t i) { return static_cast<uint32_t>(edges[i]); }, other, end);
+  size_t out = 0, b = 0;
+  for_blocks(np, [&](size_t v0, size_t v1) {
+    for (size_t a = v0; a < v1; ++a) {
+      const auto first = other.begin() + static_cast<std::ptrdiff_t>(b);
+      const auto last = other.begin() + static_cast<std::ptrdiff_t>(end[a]);
+      std::sort(first, last);
+      for (auto it = first; it != last; ++it) {
+        if (it == first || *it != *(it - 1)) edges[out++] = (uint64_t(a) << 32) | *it;
+      }
+      b = end[a];
+    }
+    return true;
+  });
+  edges.resize(out);
   return edges;
 }
 

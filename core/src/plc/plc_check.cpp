@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "blocks.hpp"
+#include "group_by_key.hpp"
 #include "hash.hpp"
 #include "plc_check.hpp"
 #include "predicates.hpp"
@@ -309,6 +310,51 @@ Status check_facet(const Plc& plc, size_t fi, std::vector<VertexId>& scratch) {
   return check_facet_holes(plc, fi);
 }
 
+// Whether two of the nf facet keys (keys[start[f]..start[f + 1]), as
+// check_duplicates builds them) are equal. Equal keys have the same first
+// vertex (keys[start[f] + 2]: the smallest vertex of the facet's first loop
+// in key order), so the facets are grouped by it (base/group_by_key.hpp,
+// for the memory locality) and each group is compared on its own: pairwise
+// when it is small, by sorting when many facets share the vertex (a fan).
+bool any_equal_key(size_t nf, size_t np, const std::vector<uint32_t>& keys,
+                   const std::vector<size_t>& start) {
+  auto first = [&](size_t f) { return keys[start[f] + 2]; };  // every key has >= 5 words
+  auto equal = [&](uint32_t x, uint32_t y) {
+    return start[x + 1] - start[x] == start[y + 1] - start[y] &&
+           std::equal(keys.begin() + static_cast<std::ptrdiff_t>(start[x]),
+                      keys.begin() + static_cast<std::ptrdiff_t>(start[x + 1]),
+                      keys.begin() + static_cast<std::ptrdiff_t>(start[y]));
+  };
+  auto less = [&](uint32_t x, uint32_t y) {
+    return std::lexicographical_compare(keys.begin() + static_cast<std::ptrdiff_t>(start[x]),
+                                        keys.begin() + static_cast<std::ptrdiff_t>(start[x + 1]),
+                                        keys.begin() + static_cast<std::ptrdiff_t>(start[y]),
+                                        keys.begin() + static_cast<std::ptrdiff_t>(start[y + 1]));
+  };
+  std::vector<uint32_t> order, end;
+  group_by_key(
+      nf, np, first, [](size_t f) { return static_cast<uint32_t>(f); }, order, end);
+  bool found = false;
+  size_t b = 0;
+  for_blocks(np, [&](size_t v0, size_t v1) {
+    for (size_t v = v0; v < v1; ++v) {
+      const size_t e = end[v];
+      if (e - b <= 8) {
+        for (size_t i = b; i < e && !found; ++i)
+          for (size_t j = i + 1; j < e && !found; ++j) found = equal(order[i], order[j]);
+      } else {
+        std::sort(order.begin() + static_cast<std::ptrdiff_t>(b),
+                  order.begin() + static_cast<std::ptrdiff_t>(e), less);
+        for (size_t i = b + 1; i < e && !found; ++i) found = equal(order[i - 1], order[i]);
+      }
+      if (found) return false;
+      b = e;
+    }
+    return true;
+  });
+  return found;
+}
+
 // Duplicate facets: the same set of loops, each taken as a vertex set. Every
 // facet gets a canonical key (its loops' sorted vertex lists, the loops in
 // sorted order); sorting the keys puts duplicates side by side.
@@ -356,21 +402,9 @@ Status check_duplicates(const Plc& plc) {
     uint64_t w[3];
     uint32_t facet;
   };
-  // Most PLCs have no duplicate: a hash pass over the keys says so without
-  // the sort (which names the pair when there is one).
-  const bool any = any_equal_pair(
-      nf,
-      [&](uint32_t f) {
-        uint64_t h = 0x9e3779b97f4a7c15ull;
-        for (size_t k = start[f]; k < start[f + 1]; ++k) h = hash_mix(h ^ keys[k]);
-        return h;
-      },
-      [&](uint32_t x, uint32_t y) {
-        return start[x + 1] - start[x] == start[y + 1] - start[y] &&
-               std::equal(keys.begin() + static_cast<std::ptrdiff_t>(start[x]),
-                          keys.begin() + static_cast<std::ptrdiff_t>(start[x + 1]),
-                          keys.begin() + static_cast<std::ptrdiff_t>(start[y]));
-      });
+  // Most PLCs have no duplicate: grouping the facets by their key's first
+  // vertex says so without the sort (which names the pair when there is one).
+  const bool any = any_equal_key(nf, plc.points.size(), keys, start);
   if (!any) return Status::success();
   std::vector<Entry> entries(nf);
   for (size_t fi = 0; fi < nf; ++fi) {
@@ -435,11 +469,11 @@ Status check_plc_points(const Plc& plc) {
   return Status::success();
 }
 
-Status check_plc(const Plc& plc) {
-  Status s = check_plc_points(plc);
-  if (!s.ok()) return s;
-  s = check_distinct_points(plc);
-  if (!s.ok()) return s;
+namespace {
+
+// check_plc's checks after those of the points.
+Status check_plc_after_points(const Plc& plc) {
+  Status s;
   std::vector<VertexId> scratch;
   for_blocks(plc.facets.size(), [&](size_t begin, size_t end) {
     for (size_t fi = begin; fi < end; ++fi) {
@@ -479,6 +513,22 @@ Status check_plc(const Plc& plc) {
     }
   }
   return check_duplicates(plc);
+}
+
+}  // namespace
+
+Status check_plc(const Plc& plc) {
+  Status s = check_plc_points(plc);
+  if (!s.ok()) return s;
+  s = check_distinct_points(plc);
+  if (!s.ok()) return s;
+  return check_plc_after_points(plc);
+}
+
+Status check_welded_plc(const Plc& plc) {
+  Status s = check_plc_points(plc);
+  if (!s.ok()) return s;
+  return check_plc_after_points(plc);
 }
 
 }  // namespace cdt3d

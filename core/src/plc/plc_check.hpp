@@ -1,5 +1,6 @@
-// The first part of check_plc (cdt3d.hpp), for callers that start on the
-// points while the rest of the checks runs elsewhere.
+// Parts of check_plc (cdt3d.hpp): the points alone, for callers that start
+// on them while the rest of the checks runs elsewhere, and the checks a
+// reader's output still needs.
 #pragma once
 
 #include <cdt3d/cdt3d.hpp>
@@ -11,5 +12,9 @@ namespace cdt3d {
 /// when this passes, check_plc reports what it would have reported anyway.
 /// What step 1 needs of a PLC.
 Status check_plc_points(const Plc& plc);
+
+/// check_plc for a PLC as the readers return it: their points are welded
+/// exactly (io::PlcBuilder), so no two are equal and that check is skipped.
+Status check_welded_plc(const Plc& plc);
 
 }  // namespace cdt3d
