@@ -47,10 +47,10 @@ bool is_off_keyword(const Token& t, bool& dims_error) {
 // false and the caller reads the record again from its start with the
 // checked path, which reports the error: both paths accept the same records
 // with the same values.
-bool fast_vertex(TextReader& r, double* c) {
+bool fast_vertex(TextReader& r, double (&c)[3]) {
   Token t;
-  for (int k = 0; k < 3; ++k)
-    if (!r.next(t) || parse_double(t.p, t.n, c[k]) != NumParse::Ok) return false;
+  for (double& x : c)
+    if (!r.next(t) || parse_double(t.p, t.n, x) != NumParse::Ok) return false;
   return coords_ok(c[0], c[1], c[2]);
 }
 
@@ -113,28 +113,22 @@ Status read_off(const uint8_t* data, size_t size, const std::string& file, Plc& 
   b.reserve_vertices(nv, r.remaining() / 6 + 1, nv);
   // The records in blocks (base/blocks.hpp); a failed record leaves its
   // error in s and stops the loop.
-  // The coordinates go to the builder in batches (PlcBuilder::add_vertices).
-  double batch[3 * PlcBuilder::kWeldBatch];
-  size_t pending = 0;
   for_blocks(nv, [&](uint64_t begin, uint64_t end) {
     for (uint64_t i = begin; i < end; ++i) {
       const Subject who{"vertex", static_cast<int64_t>(i)};
-      double* c = batch + 3 * pending;
+      double c[3];
       const TextReader::Mark record = r.mark();
       if (!fast_vertex(r, c)) {
         r.reset(record);
-        for (int k = 0; k < 3; ++k) {
-          s = expect_coord(r, c[k], file, who);
+        for (double& x : c) {
+          s = expect_coord(r, x, file, who);
           if (!s.ok()) return false;
         }
         s = check_coords(c[0], c[1], c[2], file, r.last_line(), -1, who);
         if (!s.ok()) return false;
       }
-      if (++pending == PlcBuilder::kWeldBatch || i + 1 == nv) {
-        s = b.add_vertices(batch, pending, r.last_line(), -1);
-        pending = 0;
-        if (!s.ok()) return false;
-      }
+      s = b.add_vertex(c[0], c[1], c[2], r.last_line(), -1);
+      if (!s.ok()) return false;
       r.skip_line();
     }
     return true;

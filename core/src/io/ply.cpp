@@ -3,7 +3,6 @@
 // "face" element gives a list property "vertex_indices" (or "vertex_index")
 // with any count and index types. Every other element and property is read
 // past according to the header, so binary files stay in step.
-#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -348,19 +347,11 @@ class PlyReader {
     const bool is_face = static_cast<int>(e) == face_elem_;
     double xyz[3] = {0, 0, 0};
     // The records in blocks (blocks.hpp); a failed record leaves its error
-    // in `bad` and stops the loop. Vertices go to the builder in batches
-    // (PlcBuilder::add_vertices), each block's by its end.
+    // in `bad` and stops the loop.
     Status bad;
-    double batch[3 * PlcBuilder::kWeldBatch];
-    size_t pending = 0;
     for_blocks(el.count, [&](uint64_t begin, uint64_t end) {
       for (uint64_t rec = begin; rec < end; ++rec) {
         const int64_t record = static_cast<int64_t>(rec);
-        if (pending == PlcBuilder::kWeldBatch) {
-          bad = builder_.add_vertices(batch, pending, -1, record);
-          pending = 0;
-          if (!bad.ok()) return false;
-        }
         std::vector<VertexId>* loop = nullptr;
         if (is_face) {
           Facet& f = builder_.add_facet(-1, record);
@@ -416,16 +407,14 @@ class PlyReader {
         if (is_vertex) {
           const Subject who{"vertex", record};
           Status s = check_coords(xyz[0], xyz[1], xyz[2], file_, -1, record, who);
+          if (s.ok()) s = builder_.add_vertex(xyz[0], xyz[1], xyz[2], -1, record);
           if (!s.ok()) {
             bad = std::move(s);
             return false;
           }
-          std::copy(xyz, xyz + 3, batch + 3 * pending++);
         }
       }
-      bad = builder_.add_vertices(batch, pending, -1, static_cast<int64_t>(end - 1));
-      pending = 0;
-      return bad.ok();
+      return true;
     });
     if (!bad.ok()) return bad;
     return Status::success();

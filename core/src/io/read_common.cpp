@@ -792,35 +792,30 @@ Vec3 plus_zero(double x, double y, double z) {
 }  // namespace
 
 Status PlcBuilder::add_vertex(double x, double y, double z, int64_t line, int64_t record) {
-  const double c[3] = {x, y, z};
-  return add_vertices(c, 1, line, record);
-}
-
-Status PlcBuilder::add_vertices(const double* xyz, size_t count, int64_t line, int64_t record) {
-  if (count > kMaxItems - remap_.size()) {
+  if (file_vertex_count() >= kMaxItems) {
     return fail(ErrorCode::TooLarge, "The file has more than 4294967294 vertices.", file_, line,
                 record);
   }
+  pending_[pending_count_++] = plus_zero(x, y, z);
+  if (pending_count_ == kWeldBatch) weld_pending();
+  return Status::success();
+}
+
+void PlcBuilder::weld_pending() {
   // Each record's first probe is loaded before any record is welded: the
   // loads are independent, so their cache misses overlap instead of coming
   // one after the other (the table is read at random). Only a prefetch:
   // lookup_or_insert probes again, after the inserts before it.
-  Vec3 p[kWeldBatch];
+  const uint64_t mask = table_.size() - 1;
   uint64_t hash[kWeldBatch];
-  for (size_t b = 0; b < count; b += kWeldBatch) {
-    const size_t m = count - b < kWeldBatch ? count - b : kWeldBatch;
-    const uint64_t mask = table_.size() - 1;
-    uint64_t touched = 0;
-    for (size_t k = 0; k < m; ++k) {
-      const double* c = xyz + 3 * (b + k);
-      p[k] = plus_zero(c[0], c[1], c[2]);
-      hash[k] = hash_point(p[k]);
-      touched += table_[hash[k] & mask];
-    }
-    prefetch_sink_ += touched;
-    for (size_t k = 0; k < m; ++k) remap_.push_back(weld(p[k], hash[k]));
+  uint64_t touched = 0;
+  for (size_t k = 0; k < pending_count_; ++k) {
+    hash[k] = hash_point(pending_[k]);
+    touched += table_[hash[k] & mask];
   }
-  return Status::success();
+  prefetch_sink_ += touched;
+  for (size_t k = 0; k < pending_count_; ++k) remap_.push_back(weld(pending_[k], hash[k]));
+  pending_count_ = 0;
 }
 
 Facet& PlcBuilder::add_facet(int64_t line, int64_t record) {
@@ -866,6 +861,7 @@ Status PlcBuilder::out_of_range(uint64_t index, int64_t line, int64_t record, in
 }
 
 Status PlcBuilder::finish() {
+  weld_pending();
   const uint64_t n = remap_.size();
   Status bad;
   for_blocks(plc_.facets.size(), [&](size_t begin, size_t end) {

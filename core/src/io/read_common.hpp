@@ -260,14 +260,11 @@ class PlcBuilder {
 
   /// Adds one vertex record (coordinates already checked with check_coords).
   /// TooLarge past kMaxItems records.
+  /// The records are welded in batches (weld_pending), which readers do not
+  /// see: file_vertex_count() counts every record added.
   Status add_vertex(double x, double y, double z, int64_t line, int64_t record);
-  /// add_vertex on `count` records (xyz: 3 coordinates each), faster on
-  /// large inputs; an error names `line` or `record`.
-  Status add_vertices(const double* xyz, size_t count, int64_t line, int64_t record);
-  /// Records per add_vertices call that readers collect.
-  static constexpr size_t kWeldBatch = 64;
 
-  uint64_t file_vertex_count() const { return remap_.size(); }
+  uint64_t file_vertex_count() const { return remap_.size() + pending_count_; }
   /// Index base used in messages (0 or 1), when known only after the header.
   void set_index_base(int64_t base) { base_ = base; }
 
@@ -298,6 +295,7 @@ class PlcBuilder {
   uint32_t lookup_or_insert(const Vec3& p, uint64_t hash);
   void grow_table();
   void insert_slot(std::vector<uint64_t>& table, uint32_t id) const;
+  void weld_pending();
   Status out_of_range(uint64_t index, int64_t line, int64_t record, int64_t facet) const;
 
   Plc& plc_;
@@ -311,7 +309,12 @@ class PlcBuilder {
   static constexpr int kRecent = 6;
   uint32_t recent_[kRecent] = {kNone, kNone, kNone, kNone, kNone, kNone};
   int recent_next_ = 0;
-  uint64_t prefetch_sink_ = 0;  // keeps add_vertices' early loads
+  // Records added and not yet welded, and what keeps weld_pending's early
+  // loads from being optimised away.
+  static constexpr size_t kWeldBatch = 64;
+  Vec3 pending_[kWeldBatch];
+  size_t pending_count_ = 0;
+  uint64_t prefetch_sink_ = 0;
   int marker_ = 0;
   int next_marker_ = -1;  // -1: no named group yet
 };

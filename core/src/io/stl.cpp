@@ -77,35 +77,25 @@ Status read_binary(const uint8_t* data, size_t size, const std::string& file, Pl
   out.facets.reserve(static_cast<size_t>(count));
   // The records in blocks (blocks.hpp); a failed record leaves its error in
   // `bad` and stops the loop.
-  // The corners go to the builder in batches (PlcBuilder::add_vertices);
-  // facets hold file vertex indices until finish(), so the batch may lag.
   Status bad;
-  double batch[3 * PlcBuilder::kWeldBatch];
-  size_t pending = 0;
   for_blocks(count, [&](uint64_t begin, uint64_t end) {
     for (uint64_t t = begin; t < end; ++t) {
       const uint8_t* rec = data + 84 + 50 * t + 12;  // skip the normal
-      if (pending + 3 > PlcBuilder::kWeldBatch) {
-        bad = b.add_vertices(batch, pending, -1, static_cast<int64_t>(t));
-        pending = 0;
-        if (!bad.ok()) return false;
-      }
       for (int k = 0; k < 3; ++k) {
-        double* c = batch + 3 * pending++;
-        c[0] = le_float(rec + 12 * k);
-        c[1] = le_float(rec + 12 * k + 4);
-        c[2] = le_float(rec + 12 * k + 8);
+        const double x = le_float(rec + 12 * k);
+        const double y = le_float(rec + 12 * k + 4);
+        const double z = le_float(rec + 12 * k + 8);
         const int64_t v = static_cast<int64_t>(3 * t) + k;
-        bad = check_coords(c[0], c[1], c[2], file, -1, static_cast<int64_t>(t), Subject{"vertex", v});
+        bad = check_coords(x, y, z, file, -1, static_cast<int64_t>(t), Subject{"vertex", v});
+        if (!bad.ok()) return false;
+        bad = b.add_vertex(x, y, z, -1, static_cast<int64_t>(t));
         if (!bad.ok()) return false;
       }
       Facet& f = b.add_facet(-1, static_cast<int64_t>(t));
       const uint32_t v0 = static_cast<uint32_t>(3 * t);
       f.loops.push_back({v0, v0 + 1, v0 + 2});
     }
-    bad = b.add_vertices(batch, pending, -1, static_cast<int64_t>(end - 1));
-    pending = 0;
-    return bad.ok();
+    return true;
   });
   if (!bad.ok()) return bad;
   return b.finish();
