@@ -132,8 +132,11 @@ std::vector<uint64_t> packed_edges(const Plc& plc) {
     for (const auto& loop : f.loops) n += loop.size();
   }
   edges.reserve(n);
-  auto add = [&edges](VertexId a, VertexId b) {
+  const size_t np = plc.points.size();
+  bool in_range = true;  // false for an unchecked PLC
+  auto add = [&edges, &in_range, np](VertexId a, VertexId b) {
     if (a == b) return;
+    if (a >= np || b >= np) in_range = false;
     edges.push_back(edge_key(a, b));
   };
   for (const auto& s : plc.segments) add(s[0], s[1]);
@@ -149,10 +152,7 @@ std::vector<uint64_t> packed_edges(const Plc& plc) {
   // Grouped by the smaller vertex (base/group_by_key.hpp), each group's
   // larger vertices sorted and made unique: the same order as sorting the
   // packed values, in one counting pass that follows the vertex numbering.
-  const size_t np = plc.points.size();
-  const bool in_range = std::all_of(edges.begin(), edges.end(),
-                                    [np](uint64_t e) { return (e >> 32) < np && uint32_t(e) < np; });
-  if (!in_range || edges.size() > UINT32_MAX) {  // an unchecked PLC
+  if (!in_range || edges.size() > UINT32_MAX) {
     std::sort(edges.begin(), edges.end());
     edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
     return edges;

@@ -315,21 +315,17 @@ Status check_facet(const Plc& plc, size_t fi, std::vector<VertexId>& scratch) {
 // vertex (keys[start[f] + 2]: the smallest vertex of the facet's first loop
 // in key order), so the facets are grouped by it (base/group_by_key.hpp,
 // for the memory locality) and each group is compared on its own: pairwise
-// when it is small, by sorting when many facets share the vertex (a fan).
+// when it is small, by sorting (with less, the keys' order) when many
+// facets share the vertex (a fan).
+template <typename KeyLess>
 bool any_equal_key(size_t nf, size_t np, const std::vector<uint32_t>& keys,
-                   const std::vector<size_t>& start) {
+                   const std::vector<size_t>& start, KeyLess less) {
   auto first = [&](size_t f) { return keys[start[f] + 2]; };  // every key has >= 5 words
   auto equal = [&](uint32_t x, uint32_t y) {
     return start[x + 1] - start[x] == start[y + 1] - start[y] &&
            std::equal(keys.begin() + static_cast<std::ptrdiff_t>(start[x]),
                       keys.begin() + static_cast<std::ptrdiff_t>(start[x + 1]),
                       keys.begin() + static_cast<std::ptrdiff_t>(start[y]));
-  };
-  auto less = [&](uint32_t x, uint32_t y) {
-    return std::lexicographical_compare(keys.begin() + static_cast<std::ptrdiff_t>(start[x]),
-                                        keys.begin() + static_cast<std::ptrdiff_t>(start[x + 1]),
-                                        keys.begin() + static_cast<std::ptrdiff_t>(start[y]),
-                                        keys.begin() + static_cast<std::ptrdiff_t>(start[y + 1]));
   };
   std::vector<uint32_t> order, end;
   group_by_key(
@@ -404,7 +400,7 @@ Status check_duplicates(const Plc& plc) {
   };
   // Most PLCs have no duplicate: grouping the facets by their key's first
   // vertex says so without the sort (which names the pair when there is one).
-  const bool any = any_equal_key(nf, plc.points.size(), keys, start);
+  const bool any = any_equal_key(nf, plc.points.size(), keys, start, key_less);
   if (!any) return Status::success();
   std::vector<Entry> entries(nf);
   for (size_t fi = 0; fi < nf; ++fi) {
