@@ -1,16 +1,14 @@
 // cdt3d command-line tool: dispatches to one function per subcommand.
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <string>
 #if defined(__GLIBC__)
 #include <malloc.h>
-#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
-
-#include <cstdint>
-#include <cstdlib>
-#include <vector>
 #endif
 
 #include "cli.hpp"
@@ -38,8 +36,8 @@ void print_usage(std::FILE* out) {
 // 128 KiB by mmap and trims the heap top past 128 KiB, so each round trip
 // returns the pages to the kernel and faults them in again on first touch,
 // a large share of a CLI run (more under a hypervisor). Keeping freed
-// memory in the process avoids that; the peak (what the process touches at
-// once) does not grow. One arena for the two threads of a run (the
+// memory in the process avoids that (for big inputs, see
+// rerun_with_tuned_malloc: holes it keeps raise the peak). One arena for the two threads of a run (the
 // self-intersection test runs beside steps 1-2): a second arena's pages are
 // fresh, and what the test frees there would never serve the later phases;
 // the test makes few allocations, so the shared lock costs next to
@@ -52,47 +50,54 @@ void keep_freed_memory() {
 #endif
 }
 
-// Transparent huge pages for the heap of a big run. Under a hypervisor a
-// first touch of a 4 KiB page costs microseconds, and a run touches its
-// whole peak at least once. glibc asks for huge pages only under its
-// start-up tunable (glibc.malloc.hugetlb=1), so the CLI does it itself: it
-// grows the heap by a reserve once (malloc and free; with the thresholds
-// above the top is never given back, and blocks below 1 GiB are not served by mmap), and marks the
-// reserve MADV_HUGEPAGE, so the later allocations there fault 2 MiB at a
-// time. Untouched, the reserve costs address space only. Only for inputs
-// of 2 MiB and more: a huge page rounds the resident memory up by up to
-// 2 MiB a region, which on a small model is most of its peak.
-void huge_pages_for_big_inputs(int argc, char** argv) {
-#if defined(__GLIBC__) && defined(MADV_HUGEPAGE)
-  constexpr uint64_t kMinInput = 2u << 20, kHuge = 2u << 20;
+#if defined(__GLIBC__) && defined(__linux__)
+// The largest regular file among the arguments (the input model).
+uint64_t input_size(int argc, char** argv) {
   uint64_t input = 0;
   for (int i = 2; i < argc; ++i) {
     struct stat st;
     if (stat(argv[i], &st) == 0 && S_ISREG(st.st_mode))
       input = std::max<uint64_t>(input, static_cast<uint64_t>(st.st_size));
   }
-  if (input < kMinInput) return;
-  // Sized from the input file, with room above the peak memory a model of
-  // that size reaches (about 14x an OFF file's size on the 10M-triangle
-  // torus), at most half the machine's memory: only the pages touched
-  // count, but the heap must be able to grow that far at once.
-  const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGESIZE);
-  const uint64_t half_ram = pages > 0 && page_size > 0 ? uint64_t(pages) * uint64_t(page_size) / 2 : 960u << 20;
-  const uint64_t reserve = std::min<uint64_t>(24 * input, half_ram);
-  // In blocks below the mmap threshold, so that each comes from the heap
-  // top; freed in reverse order they merge into one free top chunk.
-  constexpr uint64_t kBlock = 768u << 20;
-  std::vector<void*> blocks;
-  for (uint64_t grown = 0; grown < reserve; grown += kBlock) {
-    void* block = std::malloc(std::min(kBlock, reserve - grown));
-    if (!block) break;
-    const uintptr_t lo = reinterpret_cast<uintptr_t>(block);
-    const uintptr_t a = (lo + kHuge - 1) & ~(kHuge - 1);
-    const uintptr_t b = (lo + std::min(kBlock, reserve - grown)) & ~(kHuge - 1);
-    if (b > a) madvise(reinterpret_cast<void*>(a), b - a, MADV_HUGEPAGE);
-    blocks.push_back(block);
-  }
-  for (auto it = blocks.rbegin(); it != blocks.rend(); ++it) std::free(*it);
+  return input;
+}
+#endif
+
+// Marks a process that already runs with the tunables below.
+constexpr const char* kTunedMark = "CDT3D_MALLOC_TUNED";
+
+// glibc's malloc tuned for a big run, which needs its start-up tunables, so
+// the CLI runs itself again with them (same pid, same arguments). Under a
+// hypervisor a first touch of a 4 KiB page costs microseconds, and a run
+// touches its whole peak at least once; glibc marks its heap and its mmap'd
+// blocks MADV_HUGEPAGE only under glibc.malloc.hugetlb=1 (glibc 2.35 and
+// later; older ones ignore it), so pages then fault 2 MiB at a time. Blocks
+// of 256 MiB and more (the tet arrays, the phases' big tables) are mmap'd
+// and given back when freed: kept in the heap (keep_freed_memory), the
+// holes they leave, which the next phase's larger blocks do not fit, added
+// 1.1-1.6 GB to the 5.2 GB peak of a 10M-triangle CAD model (steps_10000000
+// of tests/bench/bench_scale.sh) at the same speed. One arena, as above.
+// Only for inputs of 2 MiB and more: a huge page rounds the resident memory
+// up by up to 2 MiB a region, which on a small model is most of its peak.
+// Returns only when it does not run itself again.
+void rerun_with_tuned_malloc(int argc, char** argv) {
+#if defined(__GLIBC__) && defined(__linux__)
+  constexpr uint64_t kMinInput = 2u << 20;
+  if (std::getenv(kTunedMark) || input_size(argc, argv) < kMinInput) return;
+  const char* env = std::getenv("GLIBC_TUNABLES");
+  const bool had = env != nullptr;
+  const std::string old = had ? env : "";
+  const std::string tunables = (old.empty() ? "" : old + ":") +
+                               "glibc.malloc.hugetlb=1:glibc.malloc.mmap_threshold=268435456:"
+                               "glibc.malloc.arena_max=1";
+  if (setenv("GLIBC_TUNABLES", tunables.c_str(), 1) == 0 && setenv(kTunedMark, "1", 1) == 0)
+    execv("/proc/self/exe", argv);
+  // No /proc (or no room in the environment): run as it is.
+  if (had)
+    setenv("GLIBC_TUNABLES", old.c_str(), 1);
+  else
+    unsetenv("GLIBC_TUNABLES");
+  unsetenv(kTunedMark);
 #else
   (void)argc, (void)argv;
 #endif
@@ -101,8 +106,8 @@ void huge_pages_for_big_inputs(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  keep_freed_memory();
-  huge_pages_for_big_inputs(argc, argv);
+  rerun_with_tuned_malloc(argc, argv);
+  if (!std::getenv(kTunedMark)) keep_freed_memory();
   if (argc < 2 || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "--help")) {
     print_usage(argc < 2 ? stderr : stdout);
     return argc < 2 ? cdt3d::cli::kExitUsage : 0;

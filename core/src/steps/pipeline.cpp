@@ -861,10 +861,14 @@ void Pipeline::release_work() {
 // validated against the input (validate() merges flat faces as the run did:
 // Result::flat_faces_merged), since its messages name input vertices.
 void Pipeline::finish(const Plc& input) {
+  // The Result holds the mesh now: the steps' structures go first, so that
+  // the segment lists report_input_ids makes (every edge of the input) and
+  // the validator's sorted faces and edges reuse their memory instead of
+  // adding to the peak.
+  release_work();
   report_input_ids(input);
   if (!done_) return;
   if (opt_.validate && opt_.stop_after >= Phase::Carve) {
-    release_work();
     Status v = validate(input, out_);
     if (!v.ok()) {
       out_.status = v;
