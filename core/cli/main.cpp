@@ -36,12 +36,12 @@ void print_usage(std::FILE* out) {
 // 128 KiB by mmap and trims the heap top past 128 KiB, so each round trip
 // returns the pages to the kernel and faults them in again on first touch,
 // a large share of a CLI run (more under a hypervisor). Keeping freed
-// memory in the process avoids that (for big inputs, see
-// rerun_with_tuned_malloc: holes it keeps raise the peak). One arena for the two threads of a run (the
-// self-intersection test runs beside steps 1-2): a second arena's pages are
-// fresh, and what the test frees there would never serve the later phases;
-// the test makes few allocations, so the shared lock costs next to
-// nothing.
+// memory in the process avoids that (for small inputs: on big ones the
+// holes it keeps raise the peak, see rerun_with_tuned_malloc). One arena
+// for the two threads of a run (the self-intersection test runs beside
+// steps 1-2): a second arena's pages are fresh, and what the test frees
+// there would never serve the later phases; the test makes few
+// allocations, so the shared lock costs next to nothing.
 void keep_freed_memory() {
 #if defined(__GLIBC__)
   mallopt(M_MMAP_THRESHOLD, 1 << 30);
