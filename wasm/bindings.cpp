@@ -363,6 +363,7 @@ val stats_js(const cdt3d::Statistics& s) {
   n("msRead", s.ms_read), n("msDelaunay", s.ms_delaunay), n("msSegments", s.ms_segments);
   n("msDegeneracy", s.ms_degeneracy), n("msFacets", s.ms_facets), n("msCarve", s.ms_carve);
   n("msRefine", s.ms_refine), n("msTotal", s.ms_total), n("flatFlips", s.flat_flips);
+  n("flatPeeled", s.flat_peeled);
   n("flatTets", s.flat_tets), n("minDihedral", s.min_dihedral), n("maxDihedral", s.max_dihedral);
   n("minDihedralBefore", s.min_dihedral_before);
   o.set("radiusEdgeHistogram", histogram_js(s.radius_edge_histogram));

@@ -408,6 +408,11 @@ export interface MeshStatistics {
   /** Numerically flat tets removed by flips before output. */
   flatFlips: number;
   /**
+   * With `keepConvexHull`: numerically flat tets on the hull that no flip
+   * removed, left out of the output (slivers of numerically no volume).
+   */
+  flatPeeled: number;
+  /**
    * Output tets that are numerically flat: 6V computed in doubles below
    * 1e-12 × (longest edge)³. 0 on success.
    */

@@ -122,7 +122,7 @@ function table(file, s, validated, refined, stats) {
     );
   }
   lines.push(
-    `  Flat tetrahedra:           ${s.flatTets} in the output, ${s.flatFlips} removed by flips`,
+    `  Flat tetrahedra:           ${s.flatTets} in the output, ${s.flatFlips} removed by flips${s.flatPeeled > 0 ? `, ${s.flatPeeled} left out of the hull` : ''}`,
     `  Time (ms):                 read ${s.msRead.toFixed(1)}, delaunay ${s.msDelaunay.toFixed(1)}, segments ${s.msSegments.toFixed(1)}, degeneracy ${s.msDegeneracy.toFixed(1)}, facets ${s.msFacets.toFixed(1)}, carve ${s.msCarve.toFixed(1)}, ${refined ? `refine ${s.msRefine.toFixed(1)}, ` : ''}total ${s.msTotal.toFixed(1)}`,
   );
   if (stats && refined) {

@@ -218,8 +218,10 @@ void print_table(const std::string& input, const Result& r, Phase stop, Degenera
     std::printf("  Sliver improvement:        %zu flips, %zu vertex moves, %zu points added\n",
                 s.improve_flips, s.improve_smooths, s.improve_points);
   }
-  std::printf("  Flat tetrahedra:           %zu in the output, %zu removed by flips\n",
-              s.flat_tets, s.flat_flips);
+  std::printf("  Flat tetrahedra:           %zu in the output, %zu removed by flips", s.flat_tets,
+              s.flat_flips);
+  if (s.flat_peeled > 0) std::printf(", %zu left out of the hull", s.flat_peeled);
+  std::printf("\n");
   std::printf("  Time (ms):                 read %.1f, delaunay %.1f, segments %.1f, "
               "degeneracy %.1f, facets %.1f, carve %.1f, ",
               s.ms_read, s.ms_delaunay, s.ms_segments, s.ms_degeneracy, s.ms_facets, s.ms_carve);

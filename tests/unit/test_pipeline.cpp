@@ -498,6 +498,27 @@ TEST_CASE("flat tets that step 4 leaves are flipped away and the result stays va
   CHECK(h.stats.flat_flips >= 1);
 }
 
+TEST_CASE("with the hull kept, flat tets on the hull are left out and the hull stays convex",
+          "[pipeline]") {
+  // tray_bottom: hull vertices in nearly one plane; no flip removes the 18
+  // flat tets the kept hull held between them, all reachable from the hull.
+  // fandisk: only some are (the others lie between the model's facets).
+  // run() validates, which checks the kept boundary's convexity.
+  Plc plc;
+  REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) + "/tray_bottom_ascii.stl", plc).ok());
+  Options hull;
+  hull.keep_convex_hull = true;
+  const Result r = run(plc, hull);
+  CHECK(r.stats.flat_peeled >= 1);
+  CHECK(r.stats.flat_tets == 0);
+  Plc fandisk;
+  REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) + "/fandisk.off", fandisk).ok());
+  const Result f = run(fandisk, hull);
+  CHECK(f.stats.flat_peeled >= 1);
+  // Without the hull kept nothing is peeled.
+  CHECK(run(plc).stats.flat_peeled == 0);
+}
+
 TEST_CASE("split points exactly on their segment's line make no flat tets in a facet plane",
           "[pipeline]") {
   // A facet plane through two input points outside the facet (kept with the

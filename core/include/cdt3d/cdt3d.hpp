@@ -359,6 +359,9 @@ struct Statistics {
   size_t facet_splits = 0;
   /// Numerically flat tets removed by flips before output.
   size_t flat_flips = 0;
+  /// With the convex hull kept: numerically flat tets on the hull that no
+  /// flip removed, given to the exterior (slivers of numerically no volume).
+  size_t flat_peeled = 0;
   /// Points added by quality refinement, by where they lie (counted in
   /// steiner_segment / steiner_facet / steiner_volume too).
   size_t refine_segment = 0, refine_facet = 0, refine_volume = 0;

@@ -54,6 +54,7 @@ inline constexpr StatisticsField kStatisticsFields[] = {
     {"fallbacks", &Statistics::fallbacks, nullptr, nullptr},
     {"facetSplits", &Statistics::facet_splits, nullptr, nullptr},
     {"flatFlips", &Statistics::flat_flips, nullptr, nullptr},
+    {"flatPeeled", &Statistics::flat_peeled, nullptr, nullptr},
     {"refineSegment", &Statistics::refine_segment, nullptr, nullptr},
     {"refineFacet", &Statistics::refine_facet, nullptr, nullptr},
     {"refineVolume", &Statistics::refine_volume, nullptr, nullptr},

@@ -325,4 +325,162 @@ size_t move_flat_tets_outside(const TetMesh& mesh, const SegmentSet& segs,
   return moved;
 }
 
+namespace {
+
+// peel_flat_hull_tets' state: the subfaces (to tell constrained faces) and
+// the walks about an edge.
+class HullPeeler {
+ public:
+  HullPeeler(TetMesh& mesh, const Subfaces& subfaces) : m_(mesh) {
+    keys_.reserve(subfaces.tri.size());
+    for (const auto& f : subfaces.tri) keys_.push_back(sorted_triangle(f[0], f[1], f[2]));
+    std::sort(keys_.begin(), keys_.end());
+  }
+
+  bool flat(TetId t) const {
+    const VertexId* w = m_.tet_vertices(t);
+    return numerically_flat(m_.point(w[0]), m_.point(w[1]), m_.point(w[2]), m_.point(w[3]));
+  }
+  bool kept(HalfFace hf) const {
+    return hf != kNoHalfFace && (m_.tflag[hf_tet(hf)] & kTetInside) != 0;
+  }
+
+  // Gives t to the exterior if it may go (see peel_flat_hull_tets); true
+  // when it went.
+  bool try_peel(TetId t) {
+    bool hull_face = false;
+    for (int i = 0; i < 4; ++i) {
+      const bool beyond = kept(m_.adjacent(make_hf(t, i)));
+      if (constrained(t, i) && !beyond) return false;  // its subface would lose its last side
+      if (!constrained(t, i) && !beyond) hull_face = true;
+    }
+    if (!hull_face) return false;
+    set_kept(t, false);
+    for (int i = 0; i < 4; ++i) {
+      const HalfFace hf = m_.adjacent(make_hf(t, i));
+      if (kept(hf) && !constrained(hf_tet(hf), hf_face(hf)) && reflex_at(hf)) {
+        set_kept(t, true);
+        return false;
+      }
+    }
+    return true;
+  }
+
+ private:
+  void set_kept(TetId t, bool on) {
+    m_.tflag[t] &= static_cast<uint8_t>(~(kTetInside | kTetOutside));
+    m_.tflag[t] |= on ? kTetInside : kTetOutside;
+  }
+  bool constrained(TetId t, int i) const {
+    return std::binary_search(keys_.begin(), keys_.end(),
+                              sorted_triangle(m_.vertex(t, kFaceVertex[i][0]), m_.vertex(t, kFaceVertex[i][1]),
+                                              m_.vertex(t, kFaceVertex[i][2])));
+  }
+  // Whether the boundary face hf (of a kept tet, the tet beyond not kept)
+  // and an unconstrained boundary face at one of its edges make a reflex
+  // angle by more than a numerically flat tet of their four vertices,
+  // either face seen against the other's far vertex; every pair at the edge
+  // counts, as in validate() (an edge may have more than two boundary faces).
+  // True also when the faces about an edge cannot be walked.
+  bool reflex_at(HalfFace hf) {
+    const TetId u = hf_tet(hf);
+    const int i = hf_face(hf);
+    const VertexId f[3] = {m_.vertex(u, kFaceVertex[i][0]), m_.vertex(u, kFaceVertex[i][1]),
+                           m_.vertex(u, kFaceVertex[i][2])};
+    for (int k = 0; k < 3; ++k) {
+      const VertexId a = f[k], b = f[(k + 1) % 3], c = f[(k + 2) % 3];
+      if (!boundary_faces_about(u, a, b, c)) return true;
+      for (HalfFace g : about_) {
+        if (g == hf || constrained(hf_tet(g), hf_face(g))) continue;
+        const VertexId g_far = third_of(g, a, b);
+        if (beyond(hf, g_far) || beyond(g, c)) return true;
+      }
+    }
+    return false;
+  }
+  // The vertex of half-face hf's face other than a and b.
+  VertexId third_of(HalfFace hf, VertexId a, VertexId b) const {
+    const TetId t = hf_tet(hf);
+    const int i = hf_face(hf);
+    for (int k = 0; k < 3; ++k) {
+      const VertexId v = m_.vertex(t, kFaceVertex[i][k]);
+      if (v != a && v != b) return v;
+    }
+    return kNone;
+  }
+  // Whether e lies on the other side of boundary face hf's plane than its
+  // kept tet, by more than a numerically flat tet.
+  bool beyond(HalfFace hf, VertexId e) const {
+    const TetId t = hf_tet(hf);
+    const int i = hf_face(hf);
+    const double* pa = m_.point(m_.vertex(t, kFaceVertex[i][0]));
+    const double* pb = m_.point(m_.vertex(t, kFaceVertex[i][1]));
+    const double* pc = m_.point(m_.vertex(t, kFaceVertex[i][2]));
+    const int side = pred::orient3d(pa, pb, pc, m_.point(m_.vertex(t, i)));
+    const int se = pred::orient3d(pa, pb, pc, m_.point(e));
+    return side != 0 && se == -side && std::fabs(volume_ratio(pa, pb, pc, m_.point(e))) > kFlatTetRatio;
+  }
+  // The boundary faces about edge ab (each as the half-face of its kept
+  // tet) into about_, walking once around the edge from tet u, whose face
+  // (a, b, c) is the first crossed. False if the walk does not close.
+  bool boundary_faces_about(TetId u, VertexId a, VertexId b, VertexId c) {
+    about_.clear();
+    TetId w = u;
+    VertexId prev = c;  // the face of w opposite prev is the next one about ab
+    for (int step = 0; step < 4096; ++step) {
+      VertexId x = kNone;
+      for (int k = 0; k < 4; ++k) {
+        const VertexId v = m_.vertex(w, k);
+        if (v != a && v != b && v != prev) x = v;
+      }
+      const int at = m_.index_in_tet(w, prev);
+      if (x == kNone || at < 0) return false;
+      const HalfFace hf = make_hf(w, at);
+      const HalfFace nb = m_.adjacent(hf);
+      if (nb == kNoHalfFace) return false;
+      const bool kw = (m_.tflag[w] & kTetInside) != 0, kn = kept(nb);
+      if (kw && !kn) about_.push_back(hf);
+      if (!kw && kn) about_.push_back(nb);
+      w = hf_tet(nb), prev = x;
+      if (w == u) return true;
+    }
+    return false;
+  }
+
+  std::vector<HalfFace> about_;
+  TetMesh& m_;
+  std::vector<std::array<VertexId, 3>> keys_;
+};
+
+}  // namespace
+
+size_t peel_flat_hull_tets(TetMesh& mesh, const Subfaces& subfaces, CarveResult& carved) {
+  HullPeeler peeler(mesh, subfaces);
+  std::vector<TetId> work;
+  for (TetId t : carved.tets)
+    if (peeler.flat(t)) work.push_back(t);
+  if (work.empty()) return 0;
+  // Last in, first out: a removal queues the flat tets it exposes.
+  std::reverse(work.begin(), work.end());
+  size_t peeled = 0;
+  while (!work.empty()) {
+    const TetId t = work.back();
+    work.pop_back();
+    if (!(mesh.tflag[t] & kTetInside) || !peeler.try_peel(t)) continue;
+    ++peeled;
+    for (int i = 0; i < 4; ++i) {
+      const HalfFace hf = mesh.adjacent(make_hf(t, i));
+      if (peeler.kept(hf) && peeler.flat(hf_tet(hf))) work.push_back(hf_tet(hf));
+    }
+  }
+  if (peeled == 0) return 0;
+  size_t n = 0;
+  for (size_t k = 0; k < carved.tets.size(); ++k)
+    if (mesh.tflag[carved.tets[k]] & kTetInside)
+      carved.tets[n] = carved.tets[k], carved.attribute[n] = carved.attribute[k], ++n;
+  carved.tets.resize(n);
+  carved.attribute.resize(n);
+  return peeled;
+}
+
 }  // namespace cdt3d

@@ -58,4 +58,15 @@ Status carve(const Plc& plc, TetMesh& mesh, const Subfaces& subfaces, bool keep_
 size_t move_flat_tets_outside(const TetMesh& mesh, const SegmentSet& segs,
                               const CarveResult& carved, Subfaces& subfaces);
 
+/// With the convex hull kept (like tetgen -c): gives the exterior the
+/// numerically flat kept tets that have a face on the hull which is no
+/// subface (where hull vertices lie in one plane or a rounded Steiner point
+/// lies next to it, no flip removes them), and then those such a removal
+/// exposes, in turn. A tet stays when it is the only kept side of a subface
+/// or when the boundary would turn reflex at an exposed face by more than a
+/// numerically flat amount (the convexity validate() checks). The hull loses
+/// slivers of numerically no volume. Updates the flags and `carved` (tets,
+/// attributes); returns the number of tets removed.
+size_t peel_flat_hull_tets(TetMesh& mesh, const Subfaces& subfaces, CarveResult& carved);
+
 }  // namespace cdt3d
