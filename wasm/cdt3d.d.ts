@@ -384,7 +384,12 @@ export interface MeshStatistics {
   refineFacet: number;
   /** Quality refinement: points added in the volume, circumcentres of bad tets (counted in `steinerVolume` too). */
   refineVolume: number;
-  /** Quality refinement: bad tets left as they are because of a small input angle (or a flat tet) nearby. */
+  /**
+   * Quality refinement: bad tets it left (before the improvement pass), where every fix
+   * would have put a point too close to others, encroached upon a constraint it could not
+   * split, or made a flat tet: near small input angles and thin features.
+   * `radiusEdgeHistogram` counts what is left after the pass.
+   */
   refineSkipped: number;
   /** 1 when quality.maxPoints stopped the refinement, else 0. */
   refineCapped: number;

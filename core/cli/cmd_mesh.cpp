@@ -211,7 +211,7 @@ void print_table(const std::string& input, const Result& r, Phase stop, Degenera
                 s.facet_splits);
   if (refined) {
     std::printf("  Quality refinement:        %zu points (segments %zu, facets %zu, volume %zu); "
-                "%zu bad tets left near small input angles%s\n",
+                "%zu bad tets left where no split point fits%s\n",
                 s.refine_segment + s.refine_facet + s.refine_volume, s.refine_segment,
                 s.refine_facet, s.refine_volume, s.refine_skipped,
                 s.refine_capped ? "; stopped at the point limit (--max-points)" : "");

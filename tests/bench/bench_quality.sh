@@ -267,7 +267,7 @@ printf '%s\n' "${T1[@]}"
 echo
 echo "Table 2: details. points of both meshes; user CPU s (not inflated by waiting for a core); flat tets and the largest"
 echo "radius-edge ratio (mesh_quality); then cdt3d's own statistics (--json): share = radiusEdgeHistogram bins [2,inf),"
-echo "minDihedral, refineSkipped (bad tets left near small input angles), refineCapped, msRefine, msTotal"
+echo "minDihedral, refineSkipped (bad tets refinement left, before the pass), refineCapped, msRefine, msTotal"
 echo
 echo "| model | points tetgen / cdt3d | user s tetgen / cdt3d / ratio | flat tetgen / cdt3d | max ratio tetgen / cdt3d | json points | json tets | json share | json minDihedral | refineSkipped | refineCapped | msRefine | msTotal |"
 echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"

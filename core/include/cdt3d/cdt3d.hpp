@@ -365,8 +365,13 @@ struct Statistics {
   /// Points added by quality refinement, by where they lie (counted in
   /// steiner_segment / steiner_facet / steiner_volume too).
   size_t refine_segment = 0, refine_facet = 0, refine_volume = 0;
-  /// Bad tets refinement left because fixing them would split near a small
-  /// input angle (or would create a numerically flat tet).
+  /// Bad tets (radius-edge ratio above the bound, or volume above its
+  /// limit) that refinement left, counted before the improvement pass: each
+  /// fix it tried would have put a point too close to others (the floors
+  /// that make refinement stop), encroached upon a constraint it could not
+  /// split, or made a numerically flat tet. They lie near small input
+  /// angles and thin features (a thin plate, thin facets side by side); the
+  /// final radius_edge_histogram counts what is left after the pass.
   size_t refine_skipped = 0;
   size_t refine_capped = 0;   ///< 1 when QualityOptions::max_points stopped refinement
   /// Improvement pass (min_dihedral): flips (edge removals and 2-3 flips),
