@@ -502,7 +502,7 @@ TEST_CASE("with the hull kept, flat tets on the hull are left out and the hull s
           "[pipeline]") {
   // tray_bottom: hull vertices in nearly one plane; no flip removes the 18
   // flat tets the kept hull held between them, all reachable from the hull.
-  // fandisk: only some are (the others lie between the model's facets).
+  // fandisk: only some are (most others lie against the model's facets).
   // run() validates, which checks the kept boundary's convexity.
   Plc plc;
   REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) + "/tray_bottom_ascii.stl", plc).ok());
