@@ -242,6 +242,16 @@ Status carve(const Plc& plc, TetMesh& mesh, const Subfaces& subfaces, bool keep_
   return Status::success();
 }
 
+namespace {
+
+// A tet of `mesh` that is numerically flat (geometry.hpp).
+bool flat_tet(const TetMesh& mesh, TetId t) {
+  const VertexId* w = mesh.tet_vertices(t);
+  return numerically_flat(mesh.point(w[0]), mesh.point(w[1]), mesh.point(w[2]), mesh.point(w[3]));
+}
+
+}  // namespace
+
 // A flat tet: two of its faces are subfaces of one facet, so its four
 // vertices all lie in that facet, up to the rounding of Steiner points (§5
 // rounds them to doubles, so a facet is only nearly planar). Both diagonals
@@ -255,11 +265,8 @@ size_t move_flat_tets_outside(const TetMesh& mesh, const SegmentSet& segs,
   // Such a tet is numerically flat (its vertices are a few ulps from one
   // plane); the others need no face lookups.
   std::vector<TetId> flat;
-  for (TetId t : carved.tets) {
-    const VertexId* w = mesh.tet_vertices(t);
-    if (numerically_flat(mesh.point(w[0]), mesh.point(w[1]), mesh.point(w[2]), mesh.point(w[3])))
-      flat.push_back(t);
-  }
+  for (TetId t : carved.tets)
+    if (flat_tet(mesh, t)) flat.push_back(t);
   if (flat.empty()) return 0;
   struct Key {
     std::array<VertexId, 3> v;
@@ -327,20 +334,12 @@ size_t move_flat_tets_outside(const TetMesh& mesh, const SegmentSet& segs,
 
 namespace {
 
-// peel_flat_hull_tets' state: the subfaces (to tell constrained faces) and
-// the walks about an edge.
+// peel_flat_hull_tets' state: the constrained half-faces
+// (constrained_half_faces) and the walks about an edge.
 class HullPeeler {
  public:
-  HullPeeler(TetMesh& mesh, const Subfaces& subfaces) : m_(mesh) {
-    keys_.reserve(subfaces.tri.size());
-    for (const auto& f : subfaces.tri) keys_.push_back(sorted_triangle(f[0], f[1], f[2]));
-    std::sort(keys_.begin(), keys_.end());
-  }
+  HullPeeler(TetMesh& mesh, const std::vector<uint32_t>& hf_sub) : m_(mesh), hf_sub_(hf_sub) {}
 
-  bool flat(TetId t) const {
-    const VertexId* w = m_.tet_vertices(t);
-    return numerically_flat(m_.point(w[0]), m_.point(w[1]), m_.point(w[2]), m_.point(w[3]));
-  }
   bool kept(HalfFace hf) const {
     return hf != kNoHalfFace && (m_.tflag[hf_tet(hf)] & kTetInside) != 0;
   }
@@ -350,9 +349,9 @@ class HullPeeler {
   bool try_peel(TetId t) {
     bool hull_face = false;
     for (int i = 0; i < 4; ++i) {
-      const bool beyond = kept(m_.adjacent(make_hf(t, i)));
-      if (constrained(t, i) && !beyond) return false;  // its subface would lose its last side
-      if (!constrained(t, i) && !beyond) hull_face = true;
+      if (kept(m_.adjacent(make_hf(t, i)))) continue;
+      if (constrained(t, i)) return false;  // its subface would lose its last side
+      hull_face = true;
     }
     if (!hull_face) return false;
     set_kept(t, false);
@@ -371,11 +370,7 @@ class HullPeeler {
     m_.tflag[t] &= static_cast<uint8_t>(~(kTetInside | kTetOutside));
     m_.tflag[t] |= on ? kTetInside : kTetOutside;
   }
-  bool constrained(TetId t, int i) const {
-    return std::binary_search(keys_.begin(), keys_.end(),
-                              sorted_triangle(m_.vertex(t, kFaceVertex[i][0]), m_.vertex(t, kFaceVertex[i][1]),
-                                              m_.vertex(t, kFaceVertex[i][2])));
-  }
+  bool constrained(TetId t, int i) const { return hf_sub_[make_hf(t, i)] != kNone; }
   // Whether the boundary face hf (of a kept tet, the tet beyond not kept)
   // and an unconstrained boundary face at one of its edges make a reflex
   // angle by more than a numerically flat tet of their four vertices,
@@ -449,17 +444,23 @@ class HullPeeler {
 
   std::vector<HalfFace> about_;
   TetMesh& m_;
-  std::vector<std::array<VertexId, 3>> keys_;
+  const std::vector<uint32_t>& hf_sub_;
 };
 
 }  // namespace
 
-size_t peel_flat_hull_tets(TetMesh& mesh, const Subfaces& subfaces, CarveResult& carved) {
-  HullPeeler peeler(mesh, subfaces);
+size_t peel_flat_hull_tets(TetMesh& mesh, const Subfaces& subfaces, CarveResult& carved,
+                           const std::vector<HalfFace>* half_faces) {
   std::vector<TetId> work;
   for (TetId t : carved.tets)
-    if (peeler.flat(t)) work.push_back(t);
+    if (flat_tet(mesh, t)) work.push_back(t);
   if (work.empty()) return 0;
+  std::vector<uint32_t> hf_sub;
+  std::vector<HalfFace> sub_hf;
+  if (half_faces) sub_hf = *half_faces;
+  // carve() found every subface a face of this mesh.
+  if (!constrained_half_faces(mesh, subfaces, hf_sub, sub_hf).ok()) return 0;
+  HullPeeler peeler(mesh, hf_sub);
   // Last in, first out: a removal queues the flat tets it exposes.
   std::reverse(work.begin(), work.end());
   size_t peeled = 0;
@@ -470,7 +471,7 @@ size_t peel_flat_hull_tets(TetMesh& mesh, const Subfaces& subfaces, CarveResult&
     ++peeled;
     for (int i = 0; i < 4; ++i) {
       const HalfFace hf = mesh.adjacent(make_hf(t, i));
-      if (peeler.kept(hf) && peeler.flat(hf_tet(hf))) work.push_back(hf_tet(hf));
+      if (peeler.kept(hf) && flat_tet(mesh, hf_tet(hf))) work.push_back(hf_tet(hf));
     }
   }
   if (peeled == 0) return 0;

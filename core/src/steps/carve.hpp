@@ -66,7 +66,9 @@ size_t move_flat_tets_outside(const TetMesh& mesh, const SegmentSet& segs,
 /// or when the boundary would turn reflex at an exposed face by more than a
 /// numerically flat amount (the convexity validate() checks). The hull loses
 /// slivers of numerically no volume. Updates the flags and `carved` (tets,
-/// attributes); returns the number of tets removed.
-size_t peel_flat_hull_tets(TetMesh& mesh, const Subfaces& subfaces, CarveResult& carved);
+/// attributes); returns the number of tets removed. `half_faces` as in
+/// carve().
+size_t peel_flat_hull_tets(TetMesh& mesh, const Subfaces& subfaces, CarveResult& carved,
+                           const std::vector<HalfFace>* half_faces = nullptr);
 
 }  // namespace cdt3d

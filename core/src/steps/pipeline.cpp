@@ -822,7 +822,7 @@ void Pipeline::run() {
       st = carve(*plc_, mesh_, subfaces_, opt_.keep_convex_hull, carved, &subface_hf_);
     }
     if (st.ok() && ff.remaining > 0 && opt_.keep_convex_hull)
-      s.flat_peeled = peel_flat_hull_tets(mesh_, subfaces_, carved);
+      s.flat_peeled = peel_flat_hull_tets(mesh_, subfaces_, carved, &subface_hf_);
     if (st.ok() && !opt_.keep_convex_hull) st = check_open_facets(carved);
     if (st.ok()) mesh_to_result(carved.tets, &carved.attribute, &carved);
     if (!end(Phase::Carve, st, &s.ms_carve)) return;
