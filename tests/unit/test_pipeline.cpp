@@ -702,3 +702,30 @@ TEST_CASE("a facet standing on an inner edge of a flat face keeps that edge a se
   CHECK(r.stats.merged_facets == 6);
   CHECK(volume(r) == Approx(1));
 }
+
+TEST_CASE("two segments that pass within rounding of each other leave no flat tet", "[pipeline]") {
+  // Segments in a box, d apart (no contact: a valid PLC), perpendicular
+  // (both are edges of the Delaunay tetrahedralization of their ends, and
+  // the tet of those four vertices has 6V = 36 d) or oblique (recovery must
+  // split them, and split points clustered about the crossing made flat
+  // needles with the box's corners). Step 2 splits both where their lines
+  // pass nearest and at a spacing on either side.
+  for (const bool oblique : {false, true})
+    for (double d : {1e-11, 1e-12, 1e-13, 1e-14}) {
+      INFO((oblique ? "oblique" : "perpendicular") << ", d = " << d);
+      Plc plc = cube(0, 10);
+      const VertexId a = oblique ? add(plc, 1.3, 2.7, 5) : add(plc, 2, 5, 5);
+      const VertexId b = oblique ? add(plc, 8.9, 6.1, 5) : add(plc, 8, 5, 5);
+      const VertexId c = oblique ? add(plc, 3.1, 7.7, 5 + d) : add(plc, 5, 2, 5 + d);
+      const VertexId e = oblique ? add(plc, 6.7, 1.9, 5 + d) : add(plc, 5, 8, 5 + d);
+      plc.segments.push_back({a, b});
+      plc.segments.push_back({c, e});
+      const Result r = run(plc);
+      CHECK(r.stats.flat_tets == 0);
+      CHECK(volume(r) == Approx(1000));
+      Options quality;
+      quality.quality.enabled = true;
+      const Result q = run(plc, quality);
+      CHECK(q.stats.flat_tets == 0);
+    }
+}

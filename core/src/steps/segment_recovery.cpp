@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <unordered_set>
 
 #include "delaunay.hpp"
 #include "geometry.hpp"
@@ -54,6 +55,20 @@ constexpr size_t kNumFlatShifts = sizeof(kFlatShifts) / sizeof(kFlatShifts[0]);
 // splits follow; coarser fractions move points enough to cost more).
 constexpr int kExactLineBits = 24;
 constexpr int kExactLineMinBits = 20;
+
+// split_flat_pairs' bounds: split points per run, and per segment far
+// below kMaxSplitsPerSegment, so that these splits never end recovery with
+// an error (a flat tet left is counted, Statistics::flat_tets, not fatal).
+constexpr size_t kMaxFlatSplits = 4096;
+constexpr size_t kMaxFlatSplitsPerSegment = 512;
+// near_crossing_splits: segments at an angle whose sine is below this are
+// taken as parallel (no crossing point), and only gaps below this times
+// their length count as near-crossings (a flat tet needs one far smaller).
+constexpr double kCrossingSine = 1e-3;
+constexpr double kCrossingGap = 1e-8;
+// ... and only nearest points farther than this times that length from
+// every end of both.
+constexpr double kCrossingEnd = 1e-3;
 
 // Padding of the reference point search's box, relative to the segment's
 // length: far above the rounding of the few operations that build it, so
@@ -141,6 +156,22 @@ class SegmentRecovery {
   bool exact_point_on_line(VertexId u, VertexId w, double f, Vec3& q, double& tf) const;
   bool leaves_side(uint32_t s, const double* q) const;
   void queue_destroyed(VertexId v, std::vector<std::array<uint32_t, 3>>& queue);
+  void queue_halves(uint32_t s, VertexId u, VertexId w, std::vector<std::array<uint32_t, 3>>& queue);
+  struct CrossingSplit {
+    uint32_t segment;
+    double t;       // parameter along the segment
+    double margin;  // no split when a vertex of the chain is this close (in t)
+    Vec3 point;     // where (rounded)
+  };
+  void flat_pair(TetId t, std::vector<CrossingSplit>& out);
+  void near_crossing_splits(uint32_t s, uint32_t r, std::vector<CrossingSplit>& out) const;
+  bool first_look(uint32_t s, uint32_t r);
+  bool on_facet(uint32_t s) const;
+  Status split_flat_pairs(std::vector<std::array<uint32_t, 3>>& queue, bool& split_any);
+  Status insert_crossing_splits(std::vector<CrossingSplit>& splits,
+                                std::vector<std::array<uint32_t, 3>>& queue, bool& split_any);
+  Status split_crossing_first(uint32_t s, VertexId u, VertexId w,
+                              std::vector<std::array<uint32_t, 3>>& queue, bool& split_any);
 
   TetMesh& mesh_;
   SegmentSet& segs_;
@@ -246,6 +277,14 @@ class SegmentRecovery {
     }
   }
   std::vector<std::array<VertexId, 4>> probe_faces_;  // (face, vertex beyond)
+  // split_flat_pairs: whether its first (full) scan ran, and the vertices
+  // inserted since its last scan (every tet made since has one of them).
+  bool flat_scanned_ = false;
+  std::unordered_set<uint64_t> done_pairs_;  // pairs of segments flat_pair looked at
+  // split_crossing_first's reference point (a, b, p) of the subsegment it
+  // looked at, valid until the next insertion.
+  std::array<VertexId, 3> ref_cache_ = {kNone, kNone, kNone};
+  std::vector<VertexId> since_flat_scan_;
 };
 
 // The reference point of missing segment ab (§5): among the vertices that
@@ -392,7 +431,9 @@ bool SegmentRecovery::shell_fraction(uint32_t s, VertexId a, VertexId b, VertexI
 Status SegmentRecovery::split_by_projection(uint32_t s, VertexId u, VertexId w) {
   VertexId a = u, b = w;
   if (segs_.param(s, a) > segs_.param(s, b)) std::swap(a, b);
-  const VertexId p = reference_point(a, b);
+  const VertexId p =
+      ref_cache_[0] == a && ref_cache_[1] == b ? ref_cache_[2] : reference_point(a, b);
+  ref_cache_[0] = kNone;
   if (p == kNone)
     return segment_error(ErrorCode::Internal, segs_, s,
                          "a missing subsegment has no encroaching vertex");
@@ -564,6 +605,7 @@ bool SegmentRecovery::leaves_side(uint32_t s, const double* q) const {
 // an end we stop with an error.
 Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Vec3 point, double t,
                                           VertexId origin, SplitRule rule) {
+  ref_cache_[0] = kNone;  // the mesh changes
   SegmentChain& chain = segs_.chain[s];
   if (chain.size() - 2 >= kMaxSplitsPerSegment)
     return segment_error(ErrorCode::LimitReached, segs_, s,
@@ -598,14 +640,18 @@ Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Ve
   // points of the plane are inserted next to it; fuzz findings with the hull
   // kept). Such a point exists when the coordinates are short (integer, CAD
   // and float32 grids); otherwise the rounded point stays.
-  {
+  // Not for a near-crossing's points (split_flat_pairs): they must stay
+  // where the two lines pass nearest, far closer than that move.
+  if (rule != SplitRule::Flat) {
     Vec3 q;
     double tf;
     if (exact_point_on_line(u, w, f0, q, tf)) point = q, t = tu + tf * (tw - tu), f0 = tf;
   }
   InsertResult res;
   Status st;
-  for (size_t k = 0; k < kNumFlatShifts; ++k) {
+  // split_flat_pairs' points go where planned: at and beside a near-crossing
+  // they make flat tets with the other segment until it is split too.
+  for (size_t k = rule == SplitRule::Flat ? kNumFlatShifts - 1 : 0; k < kNumFlatShifts; ++k) {
     const double shift = kFlatShifts[k];
     const double f = std::min(0.95, std::max(0.05, f0 + shift));
     Vec3 q = shift == 0 ? point
@@ -628,6 +674,7 @@ Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Ve
     return segment_error(ErrorCode::InvalidPlc, segs_, s,
                          "vertex " + std::to_string(res.vertex) + " lies on the segment");
   index_.insert(res.vertex, mesh_.point(res.vertex));
+  if (flat_scanned_) since_flat_scan_.push_back(res.vertex);
 
   // Keep the chain ordered from the segment's first to its second endpoint.
   const long iu = segs_.chain_position(s, u), iw = segs_.chain_position(s, w);
@@ -650,6 +697,7 @@ Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Ve
     case SplitRule::AcuteBoth: ++stats_.acute_both; break;
     case SplitRule::Projection: ++stats_.projection; break;
     case SplitRule::Shell: ++stats_.shell; break;
+    case SplitRule::Flat: ++stats_.flat; break;
     case SplitRule::Protect: break;
   }
   stats_.max_splits = std::max(stats_.max_splits, chain.size() - 2);
@@ -895,7 +943,11 @@ Status SegmentRecovery::run(const volatile bool* cancel, const std::atomic<bool>
     missing_subsegments(mesh_, segs_, queue, stats_.rounds == 0 ? nullptr : &touched_);
     touched_.assign(touched_.size(), 0);
     if (stats_.rounds == 0) stats_.missing_initially = queue.size();
+    bool flat_split = false;
     if (queue.empty()) {
+      if (Status st = split_flat_pairs(queue, flat_split); !st.ok()) return st;
+    }
+    if (queue.empty() && !flat_split) {
       if (mode_ == SplitMode::Projection) remove_redundant_points();
       return {};
     }
@@ -907,17 +959,242 @@ Status SegmentRecovery::run(const volatile bool* cancel, const std::atomic<bool>
       const auto [u, w, s] = queue[k];
       const long iu = segs_.chain_position(s, u), iw = segs_.chain_position(s, w);
       if (iu < 0 || iw < 0 || (iu + 1 != iw && iw + 1 != iu)) continue;  // already split
+      bool crossed = false;
+      if (Status st = split_crossing_first(s, u, w, queue, crossed); !st.ok()) return st;
+      if (crossed) {
+        const long ju = segs_.chain_position(s, u), jw = segs_.chain_position(s, w);
+        if ((ju + 1 != jw && jw + 1 != ju) || mesh_.find_edge(u, w) != kNone) continue;
+      }
       Status st = split(s, u, w);
       if (!st.ok()) return st;
-      const VertexId v = segs_.steiner.back().vertex;
-      queue_destroyed(v, queue);
-      // The two halves: v's neighbours are exactly the vertices of the new tets.
-      for (VertexId x : {u, w})
-        if (!in_ring(x))
-          queue.push_back({std::min(x, v), std::max(x, v), s});
+      queue_halves(s, u, w, queue);
     }
   }
 }
+
+// After the split of subsegment (u, w) of segment s: queues every
+// subsegment the insertion destroyed, and each half that is no edge (v's
+// neighbours are exactly the vertices of the new tets).
+void SegmentRecovery::queue_halves(uint32_t s, VertexId u, VertexId w,
+                                   std::vector<std::array<uint32_t, 3>>& queue) {
+  const VertexId v = segs_.steiner.back().vertex;
+  queue_destroyed(v, queue);
+  for (VertexId x : {u, w})
+    if (!in_ring(x)) queue.push_back({std::min(x, v), std::max(x, v), s});
+}
+
+// When tet t is numerically flat and two of its vertices lie on different
+// segments s and r whose lines pass nearest to each other inside both, at
+// a distance far below their length, the split points that cure it (below)
+// go into `out`, once per pair of segments (done_pairs_).
+void SegmentRecovery::flat_pair(TetId t, std::vector<CrossingSplit>& out) {
+  const VertexId* v = mesh_.tet_vertices(t);
+  if (v[3] == kInfinite ||
+      !numerically_flat(mesh_.point(v[0]), mesh_.point(v[1]), mesh_.point(v[2]), mesh_.point(v[3])))
+    return;
+  std::array<uint32_t, 16> on{};
+  int n_on = 0;
+  for (int i = 0; i < 4; ++i)  // the segments of the subsegments at each vertex
+    for_chain_neighbours(v[i], [&](uint32_t s, VertexId) {
+      for (int k = 0; k < n_on; ++k)
+        if (on[k] == s) return;
+      if (n_on < static_cast<int>(on.size())) on[n_on++] = s;
+    });
+  for (int i = 0; i < n_on; ++i)
+    for (int j = i + 1; j < n_on; ++j) {
+      const uint32_t s = std::min(on[i], on[j]), r = std::max(on[i], on[j]);
+      if (s != r && first_look(s, r)) near_crossing_splits(s, r, out);
+    }
+}
+
+// Split points where input segments s and r pass within a tiny distance of
+// each other (nearly crossing, not touching: a valid PLC). Every
+// tetrahedralization that holds both near the crossing has tets of almost no
+// volume unless both have vertices at their lines' nearest points (the
+// short edge between those two is then an edge of its own) and the next
+// vertices at a spacing h on either side: tets of the two crossing points
+// and two neighbours have 6V / l_max^3 about gap / h, those of a crossing
+// point, a neighbour and far vertices (at about the segments' length L)
+// about (h / L)^2; h = (gap L^2)^(1/3) makes both (gap / L)^(2/3), far above
+// kFlatTetRatio for any gap above rounding. Rounded geometry: it only
+// places points (the chains say which subsegments make a segment).
+void SegmentRecovery::near_crossing_splits(uint32_t s, uint32_t r, std::vector<CrossingSplit>& out) const {
+  // Free segments only: where facets hold them, the points would make
+  // their subfaces nearly as small as the gap, and facet recovery then
+  // fails there (repair's arrangements of crossing parts) and retries.
+  if (on_facet(s) || on_facet(r)) return;
+  const Vec3 pa = to_vec(mesh_.point(segs_.input[s][0])), pb = to_vec(mesh_.point(segs_.input[s][1]));
+  const Vec3 pc = to_vec(mesh_.point(segs_.input[r][0])), pd = to_vec(mesh_.point(segs_.input[r][1]));
+  const Vec3 u = pb - pa, w = pd - pc;
+  const double lab = std::sqrt(dot(u, u)), lcd = std::sqrt(dot(w, w));
+  const Vec3 n = cross(u, w);
+  const double nn = std::sqrt(dot(n, n));
+  if (!(nn > kCrossingSine * lab * lcd)) return;  // nearly parallel
+  const double gap = std::fabs(dot(pc - pa, n)) / nn;
+  const double len = std::max(lab, lcd);
+  if (!(gap > 0 && gap < kCrossingGap * len)) return;  // 0: the lines meet (at an end)
+  const Vec3 e = pc - pa;
+  const double fa = dot(cross(e, w), n) / (nn * nn), fc = dot(cross(e, u), n) / (nn * nn);
+  const double h = std::cbrt(gap * len * len);
+  // Far inside both (an end of either near the other line is a vertex
+  // near a segment, not a crossing).
+  const double m = std::max(2 * h, kCrossingEnd * len);
+  if (!(fa * lab > m && (1 - fa) * lab > m && fc * lcd > m && (1 - fc) * lcd > m)) return;
+  // Each segment's chain about the crossing after the splits: the vertices
+  // before and after it and the three new points (rounded to doubles from
+  // the input segment's ends). Where recovery has already clustered split
+  // points about the crossing (within 1.5 h), they stay (removing them
+  // fails while they are needed): no change there.
+  struct Side {
+    uint32_t seg;
+    double l, f;
+    Vec3 p0, dir;
+    std::array<Vec3, 5> chain;
+    std::array<double, 3> t;
+  };
+  std::array<Side, 2> sides = {Side{s, lab, fa, pa, u, {}, {}}, Side{r, lcd, fc, pc, w, {}, {}}};
+  for (Side& sd : sides) {
+    const double lo = sd.f - h / sd.l, hi = sd.f + h / sd.l;
+    sd.t = {lo, sd.f, hi};
+    VertexId before = segs_.input[sd.seg][0], after = segs_.input[sd.seg][1];
+    for (VertexId x : segs_.chain[sd.seg]) {
+      const double tx = segs_.param(sd.seg, x);
+      if (std::fabs(tx - sd.f) * sd.l < 1.5 * h) return;
+      if (tx < lo && tx > segs_.param(sd.seg, before)) before = x;
+      if (tx > hi && tx < segs_.param(sd.seg, after)) after = x;
+    }
+    sd.chain[0] = to_vec(mesh_.point(before));
+    for (int k = 0; k < 3; ++k) sd.chain[k + 1] = sd.p0 + sd.t[k] * sd.dir;
+    sd.chain[4] = to_vec(mesh_.point(after));
+  }
+  // Rounding must not make the two chains meet: two segments in space meet
+  // only if their four ends lie in one plane, so every piece of one (the
+  // subsegment before the splits too, should a bound stop them halfway)
+  // and every piece of the other must be in general position (exact
+  // orient3d). Nor may a point cross the plane of a facet at its
+  // segment's ends (leaves_side). Otherwise (gaps of a few ulps) nothing
+  // changes here.
+  auto piece = [](const Side& sd, int i, int k) {
+    return i < 4 ? sd.chain[static_cast<size_t>(i + k)] : sd.chain[k == 0 ? 0 : 4];
+  };
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j) {
+      const Vec3 a0 = piece(sides[0], i, 0), a1 = piece(sides[0], i, 1);
+      const Vec3 b0 = piece(sides[1], j, 0), b1 = piece(sides[1], j, 1);
+      if (pred::orient3d(&a0.x, &a1.x, &b0.x, &b1.x) == 0) return;
+    }
+  for (const Side& sd : sides)
+    for (int k = 1; k <= 3; ++k)
+      if (leaves_side(sd.seg, &sd.chain[static_cast<size_t>(k)].x)) return;
+  for (const Side& sd : sides)
+    for (int k = 0; k < 3; ++k) out.push_back({sd.seg, sd.t[k], 0.25 * h / sd.l, sd.chain[k + 1]});
+}
+
+// Whether segment s lies on a facet: a facet is at both of its ends
+// (SegmentSet::plane_facets; false when those are not known).
+bool SegmentRecovery::on_facet(uint32_t s) const {
+  if (segs_.plane_start.empty()) return false;
+  const VertexId a = segs_.input[s][0], b = segs_.input[s][1];
+  for (uint32_t i = segs_.plane_start[a]; i < segs_.plane_start[a + 1]; ++i)
+    for (uint32_t j = segs_.plane_start[b]; j < segs_.plane_start[b + 1]; ++j)
+      if (segs_.plane_facets[i] == segs_.plane_facets[j]) return true;
+  return false;
+}
+
+// Whether the pair of segments s and r is looked at for the first time
+// (done_pairs_).
+bool SegmentRecovery::first_look(uint32_t s, uint32_t r) {
+  const uint64_t key = (static_cast<uint64_t>(std::min(s, r)) << 32) | std::max(s, r);
+  return done_pairs_.insert(key).second;
+}
+
+// Before missing subsegment uw of segment s is split: when its encroaching
+// vertex lies on a segment r that passes within rounding of s
+// (near_crossing_splits), both are split at the near-crossing first, so
+// that recovery does not cluster split points about it (both subsegments
+// across it must be Delaunay edges, which takes a spacing of about
+// sqrt(gap) there, and such a cluster makes flat needles with far
+// vertices). Each pair of segments is looked at once.
+Status SegmentRecovery::split_crossing_first(uint32_t s, VertexId u, VertexId w,
+                                             std::vector<std::array<uint32_t, 3>>& queue,
+                                             bool& split_any) {
+  split_any = false;
+  VertexId a = u, b = w;
+  if (segs_.param(s, a) > segs_.param(s, b)) std::swap(a, b);
+  const VertexId p = reference_point(a, b);
+  ref_cache_ = {a, b, p};  // for split_by_projection, if the mesh stays as it is
+  if (p == kNone) return {};
+  std::vector<CrossingSplit> splits;
+  for_chain_neighbours(p, [&](uint32_t r, VertexId) {
+    if (r != s && first_look(s, r)) near_crossing_splits(std::min(s, r), std::max(s, r), splits);
+  });
+  if (splits.empty()) return {};
+  ref_cache_[0] = kNone;
+  return insert_crossing_splits(splits, queue, split_any);
+}
+
+// No numerically flat tets (cdt3d.hpp): two segments that pass within
+// rounding of each other without meeting (a valid PLC) are both edges of
+// the Delaunay tetrahedralization of their ends, and the tet of those four
+// vertices is flat; no flip removes it without removing one of them. Every
+// tetrahedralization that holds both subsegments across the near-crossing
+// has such a tet, so both are split at their lines' nearest points (the
+// short edge between those two points is then an edge of its own) and at
+// a spacing h on either side (flat_pair), without the flat-tet moves of
+// insert_on_segment: in between the new points make flat tets with the
+// other segment until it is split too. The first scan looks at every tet,
+// later ones only at tets of vertices inserted since. Bounded
+// (kMaxFlatSplits): a flat tet left is counted, not an error.
+Status SegmentRecovery::split_flat_pairs(std::vector<std::array<uint32_t, 3>>& queue,
+                                         bool& split_any) {
+  split_any = false;
+  std::vector<CrossingSplit> splits;
+  if (!flat_scanned_) {
+    flat_scanned_ = true;
+    for (TetId t = 0; t < mesh_.num_tet_slots(); ++t)
+      if (!mesh_.is_dead(t)) flat_pair(t, splits);
+  } else {
+    std::vector<TetId> star;
+    for (VertexId x : since_flat_scan_) {
+      if (x >= mesh_.num_vertices()) continue;
+      mesh_.vertex_star(x, star);
+      for (TetId t : star) flat_pair(t, splits);
+    }
+  }
+  since_flat_scan_.clear();
+  return insert_crossing_splits(splits, queue, split_any);
+}
+
+// Inserts the split points of near_crossing_splits (sorted along each
+// segment, each into the subsegment that holds it, none next to a vertex of
+// the chain) and queues what they leave missing.
+Status SegmentRecovery::insert_crossing_splits(std::vector<CrossingSplit>& splits,
+                                               std::vector<std::array<uint32_t, 3>>& queue,
+                                               bool& split_any) {
+  std::sort(splits.begin(), splits.end(), [](const CrossingSplit& x, const CrossingSplit& y) {
+    return x.segment != y.segment ? x.segment < y.segment : x.t < y.t;
+  });
+  for (size_t k = 0; k < splits.size(); ++k) {
+    const uint32_t s = splits[k].segment;
+    const double t = splits[k].t;
+    if (k > 0 && splits[k - 1].segment == s && splits[k - 1].t == t) continue;
+    if (stats_.flat >= kMaxFlatSplits) break;
+    const SegmentChain& chain = segs_.chain[s];
+    if (chain.size() - 2 >= kMaxFlatSplitsPerSegment) continue;
+    // The subsegment holding t.
+    size_t i = 1;
+    while (i + 1 < chain.size() && segs_.param(s, chain[i]) <= t) ++i;
+    const VertexId u = chain[i - 1], w = chain[i];
+    const double tu = segs_.param(s, u), tw = segs_.param(s, w);
+    if (!(t - tu > splits[k].margin && tw - t > splits[k].margin)) continue;
+    if (Status st = insert_on_segment(s, u, w, splits[k].point, t, kNone, SplitRule::Flat); !st.ok())
+      return st;
+    queue_halves(s, u, w, queue);
+    split_any = true;
+  }
+  return {};
+}
+
 
 }  // namespace
 

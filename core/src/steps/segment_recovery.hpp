@@ -28,6 +28,7 @@ enum class SplitRule : uint8_t {
   Protect = 5,    ///< boundary protection point (step 3, §6)
   Projection = 6, ///< projection of the reference point, or midpoint (SplitMode::Projection)
   Shell = 7,      ///< on the sphere around a shared endpoint through the reference point
+  Flat = 8,       ///< at or beside the nearest points of two segments within rounding (split_flat_pairs)
 };
 
 /// Where step 2 splits a missing subsegment.
@@ -166,8 +167,11 @@ struct SegmentRecoveryStats {
                                ///< or cross a facet plane at their segment's ends
   size_t projection = 0, shell = 0;  ///< SplitMode::Projection's splits
   size_t removed = 0;          ///< split points removed again as redundant
+  /// Split points at and beside the nearest points of two segments that
+  /// pass within rounding of each other (a numerically flat tet between).
+  size_t flat = 0;
   /// Split points left on the segments.
-  size_t points() const { return rule1 + rule2 + rule3 + acute_both + projection + shell - removed; }
+  size_t points() const { return rule1 + rule2 + rule3 + acute_both + projection + shell + flat - removed; }
 };
 
 /// Builds the SegmentSet of `plc` (all segments unsplit) and marks acute
