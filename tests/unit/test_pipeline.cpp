@@ -729,3 +729,50 @@ TEST_CASE("two segments that pass within rounding of each other leave no flat te
       CHECK(q.stats.flat_tets == 0);
     }
 }
+
+TEST_CASE("random pairs of nearly crossing free segments leave no flat tet", "[pipeline]") {
+  // Pairs of segments through a common point in a box, one of them moved
+  // 1e-14 to 1e-9 along their common normal (random angles, lengths and
+  // gaps, a fixed seed), one to three pairs per box.
+  uint64_t state = 0x9e3779b97f4a7c15ull;
+  auto uniform = [&](double lo, double hi) {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return lo + (hi - lo) * static_cast<double>(state >> 11) * 0x1.0p-53;
+  };
+  auto direction = [&] {
+    for (;;) {
+      const double x = uniform(-1, 1), y = uniform(-1, 1), z = uniform(-1, 1);
+      const double n = std::sqrt(x * x + y * y + z * z);
+      if (n > 0.2 && n <= 1) return std::array<double, 3>{x / n, y / n, z / n};
+    }
+  };
+  size_t pairs = 0;
+  for (int box = 0; box < 30; ++box) {
+    INFO("box " << box);
+    Plc plc = cube(0, 10);
+    const int n = 1 + box % 3;
+    for (int k = 0; k < n; ++k) {
+      const double c[3] = {uniform(3, 7), uniform(3, 7), uniform(3, 7)};
+      const auto u = direction(), v = direction();
+      double w[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+      const double wn = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+      if (wn < 0.1) continue;
+      const double gap = std::pow(10.0, uniform(-14, -9));
+      const double la = uniform(0.5, 2.5), lb = uniform(0.5, 2.5);
+      VertexId e[4];
+      for (int s = 0; s < 2; ++s) {
+        const double sign = s == 0 ? -1 : 1;
+        e[s] = add(plc, c[0] + sign * la * u[0], c[1] + sign * la * u[1], c[2] + sign * la * u[2]);
+        e[2 + s] = add(plc, c[0] + gap * w[0] / wn + sign * lb * v[0],
+                       c[1] + gap * w[1] / wn + sign * lb * v[1],
+                       c[2] + gap * w[2] / wn + sign * lb * v[2]);
+      }
+      plc.segments.push_back({e[0], e[1]});
+      plc.segments.push_back({e[2], e[3]});
+      ++pairs;
+    }
+    const Result r = run(plc);
+    CHECK(r.stats.flat_tets == 0);
+  }
+  CHECK(pairs >= 40);
+}

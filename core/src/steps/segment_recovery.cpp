@@ -69,6 +69,8 @@ constexpr double kCrossingGap = 1e-8;
 // ... and only nearest points farther than this times that length from
 // every end of both.
 constexpr double kCrossingEnd = 1e-3;
+// split_free_crossings sweeps at most this many free segments.
+constexpr size_t kMaxSweptSegments = 1u << 12;
 
 // Padding of the reference point search's box, relative to the segment's
 // length: far above the rounding of the few operations that build it, so
@@ -167,6 +169,7 @@ class SegmentRecovery {
   void near_crossing_splits(uint32_t s, uint32_t r, std::vector<CrossingSplit>& out) const;
   bool first_look(uint32_t s, uint32_t r);
   bool on_facet(uint32_t s) const;
+  Status split_free_crossings(std::vector<std::array<uint32_t, 3>>& queue);
   Status split_flat_pairs(std::vector<std::array<uint32_t, 3>>& queue, bool& split_any);
   Status insert_crossing_splits(std::vector<CrossingSplit>& splits,
                                 std::vector<std::array<uint32_t, 3>>& queue, bool& split_any);
@@ -939,6 +942,7 @@ Status SegmentRecovery::run(const volatile bool* cancel, const std::atomic<bool>
   // subsegment is no edge and was queued. So the exit scan need not pass
   // over every subsegment again.
   std::vector<std::array<uint32_t, 3>> queue;
+  if (Status st = split_free_crossings(queue); !st.ok()) return st;
   for (;;) {
     missing_subsegments(mesh_, segs_, queue, stats_.rounds == 0 ? nullptr : &touched_);
     touched_.assign(touched_.size(), 0);
@@ -1106,6 +1110,45 @@ bool SegmentRecovery::on_facet(uint32_t s) const {
 bool SegmentRecovery::first_look(uint32_t s, uint32_t r) {
   const uint64_t key = (static_cast<uint64_t>(std::min(s, r)) << 32) | std::max(s, r);
   return done_pairs_.insert(key).second;
+}
+
+// Before recovery: every pair of free segments that pass within rounding
+// of each other (near_crossing_splits), found by a sweep over their boxes
+// along x, so that recovery never clusters split points about them (the
+// hooks below catch the rest). Skipped beyond kMaxSweptSegments free
+// segments (the sweep is quadratic where boxes overlap).
+Status SegmentRecovery::split_free_crossings(std::vector<std::array<uint32_t, 3>>& queue) {
+  struct Box {
+    double lo[3], hi[3];
+    uint32_t s;
+  };
+  std::vector<Box> boxes;
+  for (uint32_t s = 0; s < segs_.input.size(); ++s) {
+    if (on_facet(s)) continue;
+    if (boxes.size() >= kMaxSweptSegments) return {};
+    const double* a = mesh_.point(segs_.input[s][0]);
+    const double* b = mesh_.point(segs_.input[s][1]);
+    Box box;
+    box.s = s;
+    double len2 = 0;
+    for (int k = 0; k < 3; ++k) len2 += (b[k] - a[k]) * (b[k] - a[k]);
+    const double pad = kCrossingGap * std::sqrt(len2);
+    for (int k = 0; k < 3; ++k)
+      box.lo[k] = std::min(a[k], b[k]) - pad, box.hi[k] = std::max(a[k], b[k]) + pad;
+    boxes.push_back(box);
+  }
+  std::sort(boxes.begin(), boxes.end(), [](const Box& x, const Box& y) { return x.lo[0] < y.lo[0]; });
+  std::vector<CrossingSplit> splits;
+  for (size_t i = 0; i < boxes.size(); ++i)
+    for (size_t j = i + 1; j < boxes.size() && boxes[j].lo[0] <= boxes[i].hi[0]; ++j) {
+      if (boxes[j].lo[1] > boxes[i].hi[1] || boxes[i].lo[1] > boxes[j].hi[1] ||
+          boxes[j].lo[2] > boxes[i].hi[2] || boxes[i].lo[2] > boxes[j].hi[2])
+        continue;
+      const uint32_t s = std::min(boxes[i].s, boxes[j].s), r = std::max(boxes[i].s, boxes[j].s);
+      if (first_look(s, r)) near_crossing_splits(s, r, splits);
+    }
+  bool any = false;
+  return insert_crossing_splits(splits, queue, any);
 }
 
 // Before missing subsegment uw of segment s is split: when its encroaching
