@@ -680,7 +680,25 @@ TEST_CASE("dot_sign matches the exact oracle, right angles included", "[predicat
     for (int k = 0; k < 3; ++k) dot += (Q(a[k]) - Q(v[k])) * (Q(b[k]) - Q(v[k]));
     INFO(hex(a) << " " << hex(v) << " " << hex(b));
     CHECK(pred::dot_sign(a.data(), v.data(), b.data()) == sgn_q(dot));
+    // The four-point form, (a - v) . (b - w), against the same oracle.
+    P3 w4 = place({o[0] - w[1], o[1] + u[0], o[2]}, f.base, f.k);
+    if (it % 5 == 0) w4 = {mixed_coordinate(r), mixed_coordinate(r), mixed_coordinate(r)};
+    mpq_class dot4 = 0;
+    for (int k = 0; k < 3; ++k) dot4 += (Q(a[k]) - Q(v[k])) * (Q(b[k]) - Q(w4[k]));
+    CHECK(pred::dot_sign(a.data(), v.data(), b.data(), w4.data()) == sgn_q(dot4));
   }
+}
+
+TEST_CASE("dot_sign orders points one ulp apart along a line", "[predicates]") {
+  // The validator orders a segment's points by (x - y) . (b - a): in doubles
+  // both projections below round to the same value and the order was lost.
+  const double a[3] = {0, 0, 0}, b[3] = {1, 1e20, -1e20};
+  const double x[3] = {5, 5, 5}, y[3] = {std::nextafter(5.0, 6.0), 5, 5};
+  auto along = [&](const double* p) { return p[0] * b[0] + p[1] * b[1] + p[2] * b[2]; };
+  CHECK(along(x) == along(y));
+  CHECK(pred::dot_sign(x, y, b, a) < 0);
+  CHECK(pred::dot_sign(y, x, b, a) > 0);
+  CHECK(pred::dot_sign(x, x, b, a) == 0);
 }
 
 namespace {

@@ -1051,10 +1051,12 @@ bool collinear3d(const double* a, const double* b, const double* c) {
          orient2d_projected(a, b, c, 1) == 0;
 }
 
-int dot_sign(const double* a, const double* v, const double* b) {
+int dot_sign(const double* a, const double* v, const double* b) { return dot_sign(a, v, b, v); }
+
+int dot_sign(const double* a, const double* v, const double* b, const double* w) {
   double approx = 0, magnitude = 0;
   for (int d = 0; d < 3; ++d) {
-    const double x = (a[d] - v[d]) * (b[d] - v[d]);
+    const double x = (a[d] - v[d]) * (b[d] - w[d]);
     approx += x;
     magnitude += std::fabs(x);
   }
@@ -1068,7 +1070,7 @@ int dot_sign(const double* a, const double* v, const double* b) {
   for (int d = 0; d < 3; ++d) {
     double x[2], y[2];  // exact differences as expansions (small component first)
     exact::two_diff(a[d], v[d], x[1], x[0]);
-    exact::two_diff(b[d], v[d], y[1], y[0]);
+    exact::two_diff(b[d], w[d], y[1], y[0]);
     const int nx = x[1] == 0 ? 0 : (x[0] == 0 ? 1 : 2);
     const double* xs = nx == 1 ? x + 1 : x;
     double p0[4], p1[4], prod[8];

@@ -147,6 +147,9 @@ int incircle_coplanar(const double* a, const double* b, const double* c, const d
 /// right, < 0 when obtuse; <= 0 exactly when v lies in the closed ball with
 /// diameter ab (v encroaches upon the segment ab, §5).
 int dot_sign(const double* a, const double* v, const double* b);
+/// Sign of (a - v) . (b - w), exact (the same evaluation): with w = v the
+/// above; (x - y) . (b - a) orders x and y along the line ab.
+int dot_sign(const double* a, const double* v, const double* b, const double* w);
 
 /// Sign of orient2d_projected(a, b, m, drop) for the centroid m of c[0..2],
 /// without constructing m: orient2d is affine in its last point, so this is

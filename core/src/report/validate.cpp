@@ -409,16 +409,14 @@ Status Validator::segments() {
     std::vector<uint32_t>& c = chains_[s];
     const double* a = pt(c[0]);
     const double* b = pt(c[1]);
-    const double d[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    auto along = [&](uint32_t v) {
-      const double* p = pt(v);
-      return (p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1] + (p[2] - a[2]) * d[2];
-    };
     const uint32_t last = c[1];
     c.erase(c.begin() + 1);
+    // Ordered along ab exactly: points a few ulps apart (two segments that
+    // pass within rounding of each other get split points that close to
+    // the other's) are ordered wrongly by a dot product in doubles.
     std::sort(c.begin() + 1, c.end(), [&](uint32_t x, uint32_t y) {
-      const double tx = along(x), ty = along(y);
-      return tx != ty ? tx < ty : x < y;
+      const int s = pred::dot_sign(pt(x), pt(y), b, a);
+      return s != 0 ? s < 0 : x < y;
     });
     c.push_back(last);
     bool inside = true;
