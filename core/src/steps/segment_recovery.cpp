@@ -284,9 +284,10 @@ class SegmentRecovery {
   // inserted since its last scan (every tet made since has one of them).
   bool flat_scanned_ = false;
   std::unordered_set<uint64_t> done_pairs_;  // pairs of segments flat_pair looked at
-  // split_crossing_first's reference point (a, b, p) of the subsegment it
-  // looked at, valid until the next insertion.
-  std::array<VertexId, 3> ref_cache_ = {kNone, kNone, kNone};
+  // Per input segment: free (no facet at both of its ends; on_facet), the
+  // only ones near_crossing_splits looks at; set by split_free_crossings.
+  std::vector<uint8_t> free_;
+  size_t num_free_ = 0;
   std::vector<VertexId> since_flat_scan_;
 };
 
@@ -434,9 +435,7 @@ bool SegmentRecovery::shell_fraction(uint32_t s, VertexId a, VertexId b, VertexI
 Status SegmentRecovery::split_by_projection(uint32_t s, VertexId u, VertexId w) {
   VertexId a = u, b = w;
   if (segs_.param(s, a) > segs_.param(s, b)) std::swap(a, b);
-  const VertexId p =
-      ref_cache_[0] == a && ref_cache_[1] == b ? ref_cache_[2] : reference_point(a, b);
-  ref_cache_[0] = kNone;
+  const VertexId p = reference_point(a, b);
   if (p == kNone)
     return segment_error(ErrorCode::Internal, segs_, s,
                          "a missing subsegment has no encroaching vertex");
@@ -608,7 +607,6 @@ bool SegmentRecovery::leaves_side(uint32_t s, const double* q) const {
 // an end we stop with an error.
 Status SegmentRecovery::insert_on_segment(uint32_t s, VertexId u, VertexId w, Vec3 point, double t,
                                           VertexId origin, SplitRule rule) {
-  ref_cache_[0] = kNone;  // the mesh changes
   SegmentChain& chain = segs_.chain[s];
   if (chain.size() - 2 >= kMaxSplitsPerSegment)
     return segment_error(ErrorCode::LimitReached, segs_, s,
@@ -988,7 +986,7 @@ void SegmentRecovery::queue_halves(uint32_t s, VertexId u, VertexId w,
 }
 
 // When tet t is numerically flat and two of its vertices lie on different
-// segments s and r whose lines pass nearest to each other inside both, at
+// free segments s and r whose lines pass nearest to each other inside both, at
 // a distance far below their length, the split points that cure it (below)
 // go into `out`, once per pair of segments (done_pairs_).
 void SegmentRecovery::flat_pair(TetId t, std::vector<CrossingSplit>& out) {
@@ -1000,6 +998,7 @@ void SegmentRecovery::flat_pair(TetId t, std::vector<CrossingSplit>& out) {
   int n_on = 0;
   for (int i = 0; i < 4; ++i)  // the segments of the subsegments at each vertex
     for_chain_neighbours(v[i], [&](uint32_t s, VertexId) {
+      if (!free_[s]) return;
       for (int k = 0; k < n_on; ++k)
         if (on[k] == s) return;
       if (n_on < static_cast<int>(on.size())) on[n_on++] = s;
@@ -1026,7 +1025,7 @@ void SegmentRecovery::near_crossing_splits(uint32_t s, uint32_t r, std::vector<C
   // Free segments only: where facets hold them, the points would make
   // their subfaces nearly as small as the gap, and facet recovery then
   // fails there (repair's arrangements of crossing parts) and retries.
-  if (on_facet(s) || on_facet(r)) return;
+  if (!free_[s] || !free_[r]) return;
   const Vec3 pa = to_vec(mesh_.point(segs_.input[s][0])), pb = to_vec(mesh_.point(segs_.input[s][1]));
   const Vec3 pc = to_vec(mesh_.point(segs_.input[r][0])), pd = to_vec(mesh_.point(segs_.input[r][1]));
   const Vec3 u = pb - pa, w = pd - pc;
@@ -1112,20 +1111,25 @@ bool SegmentRecovery::first_look(uint32_t s, uint32_t r) {
   return done_pairs_.insert(key).second;
 }
 
-// Before recovery: every pair of free segments that pass within rounding
-// of each other (near_crossing_splits), found by a sweep over their boxes
-// along x, so that recovery never clusters split points about them (the
-// hooks below catch the rest). Skipped beyond kMaxSweptSegments free
-// segments (the sweep is quadratic where boxes overlap).
+// Before recovery: marks the free segments (free_), then splits every pair
+// of them that pass within rounding of each other (near_crossing_splits),
+// found by a sweep over their boxes along x, so that recovery never
+// clusters split points about them (the hooks below catch the rest).
+// Skipped beyond kMaxSweptSegments free segments (the sweep is quadratic
+// where boxes overlap).
 Status SegmentRecovery::split_free_crossings(std::vector<std::array<uint32_t, 3>>& queue) {
   struct Box {
     double lo[3], hi[3];
     uint32_t s;
   };
+  free_.assign(segs_.input.size(), 0);
+  num_free_ = 0;
+  for (uint32_t s = 0; s < segs_.input.size(); ++s)
+    if (!on_facet(s)) free_[s] = 1, ++num_free_;
+  if (num_free_ == 0 || num_free_ > kMaxSweptSegments) return {};
   std::vector<Box> boxes;
   for (uint32_t s = 0; s < segs_.input.size(); ++s) {
-    if (on_facet(s)) continue;
-    if (boxes.size() >= kMaxSweptSegments) return {};
+    if (!free_[s]) continue;
     const double* a = mesh_.point(segs_.input[s][0]);
     const double* b = mesh_.point(segs_.input[s][1]);
     Box box;
@@ -1162,17 +1166,16 @@ Status SegmentRecovery::split_crossing_first(uint32_t s, VertexId u, VertexId w,
                                              std::vector<std::array<uint32_t, 3>>& queue,
                                              bool& split_any) {
   split_any = false;
+  if (!free_[s]) return {};  // the only ones looked at; most models have none
   VertexId a = u, b = w;
   if (segs_.param(s, a) > segs_.param(s, b)) std::swap(a, b);
   const VertexId p = reference_point(a, b);
-  ref_cache_ = {a, b, p};  // for split_by_projection, if the mesh stays as it is
   if (p == kNone) return {};
   std::vector<CrossingSplit> splits;
   for_chain_neighbours(p, [&](uint32_t r, VertexId) {
     if (r != s && first_look(s, r)) near_crossing_splits(std::min(s, r), std::max(s, r), splits);
   });
   if (splits.empty()) return {};
-  ref_cache_[0] = kNone;
   return insert_crossing_splits(splits, queue, split_any);
 }
 
@@ -1191,6 +1194,7 @@ Status SegmentRecovery::split_crossing_first(uint32_t s, VertexId u, VertexId w,
 Status SegmentRecovery::split_flat_pairs(std::vector<std::array<uint32_t, 3>>& queue,
                                          bool& split_any) {
   split_any = false;
+  if (num_free_ < 2) return {};  // no pair to look at: no scan of the tets
   std::vector<CrossingSplit> splits;
   if (!flat_scanned_) {
     flat_scanned_ = true;
