@@ -41,6 +41,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <unordered_map>
 #include <numeric>
 #include <cstdio>
 #include <cstdlib>
@@ -952,6 +953,13 @@ bool handled(const Intersection& x) {
 // sides at points 6.5e-12 apart. At 2^22: no flat tet, and half the segment
 // Steiner points (106,753 -> 51,021).
 constexpr double kNeedleGridSteps = 0x1p+22;
+// A point of one facet this many grid steps or closer to another facet's
+// edge goes into that edge (add_points_close_to_edges): a few steps are
+// the rounding of points constructed on one line; features of the export
+// (copies of a part a few float32 units apart, about 2^17 steps) are left
+// to the needle collapse, and 2^22 steps here changed chair_model.obj's
+// repair so that it meshed with numerically flat tets.
+constexpr double kHotPixelSteps = 0x1p+10;
 /// Collapsing needles can make new ones beside them (a corner put into an
 /// edge makes the triangle across a cap again where many points lie near
 /// one line); passes beyond this are left to the exact check.
@@ -1042,9 +1050,94 @@ std::vector<VertexId> with_points_on_edges(const std::vector<VertexId>& loop, co
   return grown;
 }
 
+// Points of other facets lying within `delta` of a facet edge and
+// projecting inside it, added to `on_edge` (unsorted). Snap rounding's hot
+// pixels (Hobby 1999): an edge that passes that close to a point is routed
+// through it. Rounded points constructed on one line (the crossings of
+// several facets with one plane) come out up to a grid step off it, and a
+// facet edge along the line then passes a point of the next facet at 1e-13
+// of its length without touching it; segment recovery cannot make such a
+// segment an edge of a Delaunay tetrahedralization with a finite number of
+// splits. Candidates come from a hash grid of the points (cells of about
+// the points' spacing on a surface, at least 4 delta), visited along each
+// edge at half a cell's steps, so each point within delta of the edge is in
+// a cell next to a sample's.
+void add_points_close_to_edges(const Plc& plc, double delta, EdgePoints& on_edge) {
+  const std::vector<uint8_t> used = used_points(plc);
+  Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  size_t n = 0;
+  for (VertexId v = 0; v < plc.points.size(); ++v) {
+    if (!used[v]) continue;
+    const Vec3& p = plc.points[v];
+    lo = Vec3{std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = Vec3{std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    ++n;
+  }
+  if (n < 3) return;
+  const double cell = std::max(norm(hi - lo) / std::sqrt(static_cast<double>(n)), 4 * delta);
+  if (!(cell > 0) || !std::isfinite(cell)) return;
+  auto key_of = [&](int64_t i, int64_t j, int64_t k) {
+    return static_cast<uint64_t>(i) * 0x9E3779B97F4A7C15ull ^ static_cast<uint64_t>(j) * 0xC2B2AE3D27D4EB4Full ^
+           static_cast<uint64_t>(k) * 0x165667B19E3779F9ull;
+  };
+  auto cell_of = [&](const Vec3& p, int64_t c[3]) {
+    c[0] = static_cast<int64_t>(std::floor((p.x - lo.x) / cell));
+    c[1] = static_cast<int64_t>(std::floor((p.y - lo.y) / cell));
+    c[2] = static_cast<int64_t>(std::floor((p.z - lo.z) / cell));
+  };
+  std::unordered_map<uint64_t, std::vector<VertexId>> grid;
+  for (VertexId v = 0; v < plc.points.size(); ++v) {
+    if (!used[v]) continue;
+    int64_t c[3];
+    cell_of(plc.points[v], c);
+    grid[key_of(c[0], c[1], c[2])].push_back(v);
+  }
+  std::vector<Edge> edges;
+  for (const Facet& f : plc.facets)
+    for (const auto& l : f.loops)
+      for (size_t i = 0; i < l.size(); ++i) edges.push_back(edge_key(l[i], l[(i + 1) % l.size()]));
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::vector<uint64_t> seen;
+  for (const Edge& e : edges) {
+    const Vec3 a = plc.points[e.first], ab = plc.points[e.second] - a;
+    const double len2 = dot(ab, ab);
+    if (!(len2 > 0)) continue;
+    const size_t steps = static_cast<size_t>(std::ceil(2 * std::sqrt(len2) / cell));
+    seen.clear();
+    for (size_t s = 0; s <= steps; ++s) {
+      const double t = static_cast<double>(s) / static_cast<double>(steps);
+      int64_t c[3];
+      cell_of(a + t * ab, c);
+      for (int64_t di = -1; di <= 1; ++di)
+        for (int64_t dj = -1; dj <= 1; ++dj)
+          for (int64_t dk = -1; dk <= 1; ++dk) {
+            const uint64_t key = key_of(c[0] + di, c[1] + dj, c[2] + dk);
+            if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
+            seen.push_back(key);
+            const auto it = grid.find(key);
+            if (it == grid.end()) continue;
+            for (VertexId v : it->second) {
+              if (v == e.first || v == e.second) continue;
+              const Vec3 av = plc.points[v] - a;
+              const double along = dot(av, ab);
+              if (!(along > 0 && along < len2)) continue;
+              const Vec3 nrm = cross(ab, av);
+              if (dot(nrm, nrm) > delta * delta * len2) continue;
+              // A point exactly on the edge is a T-junction (split_at_tjunctions).
+              if (pred::collinear3d(xyz(plc, e.first), xyz(plc, e.second), xyz(plc, v))) continue;
+              auto& pts = on_edge[e];
+              if (std::find(pts.begin(), pts.end(), v) == pts.end()) pts.push_back(v);
+            }
+          }
+    }
+  }
+}
+
 // Corners of triangle facets lying within `delta` of the line of their
-// opposite edge and projecting inside it, by edge.
-EdgePoints close_corners(const Plc& plc, double delta) {
+// opposite edge and projecting inside it, and points of other facets within
+// `foreign` of an edge (add_points_close_to_edges), by edge.
+EdgePoints close_corners(const Plc& plc, double delta, double foreign) {
   EdgePoints on_edge;
   for (const Facet& f : plc.facets) {
     if (!is_triangle(f)) continue;
@@ -1060,6 +1153,7 @@ EdgePoints close_corners(const Plc& plc, double delta) {
       if (std::find(pts.begin(), pts.end(), v) == pts.end()) pts.push_back(v);
     }
   }
+  add_points_close_to_edges(plc, foreign, on_edge);
   for (auto& [e, pts] : on_edge) {
     const Vec3 a = plc.points[e.first], ab = plc.points[e.second] - a;
     std::sort(pts.begin(), pts.end(), [&](VertexId x, VertexId y) {
@@ -1108,9 +1202,9 @@ void cut_at_edge_points(Facet t, const std::array<Edge, 3>& own, const EdgePoint
 // Puts the close corners into their edges, in every facet with such an
 // edge (triangles by cut_at_edge_points, polygons in their loops). Returns
 // how many edges took points.
-size_t put_close_corners_on_edges(Work& w, double delta) {
+size_t put_close_corners_on_edges(Work& w, double delta, double foreign) {
   Plc& plc = w.plc;
-  const EdgePoints on_edge = close_corners(plc, delta);
+  const EdgePoints on_edge = close_corners(plc, delta, foreign);
   if (on_edge.empty()) return 0;
   std::vector<Facet> facets;
   std::vector<uint32_t> source;
@@ -1141,14 +1235,15 @@ size_t put_close_corners_on_edges(Work& w, double delta) {
 // a coarser scale than the grid, in floating point: like the rounding it
 // only moves points and joins features, and the result is checked exactly
 // again like any other rounding. True when something changed.
-bool collapse_needles(Work& w, double delta) {
+bool collapse_needles(Work& w, double grid) {
+  const double delta = grid * kNeedleGridSteps;
   RepairReport scratch;
   const size_t merged = merge_short_edges(w.plc, delta);
   if (merged > 0) {
     weld_points(w, scratch);
     clean_polygons(w, scratch);
   }
-  const size_t put = put_close_corners_on_edges(w, delta);
+  const size_t put = put_close_corners_on_edges(w, delta, grid * kHotPixelSteps);
   if (put > 0) clean_polygons(w, scratch);
   return merged + put > 0;
 }
@@ -1167,7 +1262,7 @@ Status tidy_after_rounding(Work& w, double grid) {
   clean_segments(w, true);
   Status st;
   for (int pass = 0; pass < kNeedlePasses; ++pass) {
-    const bool any = collapse_needles(w, grid * kNeedleGridSteps);
+    const bool any = collapse_needles(w, grid);
     split_nonplanar_facets(w, scratch);
     st = split_at_tjunctions(w, scratch);
     // Triangulating facets at T-junctions can make copies of a triangle.
@@ -1299,6 +1394,12 @@ Status resolve_rounds(Work& w, RepairReport& report, std::vector<Intersection>& 
     if (polygons_near(w.plc, involved, polygon)) {
       Status st = triangulate_in_place(w, polygon);
       if (!st.ok()) return st;
+      // A polygon that had taken a T-junction's point can come out as
+      // copies of the triangles beside it (a duplicate of a facet whose
+      // edge the point split): copies go as in step 1.
+      RepairReport again;
+      drop_duplicate_facets(w, again);
+      report.duplicate_facets += again.duplicate_facets;
       find_self_intersections(w.plc, left);
     }
     Crossings c(w, report, grid);

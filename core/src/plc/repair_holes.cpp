@@ -1,6 +1,6 @@
 // Repair step 3b (RepairOptions::fill_holes, after the T-junctions): every boundary loop of an open
-// surface is closed by triangles. A boundary edge is a polygon edge that one
-// facet alone uses; the loops are traced against the facets' orientation, so
+// surface is closed by triangles. A boundary edge is a polygon edge that an
+// odd number of facets uses (boundary_edges); the loops are traced against the facets' orientation, so
 // the patch continues the surface's sides. Each loop is first triangulated
 // with the smallest total area (the dynamic programme of Liepa 2003, "Filling
 // holes in meshes", with area as the weight; no triangle of three collinear
@@ -49,16 +49,32 @@ double area(const Vec3& a, const Vec3& b, const Vec3& c) {
 struct FillEdge {
   VertexId from, to;
   uint32_t facet;
+  bool closing = false;  ///< three or more facets use it: it only closes a loop (trace_loops)
 };
 
 // The boundary edges of the PLC, reversed: one facet uses the edge and no
 // explicit segment is along it (a facet standing on a segment is closed
-// there, as the self-intersection test treats it).
+// there, as the self-intersection test treats it). Also, as `closing`
+// edges, those an odd number of three or more facets uses: where a part
+// touches another along an edge, a hole that runs into that edge is closed
+// by it. Each edge once, in the direction most of its facets do not use
+// (the surfaces that close up there use it both ways), with a facet that
+// uses it the other way.
 std::vector<FillEdge> boundary_edges(const Plc& plc) {
-  std::unordered_map<uint64_t, uint32_t> uses;
+  struct Uses {
+    uint32_t count = 0;
+    int32_t net = 0;  // uses from the lower to the higher id, minus the others
+    bool done = false;
+  };
+  std::unordered_map<uint64_t, Uses> uses;
   for (const Facet& f : plc.facets)
     for (const auto& loop : f.loops)
-      for (size_t i = 0; i < loop.size(); ++i) ++uses[undirected(loop[i], loop[(i + 1) % loop.size()])];
+      for (size_t i = 0; i < loop.size(); ++i) {
+        const VertexId a = loop[i], b = loop[(i + 1) % loop.size()];
+        Uses& u = uses[undirected(a, b)];
+        ++u.count;
+        u.net += a < b ? 1 : -1;
+      }
   std::vector<uint64_t> segments;
   for (const auto& s : plc.segments) segments.push_back(undirected(s[0], s[1]));
   std::sort(segments.begin(), segments.end());
@@ -68,10 +84,11 @@ std::vector<FillEdge> boundary_edges(const Plc& plc) {
       for (size_t i = 0; i < loop.size(); ++i) {
         const VertexId a = loop[i], b = loop[(i + 1) % loop.size()];
         const uint64_t key = undirected(a, b);
-        const auto it = uses.find(key);
-        if (it == uses.end() || it->second != 1) continue;
+        Uses& u = uses[key];
+        if (u.count % 2 == 0 || u.done || (u.net > 0) != (a < b)) continue;
         if (std::binary_search(segments.begin(), segments.end(), key)) continue;
-        out.push_back({b, a, fi});
+        u.done = true;
+        out.push_back({b, a, fi, u.count > 1});
       }
   return out;
 }
@@ -85,8 +102,11 @@ std::vector<std::vector<FillEdge>> trace_loops(const std::vector<FillEdge>& edge
   for (size_t e = 0; e < edges.size(); ++e) out_of[edges[e].from].push_back(e);
   std::vector<char> used(edges.size(), 0);
   std::vector<std::vector<FillEdge>> loops;
+  // First the loops of edges of one facet; then closing edges may finish
+  // the chains left open.
+  for (size_t pass = 0; pass < 2; ++pass)
   for (size_t start = 0; start < edges.size(); ++start) {
-    if (used[start]) continue;
+    if (used[start] || edges[start].closing) continue;
     std::vector<size_t> path{start};
     std::unordered_map<VertexId, size_t> at;  // vertex -> its index in path (as `from`)
     at[edges[start].from] = 0;
@@ -108,11 +128,16 @@ std::vector<std::vector<FillEdge>> trace_loops(const std::vector<FillEdge>& edge
       }
       size_t next = edges.size();
       for (size_t e : out_of[v])
-        if (!used[e]) {
+        if (!used[e] && (pass == 1 || !edges[e].closing)) {
           next = e;
           break;
         }
-      if (next == edges.size()) break;  // open chain: no loop here
+      if (next == edges.size()) {  // open chain: no loop here
+        // Its edges may still close with a closing edge in the second pass.
+        if (pass == 0)
+          for (size_t e : path) used[e] = 0;
+        break;
+      }
       used[next] = 1;
       at[v] = path.size();
       path.push_back(next);
@@ -122,14 +147,21 @@ std::vector<std::vector<FillEdge>> trace_loops(const std::vector<FillEdge>& edge
 }
 
 // Triangles of the loop's vertices with the smallest total area, none of
-// three collinear points; empty when there is no such triangulation.
+// three collinear points and none with an edge across the loop that is an
+// edge of the surface already (`edges`; it would then have three facets or
+// more: two faces of a tetrahedron, whose rim's least-area patch is those
+// two faces again); empty when there is no such triangulation.
 std::vector<std::array<VertexId, 3>> min_area_triangulation(const Plc& plc,
-                                                            const std::vector<VertexId>& v) {
+                                                            const std::vector<VertexId>& v,
+                                                            const std::unordered_set<uint64_t>& edges) {
   const size_t n = v.size();
   const double inf = std::numeric_limits<double>::infinity();
+  auto across = [&](size_t i, size_t j) {  // a diagonal of the loop that exists
+    return j - i >= 2 && !(i == 0 && j == n - 1) && edges.count(undirected(v[i], v[j])) > 0;
+  };
   auto weight = [&](size_t i, size_t k, size_t j) {
     const Vec3 &a = plc.points[v[i]], &b = plc.points[v[k]], &c = plc.points[v[j]];
-    if (pred::collinear3d(&a.x, &b.x, &c.x)) return inf;
+    if (pred::collinear3d(&a.x, &b.x, &c.x) || across(i, k) || across(k, j) || across(i, j)) return inf;
     return area(a, b, c);
   };
   std::vector<double> cost(n * n, 0);
@@ -161,17 +193,20 @@ std::vector<std::array<VertexId, 3>> min_area_triangulation(const Plc& plc,
   return tris;
 }
 
-// Large loops: the ear of least area first, again and again (quadratic).
-std::vector<std::array<VertexId, 3>> ear_triangulation(const Plc& plc, std::vector<VertexId> v) {
+// Large loops: the ear of least area first, again and again (quadratic);
+// as there, no ear whose new edge is an edge of the surface (`edges`).
+std::vector<std::array<VertexId, 3>> ear_triangulation(const Plc& plc, std::vector<VertexId> v,
+                                                       const std::unordered_set<uint64_t>& edges) {
   std::vector<std::array<VertexId, 3>> tris;
   while (v.size() > 3) {
     size_t best = v.size();
     double best_area = std::numeric_limits<double>::infinity();
     for (size_t i = 0; i < v.size(); ++i) {
-      const Vec3& a = plc.points[v[(i + v.size() - 1) % v.size()]];
+      const VertexId pa = v[(i + v.size() - 1) % v.size()], pc = v[(i + 1) % v.size()];
+      const Vec3& a = plc.points[pa];
       const Vec3& b = plc.points[v[i]];
-      const Vec3& c = plc.points[v[(i + 1) % v.size()]];
-      if (pred::collinear3d(&a.x, &b.x, &c.x)) continue;
+      const Vec3& c = plc.points[pc];
+      if (pred::collinear3d(&a.x, &b.x, &c.x) || edges.count(undirected(pa, pc)) > 0) continue;
       const double s = area(a, b, c);
       if (s < best_area) best_area = s, best = i;
     }
@@ -562,10 +597,18 @@ std::vector<Tri> refined_patch(Plc& plc, const std::vector<Tri>& tris, const Rim
 
 }  // namespace
 
-bool has_boundary(const Plc& plc) { return !boundary_edges(plc).empty(); }
+bool has_boundary(const Plc& plc) {
+  for (const FillEdge& e : boundary_edges(plc))
+    if (!e.closing) return true;
+  return false;
+}
 
 void fill_holes(Work& w, RepairReport& report, bool refine) {
   const std::vector<std::vector<FillEdge>> loops = trace_loops(boundary_edges(w.plc));
+  std::unordered_set<uint64_t> edges;  // of the surface, and of the patches as they come
+  for (const Facet& f : w.plc.facets)
+    for (const auto& l : f.loops)
+      for (size_t i = 0; i < l.size(); ++i) edges.insert(undirected(l[i], l[(i + 1) % l.size()]));
   RimScale rim = rim_scale(w.plc, loops);
   // The points were snapped to this grid just before (snap_to_grid); the
   // patch's points lie within the rims' bounding box, so the grid stays.
@@ -576,7 +619,13 @@ void fill_holes(Work& w, RepairReport& report, bool refine) {
     if (v.size() < 3) continue;  // two facets' edges on one line: nothing to fill
     std::vector<Tri> tris = planar_triangulation(w.plc, v);
     if (tris.empty()) {
-      tris = v.size() <= kMaxOptimalLoop ? min_area_triangulation(w.plc, v) : ear_triangulation(w.plc, v);
+      const std::unordered_set<uint64_t> none;
+      const std::unordered_set<uint64_t>* const rules[2] = {&edges, &none};
+      for (const std::unordered_set<uint64_t>* avoid : rules) {  // without the rule when nothing else closes the loop
+        tris = v.size() <= kMaxOptimalLoop ? min_area_triangulation(w.plc, v, *avoid)
+                                           : ear_triangulation(w.plc, v, *avoid);
+        if (!tris.empty()) break;
+      }
       const size_t points = w.plc.points.size();
       if (refine && !tris.empty()) tris = refined_patch(w.plc, tris, rim, grid, v.size());
       report.fill_points += w.plc.points.size() - points;
@@ -592,8 +641,10 @@ void fill_holes(Work& w, RepairReport& report, bool refine) {
     for (const Tri& t : tris) {
       w.plc.facets.push_back(part_of(beside, {t[0], t[1], t[2]}));
       w.source.push_back(w.source[next_to]);
-      for (int k = 0; k < 3; ++k)  // a later loop through these vertices must not repeat the edge
+      for (int k = 0; k < 3; ++k) {  // a later loop through these vertices must not repeat the edge
         rim.taken.insert(undirected(t[k], t[(k + 1) % 3]));
+        edges.insert(undirected(t[k], t[(k + 1) % 3]));
+      }
     }
     w.mark(w.source[next_to]);
     ++report.filled_holes;
