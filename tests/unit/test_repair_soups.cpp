@@ -26,7 +26,7 @@ using namespace cdt3d;
 namespace {
 
 constexpr int kSoups = 200;
-constexpr int kExpectedValid = 7 * 200 - 1;  // boxes and tetrahedra 73: a numerically flat tet
+constexpr int kExpectedValid = 7 * kSoups;
 
 // Our own generator (STYLE.md: the same sequence on every standard library).
 class Lcg {

@@ -186,6 +186,97 @@ Vec3 snapped(Vec3 x, double grid) {
 
 namespace {
 
+// A plane through three points of the PLC.
+using Plane = std::array<const double*, 3>;
+
+bool on_grid(double c, double grid) { return grid == 0 || std::nearbyint(c / grid) * grid == c; }
+
+// Candidates near x for snapped_on_planes: x's grid point with one
+// coordinate solved from plane a (n its normal in doubles), or, with two
+// planes, two coordinates solved from both (the third, along their common
+// line, kept), each solved coordinate ROUNDED to the grid again.
+void plane_candidates(const Vec3& r, const Plane* a, const Plane* b, double grid, std::vector<Vec3>& out) {
+  auto normal = [](const Plane& p) {
+    const Vec3 o{p[0][0], p[0][1], p[0][2]};
+    return cross(Vec3{p[1][0], p[1][1], p[1][2]} - o, Vec3{p[2][0], p[2][1], p[2][2]} - o);
+  };
+  auto at = [](const Vec3& v, int k) { return k == 0 ? v.x : k == 1 ? v.y : v.z; };
+  auto set = [](Vec3& v, int k, double c) { (k == 0 ? v.x : k == 1 ? v.y : v.z) = c; };
+  auto snap = [&](double c) { return grid == 0 ? c : std::nearbyint(c / grid) * grid; };
+  const Vec3 na = normal(*a);
+  const double da = na.x * (*a)[0][0] + na.y * (*a)[0][1] + na.z * (*a)[0][2];
+  if (!b) {
+    for (int k = 0; k < 3; ++k) {
+      if (at(na, k) == 0) continue;
+      Vec3 c = r;
+      set(c, k, 0);
+      set(c, k, snap((da - dot(na, c)) / at(na, k)));
+      out.push_back(c);
+    }
+    return;
+  }
+  const Vec3 nb = normal(*b);
+  const double db = nb.x * (*b)[0][0] + nb.y * (*b)[0][1] + nb.z * (*b)[0][2];
+  for (int m = 0; m < 3; ++m) {  // m kept; i, j solved
+    const int i = (m + 1) % 3, j = (m + 2) % 3;
+    const double det = at(na, i) * at(nb, j) - at(na, j) * at(nb, i);
+    if (det == 0) continue;
+    const double ra = da - at(na, m) * at(r, m), rb = db - at(nb, m) * at(r, m);
+    Vec3 c = r;
+    set(c, i, snap((ra * at(nb, j) - rb * at(na, j)) / det));
+    set(c, j, snap((at(na, i) * rb - at(nb, i) * ra) / det));
+    out.push_back(c);
+  }
+}
+
+// x ROUNDED to the grid so that it stays exactly on as many of `planes` as
+// a grid point near it can (x was constructed on all of them): the nearest
+// grid point, or one with one or two coordinates solved from the planes
+// (plane_candidates), whichever lies exactly (orient3d) on the most planes,
+// the nearer to x on a tie; never more than two grid steps from x on any
+// axis. A crossing point rounded off the plane of the facet it pierces
+// leaves four points of the repaired PLC within rounding of one plane (the
+// facet's own corners and the point), which the CDT can hold only as a
+// numerically flat tet; a point kept on that plane makes them exactly
+// coplanar, and no tet of them exists.
+Vec3 snapped_on_planes(const Vec3& x, double grid, const std::vector<Plane>& planes) {
+  const Vec3 r = snapped(x, grid);
+  if (planes.empty() || grid == 0) return r;
+  std::vector<Vec3> cands{r};
+  for (size_t i = 0; i < planes.size(); ++i) {
+    plane_candidates(r, &planes[i], nullptr, grid, cands);
+    for (size_t j = i + 1; j < planes.size(); ++j) plane_candidates(r, &planes[i], &planes[j], grid, cands);
+  }
+  // Bit i: on planes[i]. A candidate must keep every plane r is on (the
+  // coordinate planes of an axis-aligned facet, which rounding keeps).
+  auto planes_of = [&](const Vec3& c) {
+    uint32_t bits = 0;
+    for (size_t i = 0; i < planes.size() && i < 32; ++i)
+      if (pred::orient3d(planes[i][0], planes[i][1], planes[i][2], &c.x) == 0) bits |= 1u << i;
+    return bits;
+  };
+  const uint32_t base = planes_of(r);
+  Vec3 best = r;
+  int best_on = __builtin_popcount(base);
+  double best_d = dot(r - x, r - x);
+  for (size_t k = 1; k < cands.size(); ++k) {
+    const Vec3& c = cands[k];
+    if (!finite(c) || std::fabs(c.x - x.x) > 2 * grid || std::fabs(c.y - x.y) > 2 * grid ||
+        std::fabs(c.z - x.z) > 2 * grid || !on_grid(c.x, grid) || !on_grid(c.y, grid) || !on_grid(c.z, grid))
+      continue;
+    // A coordinate the construction gave exactly on the grid stays: it
+    // holds the point on a plane of the model that `planes` may not name
+    // (an edge along y = 2 of an open surface has one facet's plane only).
+    if ((x.x == r.x && c.x != r.x) || (x.y == r.y && c.y != r.y) || (x.z == r.z && c.z != r.z)) continue;
+    const uint32_t bits = planes_of(c);
+    if ((bits & base) != base) continue;
+    const int on = __builtin_popcount(bits);
+    const double d = dot(c - x, c - x);
+    if (on > best_on || (on == best_on && d < best_d)) best = c, best_on = on, best_d = d;
+  }
+  return best;
+}
+
 // Where a contact point lies in a triangle: on edge i (0..2), at vertex k
 // (at_vertex(k)), inside, or outside.
 constexpr int kInside = -1;
@@ -588,7 +679,33 @@ class Crossings {
     const std::array<VertexId, 5> key{p, q, u[0], u[1], u[2]};
     const auto it = made_.find(key);
     if (it != made_.end()) return it->second;
-    return made_[key] = new_point(pierce_point(xyz(w_.plc, p), xyz(w_.plc, q), u, w_.plc), p, q);
+    std::vector<Plane> planes{plane_of(u)};
+    add_planes_of_edge(p, q, planes);
+    return made_[key] = new_point(pierce_point(xyz(w_.plc, p), xyz(w_.plc, q), u, w_.plc), p, q, planes);
+  }
+
+  Plane plane_of(const Tri& t) const { return {xyz(w_.plc, t[0]), xyz(w_.plc, t[1]), xyz(w_.plc, t[2])}; }
+
+  // The planes of the triangles that have edge (p, q), at most two.
+  void add_planes_of_edge(VertexId p, VertexId q, std::vector<Plane>& planes) {
+    if (edge_facets_.empty())
+      for (uint32_t f = 0; f < w_.plc.facets.size(); ++f) {
+        if (!is_triangle(w_.plc.facets[f])) continue;
+        const auto& l = w_.plc.facets[f].loops[0];
+        for (int k = 0; k < 3; ++k) edge_facets_[undirected_key(l[k], l[(k + 1) % 3])].push_back(f);
+      }
+    const auto it = edge_facets_.find(undirected_key(p, q));
+    if (it == edge_facets_.end()) return;
+    for (uint32_t f : it->second) {
+      if (planes.size() >= 3) break;
+      const Plane pl = plane_of(tri(f));
+      bool same = false;  // a plane listed already (coplanar triangles)
+      for (const Plane& o : planes)
+        same = same || (pred::orient3d(o[0], o[1], o[2], pl[0]) == 0 &&
+                        pred::orient3d(o[0], o[1], o[2], pl[1]) == 0 &&
+                        pred::orient3d(o[0], o[1], o[2], pl[2]) == 0);
+      if (!same) planes.push_back(pl);
+    }
   }
 
   // The crossing point of edges (p, q) and (a, b), which lie in one plane:
@@ -603,15 +720,18 @@ class Crossings {
     const std::array<VertexId, 5> key{p, q, a, b, kNone};
     const auto it = made_.find(key);
     if (it != made_.end()) return it->second;
+    std::vector<Plane> planes;
+    add_planes_of_edge(p, q, planes);
+    add_planes_of_edge(a, b, planes);
     const VertexId id = new_point(line_crossing(xyz(w_.plc, p), xyz(w_.plc, q), xyz(w_.plc, a),
                                                 xyz(w_.plc, b)),
-                                  p, q);
+                                  p, q, planes);
     add_edge_point(a, b, id);
     return made_[key] = id;
   }
 
-  VertexId new_point(const Vec3& x, VertexId p, VertexId q) {
-    const VertexId id = point_at(snapped(x, grid_));
+  VertexId new_point(const Vec3& x, VertexId p, VertexId q, const std::vector<Plane>& planes) {
+    const VertexId id = point_at(snapped_on_planes(x, grid_, planes));
     add_edge_point(p, q, id);
     return id;
   }
@@ -924,6 +1044,11 @@ class Crossings {
   std::map<uint32_t, Insert> inserts_;
   std::map<std::array<VertexId, 5>, VertexId> made_;
   std::map<std::array<double, 3>, VertexId> at_;  ///< point by coordinates, built on first use
+  /// Triangle facets by edge (add_planes_of_edge), built on first use.
+  std::unordered_map<uint64_t, std::vector<uint32_t>> edge_facets_;
+  static uint64_t undirected_key(VertexId a, VertexId b) {
+    return (uint64_t{std::min(a, b)} << 32) | std::max(a, b);
+  }
   struct Overlap {
     std::vector<VertexId> corners;  ///< sorted
     Tri lower;                      ///< the facet of lower id, which keeps the overlap
