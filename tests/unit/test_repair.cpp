@@ -483,6 +483,62 @@ TEST_CASE("repair --fill-holes: every boundary loop closed, oriented like the su
   CHECK_FALSE(rep.changed());
 }
 
+TEST_CASE("repair --fill-holes: a hole that ends at an edge two parts share is closed there", "[repair]") {
+  // The unit cube without its side triangle 2-7-6 (at y = 1), and the cube
+  // [0,1] x [1,2] x [1,2] sharing its edge 7-6: the hole's rim runs 2-7 and
+  // 6-2 (one facet each) and closes along 7-6, which three facets use.
+  const std::string text =
+      "OFF\n14 23 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+      "0 2 1\n1 2 1\n0 1 2\n1 1 2\n0 2 2\n1 2 2\n"
+      "3 0 2 1\n3 0 3 2\n3 4 5 6\n3 4 6 7\n3 0 1 5\n3 0 5 4\n3 1 2 6\n3 1 6 5\n3 2 3 7\n"
+      "3 3 0 4\n3 3 4 7\n3 7 8 9\n3 7 9 6\n3 10 11 13\n3 10 13 12\n3 7 6 11\n3 7 11 10\n"
+      "3 8 12 13\n3 8 13 9\n3 7 10 12\n3 7 12 8\n3 6 9 13\n3 6 13 11\n";
+  const Plc in = from_text(text, "shared_edge.off");
+  Plc out;
+  const RepairReport rep = fill_one_hole(in, out);
+  CHECK(rep.fill_triangles == 1);
+  require_meshable(out);
+}
+
+TEST_CASE("repair --fill-holes: an open tetrahedron's rim is not closed by its own faces", "[repair]") {
+  // Two faces of a tetrahedron sharing its short edge 0-1: their rim
+  // 0-2-1-3 has the least area closed by the two faces themselves
+  // (reversed), which would leave the surface as open as before; the patch
+  // must use the other diagonal, 2-3.
+  const std::string text = "OFF\n4 2 0\n0 0 0\n2 0 0\n1 6 0\n1 -6 2\n3 0 2 1\n3 0 1 3\n";
+  const Plc in = from_text(text, "open_tet.off");
+  Plc out;
+  RepairReport rep = fill_one_hole(in, out);
+  CHECK(rep.fill_triangles == 2);
+  REQUIRE(out.facets.size() == 4);
+  CHECK(out.points.size() == 4);
+  require_meshable(out);
+}
+
+TEST_CASE("repair: a copy of a triangle that a T-junction split goes", "[repair]") {
+  // The cube (coordinates doubled): its triangle 1-2-6 at x = 2 is split at
+  // the midpoint 8 of its side 1-6, the triangle beside it (1-6-5) is not,
+  // and 1-2-6 is listed again unsplit. After the T-junction step the copy
+  // is a polygon over both halves, and its triangulation repeats them.
+  Plc in = from_text(kCube, "tjunction_copy.off");
+  for (Vec3& p : in.points) p = Vec3{2 * p.x, 2 * p.y, 2 * p.z};
+  in.points.push_back({2, 1, 1});
+  REQUIRE(in.facets[6].loops[0] == std::vector<VertexId>{1, 2, 6});
+  Facet copy = in.facets[6];
+  in.facets[6].loops[0] = {1, 2, 8};
+  Facet half = in.facets[6];
+  half.loops[0] = {8, 2, 6};
+  in.facets.push_back(half);
+  in.facets.push_back(copy);
+  Plc out;
+  RepairReport rep;
+  const Status st = repair(in, out, rep);
+  INFO(st.error.to_string());
+  REQUIRE(st.ok());
+  CHECK(rep.duplicate_facets >= 1);
+  require_meshable(out);
+}
+
 namespace {
 
 // A UV sphere of radius 1 (outward) without a cap whose edge zigzags: in

@@ -1,9 +1,12 @@
 // Random triangle soups on small integer grids, repaired and meshed: the
 // acceptance test of issue 43 ("200 random soups of every kind, 100% repair
-// and mesh into a valid result"). On a grid of a few steps, vertices land on
-// other triangles' edges and planes, edges run through corners and lie in
-// other triangles' planes, and coplanar triangles overlap in every shape:
-// every contact configuration of the arrangement comes up many times.
+// and mesh into a valid result"), 200 of each of seven kinds (make_soup):
+// crossing triangles, crossing closed parts, parts with holes (filled),
+// non-planar quads, and duplicates, zero-area triangles and T-junctions. On
+// a grid of a few steps, vertices land on other triangles' edges and
+// planes, edges run through corners and lie in other triangles' planes, and
+// coplanar triangles overlap in every shape: every contact configuration of
+// the arrangement comes up many times.
 //
 // A soup counts as valid when repair succeeds, the repaired PLC passes
 // check_plc() and the exact self-intersection test, and it meshes into a
