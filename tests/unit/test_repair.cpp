@@ -515,6 +515,37 @@ TEST_CASE("repair --fill-holes: an open tetrahedron's rim is not closed by its o
   require_meshable(out);
 }
 
+TEST_CASE("repair: an isolated point on a facet edge goes into the edge", "[repair]") {
+  // The cube and a point no facet uses, in the middle of edge 1-2 (x = 1,
+  // z = 0): a PLC with a vertex inside a segment is not valid.
+  Plc in = from_text(kCube, "cube_point.off");
+  in.points.push_back({1, 0.5, 0});
+  CHECK(tetrahedralize(in).status.error.code == ErrorCode::InvalidPlc);
+  Plc out;
+  RepairReport rep;
+  REQUIRE(repair(in, out, rep).ok());
+  CHECK(rep.tjunction_vertices >= 1);
+  require_meshable(out);
+}
+
+TEST_CASE("repair --fill-holes: a lone triangle beside a closed part goes", "[repair]") {
+  // The cube and a triangle of its own far from it: its rim is closed only
+  // by its own copy, and it bounds no volume.
+  Plc in = from_text(kCube, "cube_sheet.off");
+  for (const Vec3& p : {Vec3{3, 0, 0}, Vec3{4, 0, 0}, Vec3{3, 1, 1}}) in.points.push_back(p);
+  Facet sheet;
+  sheet.loops.push_back({8, 9, 10});
+  in.facets.push_back(sheet);
+  Plc out;
+  RepairReport rep;
+  RepairOptions options;
+  options.fill_holes = true;
+  REQUIRE(repair(in, out, rep, options).ok());
+  CHECK(rep.outside_facets >= 1);
+  CHECK(out.facets.size() == 12);
+  require_meshable(out);
+}
+
 TEST_CASE("repair: a copy of a triangle that a T-junction split goes", "[repair]") {
   // The cube (coordinates doubled): its triangle 1-2-6 at x = 2 is split at
   // the midpoint 8 of its side 1-6, the triangle beside it (1-6-5) is not,

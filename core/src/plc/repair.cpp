@@ -132,7 +132,7 @@ Status fill_and_resolve(repair_steps::Work& w, RepairReport& report, bool fill, 
     st = repair_steps::snap_to_grid(w);
     if (st.ok()) {
       repair_steps::fill_holes(w, report, refine);
-      st = repair_steps::split_at_tjunctions(w, report);
+      st = repair_steps::split_at_tjunctions(w, report, true);
       tidy_after_tjunctions(w, report);
     }
   }
@@ -178,7 +178,7 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOption
     w.plc.regions.clear();  // the parts name the regions
   }
   repair_steps::split_nonplanar_facets(w, report);
-  st = repair_steps::split_at_tjunctions(w, report);
+  st = repair_steps::split_at_tjunctions(w, report, true);
   tidy_after_tjunctions(w, report);
   // Holes are filled after the T-junctions are split: a crack along a
   // T-junction is no hole (its edges become shared), and a patch over it
@@ -198,9 +198,11 @@ Status repair(const Plc& plc, Plc& out, RepairReport& report, const RepairOption
     st = fill_and_resolve(w, report, fill, false, left);
   }
   // Regions are wanted whether or not parts crossed (nested or disjoint
-  // parts are labelled too).
+  // parts are labelled too). A surface still open after filling holds a
+  // sheet that bounds no volume (a lone triangle, whose rim only its own
+  // copy closes), which goes there with what else bounds none.
   if (st.ok() && left.empty() && options.union_of_parts &&
-      (report.crossing_pairs > 0 || options.parts_as_regions))
+      (report.crossing_pairs > 0 || options.parts_as_regions || (fill && repair_steps::has_boundary(w.plc))))
     st = repair_steps::merge_into_union(w, plc, part_of_input, report, options);
   if (!st.ok()) st = in_input_terms(st, plc, w.source);
 

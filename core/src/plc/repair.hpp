@@ -62,8 +62,11 @@ bool has_boundary(const Plc& plc);
 void split_nonplanar_facets(Work& w, RepairReport& report);
 
 // Step 3 (repair_tjunction.cpp): a vertex lying exactly on another facet's
-// edge or inside it becomes a vertex of that facet.
-Status split_at_tjunctions(Work& w, RepairReport& report);
+// edge or inside it becomes a vertex of that facet. With `isolated`, also a
+// point no facet uses (an isolated point of the input on an edge makes no
+// valid PLC; inside the rounds, unused points are constructed points that
+// go at the end).
+Status split_at_tjunctions(Work& w, RepairReport& report, bool isolated = false);
 /// Replaces every facet flagged in `which` by the triangles of its own
 /// constrained triangulation (triangulate_surface: its vertices and every
 /// PLC point lying in it), one facet each, provenance kept. A facet that

@@ -21,16 +21,17 @@ namespace {
 
 const double* xyz(const Plc& plc, VertexId v) { return &plc.points[v].x; }
 
-// Buckets of the points used by facets or segments, on a uniform grid. The
-// cell of a coordinate is computed in doubles, but monotonically, so a box
-// query covers every point whose coordinates lie in the box.
+// Buckets of the points used by facets or segments (and with `isolated`
+// the others too), on a uniform grid. The cell of a coordinate is computed
+// in doubles, but monotonically, so a box query covers every point whose
+// coordinates lie in the box.
 class PointGrid {
  public:
-  explicit PointGrid(const Plc& plc) {
+  PointGrid(const Plc& plc, bool isolated) {
     const std::vector<uint8_t> used = used_points(plc);
     std::vector<VertexId> pts;
     for (VertexId v = 0; v < used.size(); ++v)
-      if (used[v]) pts.push_back(v);
+      if (used[v] || isolated) pts.push_back(v);
     if (pts.empty()) return;
     for (int k = 0; k < 3; ++k) lo_[k] = hi_[k] = xyz(plc, pts[0])[k];
     for (VertexId v : pts)
@@ -238,9 +239,9 @@ void insert_on_edges(const Plc& plc, Facet& f, std::vector<std::array<size_t, 3>
 
 }  // namespace
 
-Status split_at_tjunctions(Work& w, RepairReport& report) {
+Status split_at_tjunctions(Work& w, RepairReport& report, bool isolated) {
   Plc& plc = w.plc;
-  const PointGrid grid(plc);
+  const PointGrid grid(plc, isolated);
   const SegmentEnds ends = segment_ends(plc);
   std::vector<uint8_t> triangulate(plc.facets.size(), 0);
   size_t to_triangulate = 0;
