@@ -703,6 +703,62 @@ TEST_CASE("a facet standing on an inner edge of a flat face keeps that edge a se
   CHECK(volume(r) == Approx(1));
 }
 
+TEST_CASE("two flat faces that cross along an edge inside both keep that edge a segment",
+          "[pipeline]") {
+  // p = (0,0,0), q = (0,2.5,0). In z = 0 a fan of four triangles around q
+  // with p on its rim; in x = 0 a fan of four triangles around p with q on
+  // its rim. The fans meet exactly along pq, which is inside each merged
+  // fan and on none of their loops: without pq as a segment both fans were
+  // triangulated across it (their Delaunay triangulations do not use it),
+  // the subfaces crossed, and facet recovery recovered each fan by
+  // destroying the other until its attempt limit. An open surface: meshed
+  // with its hull.
+  Plc plc;
+  plc.points = {{0, 0, 0},  {0, 2.5, 0},  {1, 1, 0},   {0, 4, 0}, {-1, 1, 0},
+                {0, 1.5, 1}, {0, -1.5, 0}, {0, 1.5, -1}, {5, 5, 5}};
+  auto tri = [&](VertexId a, VertexId b, VertexId c) {
+    Facet f;
+    f.loops = {{a, b, c}};
+    plc.facets.push_back(f);
+  };
+  tri(0, 2, 1), tri(2, 3, 1), tri(3, 4, 1), tri(4, 0, 1);  // around q in z = 0
+  tri(1, 5, 0), tri(5, 6, 0), tri(6, 7, 0), tri(7, 1, 0);  // around p in x = 0
+  REQUIRE(check_plc(plc).ok());
+  Plc merged;
+  std::vector<uint32_t> into;
+  size_t flat = 0;
+  CHECK(merge_flat_facets(plc, merged, into, &flat) == 2);
+  CHECK(flat == 6);
+  const auto segs = plc_segments(merged);
+  CHECK(std::binary_search(segs.begin(), segs.end(), std::array<VertexId, 2>{0, 1}));
+  Options opt;
+  opt.keep_convex_hull = true;
+  const Result r = run(plc, opt);  // validates
+  CHECK(r.stats.merged_facets == 2);
+  CHECK(validate(plc, r).ok());
+  CHECK(r.stats.flat_tets == 0);
+}
+
+TEST_CASE("a repaired soup with flat faces crossing along an edge meshes", "[pipeline]") {
+  // From repair of a random triangle soup: two flat faces (of 9 and 7
+  // triangles, some vertices rounded) cross along the edge (25, 26), which
+  // is inside both. Facet recovery ended at its attempt limit, each face's
+  // region destroying the other's. An open surface: with the hull kept it
+  // meshes; without, the open boundary is the error, not the limit.
+  Plc plc;
+  REQUIRE(read_plc_file(std::string(CDT3D_TEST_DATA) +
+                            "/regress/pipeline-hull-crossing-flat-faces.poly",
+                        plc)
+              .ok());
+  Options opt;
+  opt.keep_convex_hull = true;
+  const Result r = run(plc, opt);  // validates
+  CHECK(validate(plc, r).ok());
+  CHECK(r.stats.flat_tets == 0);
+  const Result open = tetrahedralize(plc);
+  CHECK(open.status.error.code == ErrorCode::OpenBoundary);
+}
+
 TEST_CASE("two segments that pass within rounding of each other leave no flat tet", "[pipeline]") {
   // Segments in a box, d apart (no contact: a valid PLC), perpendicular
   // (both are edges of the Delaunay tetrahedralization of their ends, and

@@ -441,7 +441,9 @@ Result tetrahedralize(const Plc& plc, const Options& options = {});
 /// coplanar and lie on opposite sides of it. Facets joined by flat edges
 /// become one even-odd facet (Facet::even_odd) whose loops are the cycles
 /// of the group's boundary edges, the first an outer one oriented like the
-/// group's smallest facet; all other facets are copied. merged_into[f] is
+/// group's smallest facet; all other facets are copied. An edge that is
+/// inside two or more merged facets and on none of their loops (flat faces
+/// crossing along it) is appended to out.segments. merged_into[f] is
 /// the facet of `out` holding input facet f (facets of `out` in the order
 /// of their smallest input facet). Returns the number of facets of `out`
 /// made of two or more input facets; `flat_edges` (optional) gets the

@@ -8,7 +8,10 @@
 // the two facets lie on opposite sides of it in their plane. Facets joined by
 // flat edges form one merged facet: a planar region, possibly with holes,
 // pinches and input vertices inside it. Every other edge (one facet, three or
-// more, a fold, different planes, an explicit segment) stays a segment.
+// more, a fold, different planes, an explicit segment) stays a segment: on
+// the loop of a facet that uses it, or, when it lies inside every merged
+// facet that uses it (two flat faces crossing along it), as an explicit
+// segment of the merged PLC.
 //
 // The merged facet is represented without any constructed point: its loops
 // are the cycles of its boundary edges (the edges an odd number of its
@@ -260,14 +263,21 @@ size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged
   // Per group: its boundary edges, directed as its facets' loops run them
   // (the edges used an odd number of times by its facets).
   std::vector<std::vector<std::array<VertexId, 2>>> boundary(nf);
+  std::vector<std::array<VertexId, 2>> crossing_edges;
   for (size_t i = 0; i < uses.size();) {
     size_t j = i;
     while (j < uses.size() && uses[j].lo == uses[i].lo && uses[j].hi == uses[i].hi) ++j;
+    bool on_a_loop = false, several_groups = false;
     for (size_t k = i; k < j; ++k) {
       const uint32_t r = root[uses[k].facet];
-      if (size[r] < 2) continue;
+      several_groups = several_groups || r != root[uses[i].facet];
+      if (size[r] < 2) {
+        on_a_loop = true;  // a facet merged with none keeps its loop
+        continue;
+      }
       size_t same = 0;
       for (size_t m = i; m < j; ++m) same += root[uses[m].facet] == r;
+      on_a_loop = on_a_loop || same % 2 == 1;
       bool first = true;  // the group's first use of this edge stands for it
       for (size_t m = i; m < k; ++m) first = first && root[uses[m].facet] != r;
       if (same % 2 == 1 && first) {
@@ -282,11 +292,22 @@ size_t merge_flat_facets(const Plc& plc, Plc& out, std::vector<uint32_t>& merged
                                               std::array<VertexId, 2>{uses[k].lo, uses[k].hi})))
         ++insides->segments;
     }
+    // An edge inside two or more merged facets and on none of their loops
+    // (two flat faces that cross along it, each with facets on both of its
+    // sides) would be no segment of the merged PLC: each facet would then be
+    // triangulated across it, their subfaces would cross, and facet recovery
+    // would recover one facet's subfaces by destroying the other's forever.
+    // The facets meet along it, so it is a segment: kept as an explicit one.
+    const std::array<VertexId, 2> edge = {uses[i].lo, uses[i].hi};
+    if (!on_a_loop && several_groups &&
+        !std::binary_search(explicit_segs.begin(), explicit_segs.end(), edge))
+      crossing_edges.push_back(edge);
     i = j;
   }
 
   out.points = plc.points;
   out.segments = plc.segments;
+  out.segments.insert(out.segments.end(), crossing_edges.begin(), crossing_edges.end());
   out.holes = plc.holes;
   out.regions = plc.regions;
   out.marker_names = plc.marker_names;
