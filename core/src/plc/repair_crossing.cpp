@@ -1189,11 +1189,13 @@ std::vector<VertexId> with_points_on_edges(const std::vector<VertexId>& loop, co
 // facet edge along the line then passes a point of the next facet at 1e-13
 // of its length without touching it; segment recovery cannot make such a
 // segment an edge of a Delaunay tetrahedralization with a finite number of
-// splits. Candidates come from a hash grid of the points (cells of about
-// the points' spacing on a surface, at least 4 delta), visited along each
-// edge at half a cell's steps, so each point within delta of the edge is in
-// a cell next to a sample's.
-void add_points_close_to_edges(const Plc& plc, double delta, EdgePoints& on_edge) {
+// splits. Only near the facets steps 1-4 changed (`active`): the points
+// of those against every edge, every point against their edges. Candidates
+// come from a grid (cells of about the points' spacing on a surface, at
+// least 4 delta) at samples half a cell apart along each edge: a point
+// within delta of the edge is in a cell next to a sample's.
+void add_points_close_to_edges(const Plc& plc, double delta, const std::vector<uint8_t>& active,
+                               EdgePoints& on_edge) {
   const std::vector<uint8_t> used = used_points(plc);
   Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
   size_t n = 0;
@@ -1207,68 +1209,107 @@ void add_points_close_to_edges(const Plc& plc, double delta, EdgePoints& on_edge
   if (n < 3) return;
   const double cell = std::max(norm(hi - lo) / std::sqrt(static_cast<double>(n)), 4 * delta);
   if (!(cell > 0) || !std::isfinite(cell)) return;
-  auto key_of = [&](int64_t i, int64_t j, int64_t k) {
-    return static_cast<uint64_t>(i) * 0x9E3779B97F4A7C15ull ^ static_cast<uint64_t>(j) * 0xC2B2AE3D27D4EB4Full ^
-           static_cast<uint64_t>(k) * 0x165667B19E3779F9ull;
+  using Cell = std::array<int64_t, 3>;
+  auto key_of = [](const Cell& c) {
+    return static_cast<uint64_t>(c[0]) * 0x9E3779B97F4A7C15ull ^ static_cast<uint64_t>(c[1]) * 0xC2B2AE3D27D4EB4Full ^
+           static_cast<uint64_t>(c[2]) * 0x165667B19E3779F9ull;
   };
-  auto cell_of = [&](const Vec3& p, int64_t c[3]) {
-    c[0] = static_cast<int64_t>(std::floor((p.x - lo.x) / cell));
-    c[1] = static_cast<int64_t>(std::floor((p.y - lo.y) / cell));
-    c[2] = static_cast<int64_t>(std::floor((p.z - lo.z) / cell));
+  auto cell_of = [&](const Vec3& p) {
+    return Cell{static_cast<int64_t>(std::floor((p.x - lo.x) / cell)),
+                static_cast<int64_t>(std::floor((p.y - lo.y) / cell)),
+                static_cast<int64_t>(std::floor((p.z - lo.z) / cell))};
   };
-  std::unordered_map<uint64_t, std::vector<VertexId>> grid;
-  for (VertexId v = 0; v < plc.points.size(); ++v) {
-    if (!used[v]) continue;
-    int64_t c[3];
-    cell_of(plc.points[v], c);
-    grid[key_of(c[0], c[1], c[2])].push_back(v);
-  }
-  std::vector<Edge> edges;
-  for (const Facet& f : plc.facets)
-    for (const auto& l : f.loops)
-      for (size_t i = 0; i < l.size(); ++i) edges.push_back(edge_key(l[i], l[(i + 1) % l.size()]));
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  std::vector<uint64_t> seen;
-  for (const Edge& e : edges) {
+  // The keys of the cells of an edge's samples (half a cell apart), and with
+  // `around` of the 26 cells next to each too.
+  auto edge_keys = [&](const Edge& e, bool around, std::vector<uint64_t>& out) {
+    out.clear();
     const Vec3 a = plc.points[e.first], ab = plc.points[e.second] - a;
-    const double len2 = dot(ab, ab);
-    if (!(len2 > 0)) continue;
-    const size_t steps = static_cast<size_t>(std::ceil(2 * std::sqrt(len2) / cell));
-    seen.clear();
+    const size_t steps = static_cast<size_t>(std::ceil(2 * norm(ab) / cell));
     for (size_t s = 0; s <= steps; ++s) {
-      const double t = static_cast<double>(s) / static_cast<double>(steps);
-      int64_t c[3];
-      cell_of(a + t * ab, c);
+      const Cell c = cell_of(a + (static_cast<double>(s) / static_cast<double>(std::max<size_t>(steps, 1))) * ab);
       for (int64_t di = -1; di <= 1; ++di)
         for (int64_t dj = -1; dj <= 1; ++dj)
-          for (int64_t dk = -1; dk <= 1; ++dk) {
-            const uint64_t key = key_of(c[0] + di, c[1] + dj, c[2] + dk);
-            if (std::find(seen.begin(), seen.end(), key) != seen.end()) continue;
-            seen.push_back(key);
-            const auto it = grid.find(key);
-            if (it == grid.end()) continue;
-            for (VertexId v : it->second) {
-              if (v == e.first || v == e.second) continue;
-              const Vec3 av = plc.points[v] - a;
-              const double along = dot(av, ab);
-              if (!(along > 0 && along < len2)) continue;
-              const Vec3 nrm = cross(ab, av);
-              if (dot(nrm, nrm) > delta * delta * len2) continue;
-              // A point exactly on the edge is a T-junction (split_at_tjunctions).
-              if (pred::collinear3d(xyz(plc, e.first), xyz(plc, e.second), xyz(plc, v))) continue;
-              auto& pts = on_edge[e];
-              if (std::find(pts.begin(), pts.end(), v) == pts.end()) pts.push_back(v);
-            }
-          }
+          for (int64_t dk = -1; dk <= 1; ++dk)
+            if (around || (di == 0 && dj == 0 && dk == 0)) out.push_back(key_of({c[0] + di, c[1] + dj, c[2] + dk}));
     }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  };
+  auto test = [&](const Edge& e, VertexId v) {
+    if (v == e.first || v == e.second) return;
+    const Vec3 a = plc.points[e.first], ab = plc.points[e.second] - a, av = plc.points[v] - a;
+    const double len2 = dot(ab, ab), along = dot(av, ab);
+    if (!(along > 0 && along < len2)) return;
+    const Vec3 nrm = cross(ab, av);
+    if (dot(nrm, nrm) > delta * delta * len2) return;
+    // A point exactly on the edge is a T-junction (split_at_tjunctions).
+    if (pred::collinear3d(xyz(plc, e.first), xyz(plc, e.second), xyz(plc, v))) return;
+    auto& pts = on_edge[e];
+    if (std::find(pts.begin(), pts.end(), v) == pts.end()) pts.push_back(v);
+  };
+  auto lookup = [](const std::vector<std::pair<uint64_t, VertexId>>& grid, uint64_t key, auto&& visit) {
+    for (auto it = std::lower_bound(grid.begin(), grid.end(), std::make_pair(key, VertexId{0}));
+         it != grid.end() && it->first == key; ++it)
+      visit(it->second);
+  };
+  // The edges of every facet, and the edges and points of the active ones
+  // (those that steps 1-4 changed: rounding moved points only there).
+  std::vector<Edge> edges, active_edges;
+  std::vector<uint8_t> active_point(plc.points.size(), 0);
+  for (size_t f = 0; f < plc.facets.size(); ++f)
+    for (const auto& l : plc.facets[f].loops)
+      for (size_t i = 0; i < l.size(); ++i) {
+        const Edge e = edge_key(l[i], l[(i + 1) % l.size()]);
+        edges.push_back(e);
+        if (f < active.size() && active[f]) active_edges.push_back(e), active_point[l[i]] = 1;
+      }
+  for (auto* list : {&edges, &active_edges}) {
+    std::sort(list->begin(), list->end());
+    list->erase(std::unique(list->begin(), list->end()), list->end());
+  }
+  std::vector<uint64_t> keys;
+  // Active points near any edge: each listed under its cell and the 26
+  // around it, looked up at every edge's sample cells.
+  std::vector<std::pair<uint64_t, VertexId>> grid;
+  for (VertexId v = 0; v < plc.points.size(); ++v) {
+    if (!active_point[v]) continue;
+    const Cell c = cell_of(plc.points[v]);
+    for (int64_t di = -1; di <= 1; ++di)
+      for (int64_t dj = -1; dj <= 1; ++dj)
+        for (int64_t dk = -1; dk <= 1; ++dk) grid.push_back({key_of({c[0] + di, c[1] + dj, c[2] + dk}), v});
+  }
+  std::sort(grid.begin(), grid.end());
+  if (!grid.empty())
+    for (const Edge& e : edges) {
+      edge_keys(e, false, keys);
+      for (uint64_t k : keys) lookup(grid, k, [&](VertexId v) { test(e, v); });
+    }
+  // Any point near an active edge: the points in cells next to an active
+  // edge's samples, each under its own cell, looked up around the samples.
+  std::vector<uint64_t> near;
+  for (const Edge& e : active_edges) {
+    edge_keys(e, true, keys);
+    near.insert(near.end(), keys.begin(), keys.end());
+  }
+  std::sort(near.begin(), near.end());
+  near.erase(std::unique(near.begin(), near.end()), near.end());
+  grid.clear();
+  for (VertexId v = 0; v < plc.points.size() && !near.empty(); ++v) {
+    if (!used[v]) continue;
+    const uint64_t k = key_of(cell_of(plc.points[v]));
+    if (std::binary_search(near.begin(), near.end(), k)) grid.push_back({k, v});
+  }
+  std::sort(grid.begin(), grid.end());
+  for (const Edge& e : active_edges) {
+    edge_keys(e, true, keys);
+    for (uint64_t k : keys) lookup(grid, k, [&](VertexId v) { test(e, v); });
   }
 }
 
 // Corners of triangle facets lying within `delta` of the line of their
 // opposite edge and projecting inside it, and points of other facets within
 // `foreign` of an edge (add_points_close_to_edges), by edge.
-EdgePoints close_corners(const Plc& plc, double delta, double foreign) {
+EdgePoints close_corners(const Plc& plc, double delta, double foreign, const std::vector<uint8_t>& active) {
   EdgePoints on_edge;
   for (const Facet& f : plc.facets) {
     if (!is_triangle(f)) continue;
@@ -1284,7 +1325,7 @@ EdgePoints close_corners(const Plc& plc, double delta, double foreign) {
       if (std::find(pts.begin(), pts.end(), v) == pts.end()) pts.push_back(v);
     }
   }
-  add_points_close_to_edges(plc, foreign, on_edge);
+  add_points_close_to_edges(plc, foreign, active, on_edge);
   for (auto& [e, pts] : on_edge) {
     const Vec3 a = plc.points[e.first], ab = plc.points[e.second] - a;
     std::sort(pts.begin(), pts.end(), [&](VertexId x, VertexId y) {
@@ -1335,7 +1376,9 @@ void cut_at_edge_points(Facet t, const std::array<Edge, 3>& own, const EdgePoint
 // how many edges took points.
 size_t put_close_corners_on_edges(Work& w, double delta, double foreign) {
   Plc& plc = w.plc;
-  const EdgePoints on_edge = close_corners(plc, delta, foreign);
+  std::vector<uint8_t> active(plc.facets.size(), 0);
+  for (size_t f = 0; f < plc.facets.size(); ++f) active[f] = w.changed[w.source[f]];
+  const EdgePoints on_edge = close_corners(plc, delta, foreign, active);
   if (on_edge.empty()) return 0;
   std::vector<Facet> facets;
   std::vector<uint32_t> source;
