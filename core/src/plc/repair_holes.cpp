@@ -104,43 +104,44 @@ std::vector<std::vector<FillEdge>> trace_loops(const std::vector<FillEdge>& edge
   std::vector<std::vector<FillEdge>> loops;
   // First the loops of edges of one facet; then closing edges may finish
   // the chains left open.
-  for (size_t pass = 0; pass < 2; ++pass)
-  for (size_t start = 0; start < edges.size(); ++start) {
-    if (used[start] || edges[start].closing) continue;
-    std::vector<size_t> path{start};
-    std::unordered_map<VertexId, size_t> at;  // vertex -> its index in path (as `from`)
-    at[edges[start].from] = 0;
-    used[start] = 1;
-    while (!path.empty()) {
-      const VertexId v = edges[path.back()].to;
-      if (auto it = at.find(v); it != at.end()) {
-        // A cycle from path[first] to the end.
-        const size_t first = it->second;
-        std::vector<FillEdge> loop;
-        for (size_t k = first; k < path.size(); ++k) {
-          loop.push_back(edges[path[k]]);
-          at.erase(edges[path[k]].from);
+  for (size_t pass = 0; pass < 2; ++pass) {
+    for (size_t start = 0; start < edges.size(); ++start) {
+      if (used[start] || edges[start].closing) continue;
+      std::vector<size_t> path{start};
+      std::unordered_map<VertexId, size_t> at;  // vertex -> its index in path (as `from`)
+      at[edges[start].from] = 0;
+      used[start] = 1;
+      while (!path.empty()) {
+        const VertexId v = edges[path.back()].to;
+        if (auto it = at.find(v); it != at.end()) {
+          // A cycle from path[first] to the end.
+          const size_t first = it->second;
+          std::vector<FillEdge> loop;
+          for (size_t k = first; k < path.size(); ++k) {
+            loop.push_back(edges[path[k]]);
+            at.erase(edges[path[k]].from);
+          }
+          path.resize(first);
+          loops.push_back(std::move(loop));
+          if (path.empty()) break;
+          continue;
         }
-        path.resize(first);
-        loops.push_back(std::move(loop));
-        if (path.empty()) break;
-        continue;
-      }
-      size_t next = edges.size();
-      for (size_t e : out_of[v])
-        if (!used[e] && (pass == 1 || !edges[e].closing)) {
-          next = e;
+        size_t next = edges.size();
+        for (size_t e : out_of[v])
+          if (!used[e] && (pass == 1 || !edges[e].closing)) {
+            next = e;
+            break;
+          }
+        if (next == edges.size()) {  // open chain: no loop here
+          // Its edges may still close with a closing edge in the second pass.
+          if (pass == 0)
+            for (size_t e : path) used[e] = 0;
           break;
         }
-      if (next == edges.size()) {  // open chain: no loop here
-        // Its edges may still close with a closing edge in the second pass.
-        if (pass == 0)
-          for (size_t e : path) used[e] = 0;
-        break;
+        used[next] = 1;
+        at[v] = path.size();
+        path.push_back(next);
       }
-      used[next] = 1;
-      at[v] = path.size();
-      path.push_back(next);
     }
   }
   return loops;
