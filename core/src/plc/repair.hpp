@@ -4,6 +4,8 @@
 
 #include <cdt3d/cdt3d.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -29,6 +31,68 @@ struct Work {
 
 /// Per point of `plc`: 1 when a facet loop or an explicit segment uses it.
 std::vector<uint8_t> used_points(const Plc& plc);
+
+// Buckets of the points used by facets or segments (and with `isolated`
+// the others too), on a uniform grid. The cell of a coordinate is computed
+// in doubles, but monotonically, so a box query covers every point whose
+// coordinates lie in the box (repair_tjunction.cpp, and the hot pixels of
+// repair_crossing.cpp).
+class PointGrid {
+ public:
+  PointGrid(const Plc& plc, bool isolated) {
+    const std::vector<uint8_t> used = used_points(plc);
+    std::vector<VertexId> pts;
+    for (VertexId v = 0; v < used.size(); ++v)
+      if (used[v] || isolated) pts.push_back(v);
+    if (pts.empty()) return;
+    for (int k = 0; k < 3; ++k) lo_[k] = hi_[k] = (&plc.points[pts[0]].x)[k];
+    for (VertexId v : pts)
+      for (int k = 0; k < 3; ++k) {
+        lo_[k] = std::min(lo_[k], (&plc.points[v].x)[k]);
+        hi_[k] = std::max(hi_[k], (&plc.points[v].x)[k]);
+      }
+    n_ = std::max(1, std::min(256, static_cast<int>(std::cbrt(static_cast<double>(pts.size())))));
+    for (int k = 0; k < 3; ++k) scale_[k] = hi_[k] > lo_[k] ? n_ / (hi_[k] - lo_[k]) : 0;
+    start_.assign(static_cast<size_t>(n_) * n_ * n_ + 1, 0);
+    for (VertexId v : pts) ++start_[cell_of(&plc.points[v].x) + 1];
+    for (size_t i = 1; i < start_.size(); ++i) start_[i] += start_[i - 1];
+    items_.resize(pts.size());
+    std::vector<uint32_t> fill(start_.begin(), start_.end() - 1);
+    for (VertexId v : pts) items_[fill[cell_of(&plc.points[v].x)]++] = v;
+  }
+
+  /// Calls visit(v) for every used point whose cell meets the box [lo, hi].
+  template <class F>
+  void query(const double* lo, const double* hi, F&& visit) const {
+    if (items_.empty()) return;
+    int a[3], b[3];
+    for (int k = 0; k < 3; ++k) {
+      a[k] = index(lo[k], k);
+      b[k] = index(hi[k], k);
+    }
+    for (int x = a[0]; x <= b[0]; ++x)
+      for (int y = a[1]; y <= b[1]; ++y)
+        for (int z = a[2]; z <= b[2]; ++z) {
+          const size_t c = (static_cast<size_t>(x) * n_ + y) * n_ + z;
+          for (uint32_t i = start_[c]; i < start_[c + 1]; ++i) visit(items_[i]);
+        }
+  }
+
+ private:
+  int index(double x, int k) const {
+    const double t = (x - lo_[k]) * scale_[k];
+    if (!(t > 0)) return 0;
+    return std::min(n_ - 1, static_cast<int>(t));
+  }
+  size_t cell_of(const double* p) const {
+    return (static_cast<size_t>(index(p[0], 0)) * n_ + index(p[1], 1)) * n_ + index(p[2], 2);
+  }
+
+  double lo_[3] = {0, 0, 0}, hi_[3] = {0, 0, 0}, scale_[3] = {0, 0, 0};
+  int n_ = 1;
+  std::vector<uint32_t> start_;
+  std::vector<VertexId> items_;
+};
 
 /// A facet made from part of `from`: one loop, the same marker and source
 /// line or record, no facet holes (a part is a plain polygon).

@@ -41,7 +41,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <unordered_map>
 #include <numeric>
 #include <cstdio>
 #include <cstdlib>
@@ -189,13 +188,14 @@ namespace {
 // A plane through three points of the PLC.
 using Plane = std::array<const double*, 3>;
 
+using Edge = std::pair<VertexId, VertexId>;
+Edge edge_key(VertexId a, VertexId b) { return {std::min(a, b), std::max(a, b)}; }
+
 // How far (grid steps on each axis) snapped_on_planes may move a point to
 // keep it on its planes: plain rounding moves it half a step. In 7,000
 // random soups (1,000 of each kind of the soup test) 1 step left 7 failing,
 // 2 steps 8 (and one repair that no longer converged), half a step 9.
 constexpr double kPlaneSnapSteps = 1;
-
-bool on_grid(double c, double grid) { return grid == 0 || std::nearbyint(c / grid) * grid == c; }
 
 // Candidates near x for snapped_on_planes: x's grid point with one
 // coordinate solved from plane a (n its normal in doubles), or, with two
@@ -208,7 +208,7 @@ void plane_candidates(const Vec3& r, const Plane* a, const Plane* b, double grid
   };
   auto at = [](const Vec3& v, int k) { return k == 0 ? v.x : k == 1 ? v.y : v.z; };
   auto set = [](Vec3& v, int k, double c) { (k == 0 ? v.x : k == 1 ? v.y : v.z) = c; };
-  auto snap = [&](double c) { return grid == 0 ? c : std::nearbyint(c / grid) * grid; };
+  auto snap = [&](double c) { return std::nearbyint(c / grid) * grid; };
   const Vec3 na = normal(*a);
   const double da = na.x * (*a)[0][0] + na.y * (*a)[0][1] + na.z * (*a)[0][2];
   if (!b) {
@@ -257,7 +257,7 @@ Vec3 snapped_on_planes(const Vec3& x, double grid, const std::vector<Plane>& pla
   // coordinate planes of an axis-aligned facet, which rounding keeps).
   auto planes_of = [&](const Vec3& c) {
     uint32_t bits = 0;
-    for (size_t i = 0; i < planes.size() && i < 32; ++i)
+    for (size_t i = 0; i < planes.size(); ++i)
       if (pred::orient3d(planes[i][0], planes[i][1], planes[i][2], &c.x) == 0) bits |= 1u << i;
     return bits;
   };
@@ -268,7 +268,7 @@ Vec3 snapped_on_planes(const Vec3& x, double grid, const std::vector<Plane>& pla
   for (size_t k = 1; k < cands.size(); ++k) {
     const Vec3& c = cands[k];
     if (!finite(c) || std::fabs(c.x - x.x) > kPlaneSnapSteps * grid || std::fabs(c.y - x.y) > kPlaneSnapSteps * grid ||
-        std::fabs(c.z - x.z) > kPlaneSnapSteps * grid || !on_grid(c.x, grid) || !on_grid(c.y, grid) || !on_grid(c.z, grid))
+        std::fabs(c.z - x.z) > kPlaneSnapSteps * grid)
       continue;
     // A coordinate the construction gave exactly on the grid stays: it
     // holds the point on a plane of the model that `planes` may not name
@@ -698,9 +698,9 @@ class Crossings {
       for (uint32_t f = 0; f < w_.plc.facets.size(); ++f) {
         if (!is_triangle(w_.plc.facets[f])) continue;
         const auto& l = w_.plc.facets[f].loops[0];
-        for (int k = 0; k < 3; ++k) edge_facets_[undirected_key(l[k], l[(k + 1) % 3])].push_back(f);
+        for (int k = 0; k < 3; ++k) edge_facets_[edge_key(l[k], l[(k + 1) % 3])].push_back(f);
       }
-    const auto it = edge_facets_.find(undirected_key(p, q));
+    const auto it = edge_facets_.find(edge_key(p, q));
     if (it == edge_facets_.end()) return;
     for (uint32_t f : it->second) {
       if (planes.size() >= 3) break;
@@ -1051,10 +1051,7 @@ class Crossings {
   std::map<std::array<VertexId, 5>, VertexId> made_;
   std::map<std::array<double, 3>, VertexId> at_;  ///< point by coordinates, built on first use
   /// Triangle facets by edge (add_planes_of_edge), built on first use.
-  std::unordered_map<uint64_t, std::vector<uint32_t>> edge_facets_;
-  static uint64_t undirected_key(VertexId a, VertexId b) {
-    return (uint64_t{std::min(a, b)} << 32) | std::max(a, b);
-  }
+  std::map<Edge, std::vector<uint32_t>> edge_facets_;
   struct Overlap {
     std::vector<VertexId> corners;  ///< sorted
     Tri lower;                      ///< the facet of lower id, which keeps the overlap
@@ -1162,8 +1159,6 @@ size_t merge_short_edges(Plc& plc, double delta) {
   return merged;
 }
 
-using Edge = std::pair<VertexId, VertexId>;
-Edge edge_key(VertexId a, VertexId b) { return {std::min(a, b), std::max(a, b)}; }
 /// Points to put into edges, by edge_key, in order from its lower id.
 using EdgePoints = std::map<Edge, std::vector<VertexId>>;
 
@@ -1189,120 +1184,46 @@ std::vector<VertexId> with_points_on_edges(const std::vector<VertexId>& loop, co
 // facet edge along the line then passes a point of the next facet at 1e-13
 // of its length without touching it; segment recovery cannot make such a
 // segment an edge of a Delaunay tetrahedralization with a finite number of
-// splits. Only near the facets steps 1-4 changed (`active`): the points
-// of those against every edge, every point against their edges. Candidates
-// come from a grid (cells of about the points' spacing on a surface, at
-// least 4 delta) at samples half a cell apart along each edge: a point
-// within delta of the edge is in a cell next to a sample's.
+// splits. Only near the facets steps 1-4 changed (`active`): their points
+// against every edge, every point against their edges; candidates from the
+// points' grid in each edge's box.
 void add_points_close_to_edges(const Plc& plc, double delta, const std::vector<uint8_t>& active,
                                EdgePoints& on_edge) {
-  const std::vector<uint8_t> used = used_points(plc);
-  Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  size_t n = 0;
-  for (VertexId v = 0; v < plc.points.size(); ++v) {
-    if (!used[v]) continue;
-    const Vec3& p = plc.points[v];
-    lo = Vec3{std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-    hi = Vec3{std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-    ++n;
-  }
-  if (n < 3) return;
-  const double cell = std::max(norm(hi - lo) / std::sqrt(static_cast<double>(n)), 4 * delta);
-  if (!(cell > 0) || !std::isfinite(cell)) return;
-  using Cell = std::array<int64_t, 3>;
-  auto key_of = [](const Cell& c) {
-    return static_cast<uint64_t>(c[0]) * 0x9E3779B97F4A7C15ull ^ static_cast<uint64_t>(c[1]) * 0xC2B2AE3D27D4EB4Full ^
-           static_cast<uint64_t>(c[2]) * 0x165667B19E3779F9ull;
-  };
-  auto cell_of = [&](const Vec3& p) {
-    return Cell{static_cast<int64_t>(std::floor((p.x - lo.x) / cell)),
-                static_cast<int64_t>(std::floor((p.y - lo.y) / cell)),
-                static_cast<int64_t>(std::floor((p.z - lo.z) / cell))};
-  };
-  // The keys of the cells of an edge's samples (half a cell apart), and with
-  // `around` of the 26 cells next to each too.
-  auto edge_keys = [&](const Edge& e, bool around, std::vector<uint64_t>& out) {
-    out.clear();
-    const Vec3 a = plc.points[e.first], ab = plc.points[e.second] - a;
-    const size_t steps = static_cast<size_t>(std::ceil(2 * norm(ab) / cell));
-    for (size_t s = 0; s <= steps; ++s) {
-      const Cell c = cell_of(a + (static_cast<double>(s) / static_cast<double>(std::max<size_t>(steps, 1))) * ab);
-      for (int64_t di = -1; di <= 1; ++di)
-        for (int64_t dj = -1; dj <= 1; ++dj)
-          for (int64_t dk = -1; dk <= 1; ++dk)
-            if (around || (di == 0 && dj == 0 && dk == 0)) out.push_back(key_of({c[0] + di, c[1] + dj, c[2] + dk}));
-    }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-  };
-  auto test = [&](const Edge& e, VertexId v) {
-    if (v == e.first || v == e.second) return;
-    const Vec3 a = plc.points[e.first], ab = plc.points[e.second] - a, av = plc.points[v] - a;
-    const double len2 = dot(ab, ab), along = dot(av, ab);
-    if (!(along > 0 && along < len2)) return;
-    const Vec3 nrm = cross(ab, av);
-    if (dot(nrm, nrm) > delta * delta * len2) return;
-    // A point exactly on the edge is a T-junction (split_at_tjunctions).
-    if (pred::collinear3d(xyz(plc, e.first), xyz(plc, e.second), xyz(plc, v))) return;
-    auto& pts = on_edge[e];
-    if (std::find(pts.begin(), pts.end(), v) == pts.end()) pts.push_back(v);
-  };
-  auto lookup = [](const std::vector<std::pair<uint64_t, VertexId>>& grid, uint64_t key, auto&& visit) {
-    for (auto it = std::lower_bound(grid.begin(), grid.end(), std::make_pair(key, VertexId{0}));
-         it != grid.end() && it->first == key; ++it)
-      visit(it->second);
-  };
-  // The edges of every facet, and the edges and points of the active ones
-  // (those that steps 1-4 changed: rounding moved points only there).
-  std::vector<Edge> edges, active_edges;
+  // Each edge once, active when a facet steps 1-4 changed has it; the
+  // points of those facets.
+  std::vector<std::pair<Edge, bool>> edges;
   std::vector<uint8_t> active_point(plc.points.size(), 0);
   for (size_t f = 0; f < plc.facets.size(); ++f)
     for (const auto& l : plc.facets[f].loops)
       for (size_t i = 0; i < l.size(); ++i) {
-        const Edge e = edge_key(l[i], l[(i + 1) % l.size()]);
-        edges.push_back(e);
-        if (f < active.size() && active[f]) active_edges.push_back(e), active_point[l[i]] = 1;
+        const bool on = f < active.size() && active[f];
+        edges.push_back({edge_key(l[i], l[(i + 1) % l.size()]), on});
+        if (on) active_point[l[i]] = 1;
       }
-  for (auto* list : {&edges, &active_edges}) {
-    std::sort(list->begin(), list->end());
-    list->erase(std::unique(list->begin(), list->end()), list->end());
-  }
-  std::vector<uint64_t> keys;
-  // Active points near any edge: each listed under its cell and the 26
-  // around it, looked up at every edge's sample cells.
-  std::vector<std::pair<uint64_t, VertexId>> grid;
-  for (VertexId v = 0; v < plc.points.size(); ++v) {
-    if (!active_point[v]) continue;
-    const Cell c = cell_of(plc.points[v]);
-    for (int64_t di = -1; di <= 1; ++di)
-      for (int64_t dj = -1; dj <= 1; ++dj)
-        for (int64_t dk = -1; dk <= 1; ++dk) grid.push_back({key_of({c[0] + di, c[1] + dj, c[2] + dk}), v});
-  }
-  std::sort(grid.begin(), grid.end());
-  if (!grid.empty())
-    for (const Edge& e : edges) {
-      edge_keys(e, false, keys);
-      for (uint64_t k : keys) lookup(grid, k, [&](VertexId v) { test(e, v); });
-    }
-  // Any point near an active edge: the points in cells next to an active
-  // edge's samples, each under its own cell, looked up around the samples.
-  std::vector<uint64_t> near;
-  for (const Edge& e : active_edges) {
-    edge_keys(e, true, keys);
-    near.insert(near.end(), keys.begin(), keys.end());
-  }
-  std::sort(near.begin(), near.end());
-  near.erase(std::unique(near.begin(), near.end()), near.end());
-  grid.clear();
-  for (VertexId v = 0; v < plc.points.size() && !near.empty(); ++v) {
-    if (!used[v]) continue;
-    const uint64_t k = key_of(cell_of(plc.points[v]));
-    if (std::binary_search(near.begin(), near.end(), k)) grid.push_back({k, v});
-  }
-  std::sort(grid.begin(), grid.end());
-  for (const Edge& e : active_edges) {
-    edge_keys(e, true, keys);
-    for (uint64_t k : keys) lookup(grid, k, [&](VertexId v) { test(e, v); });
+  std::sort(edges.begin(), edges.end());  // an active copy of an edge sorts last
+  const PointGrid grid(plc, false);
+  for (size_t k = 0; k < edges.size(); ++k) {
+    // Plain names: a lambda may not capture a structured binding in C++17.
+    const Edge& e = edges[k].first;
+    const bool on = edges[k].second;
+    if (k + 1 < edges.size() && edges[k + 1].first == e) continue;
+    const double *pa = xyz(plc, e.first), *pb = xyz(plc, e.second);
+    double lo[3], hi[3];
+    for (int c = 0; c < 3; ++c) lo[c] = std::min(pa[c], pb[c]) - delta, hi[c] = std::max(pa[c], pb[c]) + delta;
+    const Vec3 a = plc.points[e.first], ab = plc.points[e.second] - a;
+    const double len2 = dot(ab, ab);
+    grid.query(lo, hi, [&](VertexId v) {
+      if (v == e.first || v == e.second || !(on || active_point[v])) return;
+      const Vec3 av = plc.points[v] - a;
+      const double along = dot(av, ab);
+      if (!(along > 0 && along < len2)) return;
+      const Vec3 nrm = cross(ab, av);
+      if (dot(nrm, nrm) > delta * delta * len2) return;
+      // A point exactly on the edge is a T-junction (split_at_tjunctions).
+      if (pred::collinear3d(pa, pb, xyz(plc, v))) return;
+      auto& pts = on_edge[e];
+      if (std::find(pts.begin(), pts.end(), v) == pts.end()) pts.push_back(v);
+    });
   }
 }
 

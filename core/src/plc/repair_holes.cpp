@@ -148,10 +148,10 @@ std::vector<std::vector<FillEdge>> trace_loops(const std::vector<FillEdge>& edge
 }
 
 // Triangles of the loop's vertices with the smallest total area, none of
-// three collinear points and none with an edge across the loop that is an
-// edge of the surface already (`edges`; it would then have three facets or
-// more: two faces of a tetrahedron, whose rim's least-area patch is those
-// two faces again); empty when there is no such triangulation.
+// three collinear points and none with an edge across the loop that is in
+// `edges` (an edge of the surface would then have three facets or more:
+// two faces of a tetrahedron, whose rim's least-area patch is those two
+// faces again); empty when there is no such triangulation.
 std::vector<std::array<VertexId, 3>> min_area_triangulation(const Plc& plc,
                                                             const std::vector<VertexId>& v,
                                                             const std::unordered_set<uint64_t>& edges) {
@@ -195,7 +195,7 @@ std::vector<std::array<VertexId, 3>> min_area_triangulation(const Plc& plc,
 }
 
 // Large loops: the ear of least area first, again and again (quadratic);
-// as there, no ear whose new edge is an edge of the surface (`edges`).
+// as there, no ear whose new edge is in `edges`.
 std::vector<std::array<VertexId, 3>> ear_triangulation(const Plc& plc, std::vector<VertexId> v,
                                                        const std::unordered_set<uint64_t>& edges) {
   std::vector<std::array<VertexId, 3>> tris;
@@ -219,6 +219,13 @@ std::vector<std::array<VertexId, 3>> ear_triangulation(const Plc& plc, std::vect
   if (pred::collinear3d(&a.x, &b.x, &c.x)) return {};
   tris.push_back({v[0], v[1], v[2]});
   return tris;
+}
+
+// The least-area patch of loop v, by the dynamic programme or, for large
+// loops, by ears; no edge across the loop that is in `edges`.
+std::vector<std::array<VertexId, 3>> least_area_patch(const Plc& plc, const std::vector<VertexId>& v,
+                                                      const std::unordered_set<uint64_t>& edges) {
+  return v.size() <= kMaxOptimalLoop ? min_area_triangulation(plc, v, edges) : ear_triangulation(plc, v, edges);
 }
 
 // A loop whose vertices are exactly coplanar: its constrained triangulation
@@ -287,8 +294,8 @@ uint64_t directed(VertexId a, VertexId b) { return (uint64_t{a} << 32) | b; }
 // The scale of the surface around the holes, measured before any patch is
 // added: per rim vertex sigma, the mean length of the surface's edges at it
 // (Liepa's sigma); and the undirected edges between two rim vertices that
-// are taken already (by the surface, later also by a patch), which a swap
-// must not make again; per rim vertex its neighbours in the surface (the
+// are taken already (by the surface, later also by a patch), which a patch
+// across a loop or a swap must not make again; per rim vertex its neighbours in the surface (the
 // fixed ring the thin-plate fairing leans on).
 struct RimScale {
   std::unordered_map<VertexId, double> sigma;
@@ -606,10 +613,6 @@ bool has_boundary(const Plc& plc) {
 
 void fill_holes(Work& w, RepairReport& report, bool refine) {
   const std::vector<std::vector<FillEdge>> loops = trace_loops(boundary_edges(w.plc));
-  std::unordered_set<uint64_t> edges;  // of the surface, and of the patches as they come
-  for (const Facet& f : w.plc.facets)
-    for (const auto& l : f.loops)
-      for (size_t i = 0; i < l.size(); ++i) edges.insert(undirected(l[i], l[(i + 1) % l.size()]));
   RimScale rim = rim_scale(w.plc, loops);
   // The points were snapped to this grid just before (snap_to_grid); the
   // patch's points lie within the rims' bounding box, so the grid stays.
@@ -620,13 +623,10 @@ void fill_holes(Work& w, RepairReport& report, bool refine) {
     if (v.size() < 3) continue;  // two facets' edges on one line: nothing to fill
     std::vector<Tri> tris = planar_triangulation(w.plc, v);
     if (tris.empty()) {
-      const std::unordered_set<uint64_t> none;
-      const std::unordered_set<uint64_t>* const rules[2] = {&edges, &none};
-      for (const std::unordered_set<uint64_t>* avoid : rules) {  // without the rule when nothing else closes the loop
-        tris = v.size() <= kMaxOptimalLoop ? min_area_triangulation(w.plc, v, *avoid)
-                                           : ear_triangulation(w.plc, v, *avoid);
-        if (!tris.empty()) break;
-      }
+      // No edge across the loop that the surface or an earlier patch has
+      // (rim.taken), unless nothing else closes it.
+      tris = least_area_patch(w.plc, v, rim.taken);
+      if (tris.empty()) tris = least_area_patch(w.plc, v, {});
       const size_t points = w.plc.points.size();
       if (refine && !tris.empty()) tris = refined_patch(w.plc, tris, rim, grid, v.size());
       report.fill_points += w.plc.points.size() - points;
@@ -642,10 +642,8 @@ void fill_holes(Work& w, RepairReport& report, bool refine) {
     for (const Tri& t : tris) {
       w.plc.facets.push_back(part_of(beside, {t[0], t[1], t[2]}));
       w.source.push_back(w.source[next_to]);
-      for (int k = 0; k < 3; ++k) {  // a later loop through these vertices must not repeat the edge
+      for (int k = 0; k < 3; ++k)  // a later loop through these vertices must not repeat the edge
         rim.taken.insert(undirected(t[k], t[(k + 1) % 3]));
-        edges.insert(undirected(t[k], t[(k + 1) % 3]));
-      }
     }
     w.mark(w.source[next_to]);
     ++report.filled_holes;
