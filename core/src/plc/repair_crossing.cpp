@@ -202,26 +202,21 @@ constexpr double kPlaneSnapSteps = 1;
 // planes, two coordinates solved from both (the third, along their common
 // line, kept), each solved coordinate ROUNDED to the grid again.
 void plane_candidates(const Vec3& r, const Plane* a, const Plane* b, double grid, std::vector<Vec3>& out) {
-  auto normal = [](const Plane& p) {
-    const Vec3 o{p[0][0], p[0][1], p[0][2]};
-    return cross(Vec3{p[1][0], p[1][1], p[1][2]} - o, Vec3{p[2][0], p[2][1], p[2][2]} - o);
-  };
-  auto at = [](const Vec3& v, int k) { return k == 0 ? v.x : k == 1 ? v.y : v.z; };
-  auto set = [](Vec3& v, int k, double c) { (k == 0 ? v.x : k == 1 ? v.y : v.z) = c; };
+  auto at = [](const Vec3& v, int k) { return (&v.x)[k]; };
   auto snap = [&](double c) { return std::nearbyint(c / grid) * grid; };
-  const Vec3 na = normal(*a);
+  const Vec3 na = triangle_normal((*a)[0], (*a)[1], (*a)[2]);
   const double da = na.x * (*a)[0][0] + na.y * (*a)[0][1] + na.z * (*a)[0][2];
   if (!b) {
     for (int k = 0; k < 3; ++k) {
       if (at(na, k) == 0) continue;
       Vec3 c = r;
-      set(c, k, 0);
-      set(c, k, snap((da - dot(na, c)) / at(na, k)));
+      (&c.x)[k] = 0;
+      (&c.x)[k] = snap((da - dot(na, c)) / at(na, k));
       out.push_back(c);
     }
     return;
   }
-  const Vec3 nb = normal(*b);
+  const Vec3 nb = triangle_normal((*b)[0], (*b)[1], (*b)[2]);
   const double db = nb.x * (*b)[0][0] + nb.y * (*b)[0][1] + nb.z * (*b)[0][2];
   for (int m = 0; m < 3; ++m) {  // m kept; i, j solved
     const int i = (m + 1) % 3, j = (m + 2) % 3;
@@ -229,8 +224,8 @@ void plane_candidates(const Vec3& r, const Plane* a, const Plane* b, double grid
     if (det == 0) continue;
     const double ra = da - at(na, m) * at(r, m), rb = db - at(nb, m) * at(r, m);
     Vec3 c = r;
-    set(c, i, snap((ra * at(nb, j) - rb * at(na, j)) / det));
-    set(c, j, snap((at(na, i) * rb - at(nb, i) * ra) / det));
+    (&c.x)[i] = snap((ra * at(nb, j) - rb * at(na, j)) / det);
+    (&c.x)[j] = snap((at(na, i) * rb - at(nb, i) * ra) / det);
     out.push_back(c);
   }
 }
