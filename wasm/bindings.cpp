@@ -357,7 +357,8 @@ val stats_js(const cdt3d::Statistics& s) {
   n("largestCavity", s.largest_cavity), n("fallbacks", s.fallbacks);
   n("facetSplits", s.facet_splits), n("refineSegment", s.refine_segment);
   n("refineFacet", s.refine_facet), n("refineVolume", s.refine_volume);
-  n("refineSkipped", s.refine_skipped), n("refineCapped", s.refine_capped);
+  n("refineSkipped", s.refine_skipped), n("refineSmallAngle", s.refine_small_angle);
+  n("refineCapped", s.refine_capped);
   n("improveFlips", s.improve_flips), n("improveSmooths", s.improve_smooths);
   n("improvePoints", s.improve_points);
   n("msRead", s.ms_read), n("msDelaunay", s.ms_delaunay), n("msSegments", s.ms_segments);

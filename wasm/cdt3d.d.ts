@@ -391,6 +391,12 @@ export interface MeshStatistics {
    * `radiusEdgeHistogram` counts what is left after the pass.
    */
   refineSkipped: number;
+  /**
+   * Of `refineSkipped`, the tets left on purpose at a facet corner of 10 to 60 degrees:
+   * their shortest edge joins the corner's two sides at about the same distance from it,
+   * so a point that fixes one makes a shorter edge across the corner.
+   */
+  refineSmallAngle: number;
   /** 1 when quality.maxPoints stopped the refinement, else 0. */
   refineCapped: number;
   /** Improvement pass (quality.minDihedral): flips made. */

@@ -117,7 +117,7 @@ function table(file, s, validated, refined, stats) {
   ];
   if (refined) {
     lines.push(
-      `  Quality refinement:        ${s.refineSegment + s.refineFacet + s.refineVolume} points (segments ${s.refineSegment}, facets ${s.refineFacet}, volume ${s.refineVolume}); ${s.refineSkipped} bad tets left where no split point fits${s.refineCapped ? '; stopped at the point limit (--max-points)' : ''}`,
+      `  Quality refinement:        ${s.refineSegment + s.refineFacet + s.refineVolume} points (segments ${s.refineSegment}, facets ${s.refineFacet}, volume ${s.refineVolume}); ${s.refineSkipped} bad tets left where no split point fits (${s.refineSmallAngle} at small input angles)${s.refineCapped ? '; stopped at the point limit (--max-points)' : ''}`,
       `  Sliver improvement:        ${s.improveFlips} flips, ${s.improveSmooths} vertex moves, ${s.improvePoints} points added`,
     );
   }

@@ -625,7 +625,7 @@ function showStats(result, refined) {
 // What quality refinement did: points added, what it left, and the quality
 // histograms of the core before and after it.
 function showRefinement(s) {
-  for (const key of ['refineSegment', 'refineFacet', 'refineVolume', 'refineSkipped']) setStat(key, s[key]);
+  for (const key of ['refineSegment', 'refineFacet', 'refineVolume', 'refineSkipped', 'refineSmallAngle']) setStat(key, s[key]);
   setStat(
     'improve',
     `${s.improveFlips}/${s.improveSmooths}/${s.improvePoints}`,

@@ -211,9 +211,9 @@ void print_table(const std::string& input, const Result& r, Phase stop, Degenera
                 s.facet_splits);
   if (refined) {
     std::printf("  Quality refinement:        %zu points (segments %zu, facets %zu, volume %zu); "
-                "%zu bad tets left where no split point fits%s\n",
+                "%zu bad tets left where no split point fits (%zu at small input angles)%s\n",
                 s.refine_segment + s.refine_facet + s.refine_volume, s.refine_segment,
-                s.refine_facet, s.refine_volume, s.refine_skipped,
+                s.refine_facet, s.refine_volume, s.refine_skipped, s.refine_small_angle,
                 s.refine_capped ? "; stopped at the point limit (--max-points)" : "");
     std::printf("  Sliver improvement:        %zu flips, %zu vertex moves, %zu points added\n",
                 s.improve_flips, s.improve_smooths, s.improve_points);

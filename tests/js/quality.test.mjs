@@ -22,7 +22,7 @@ const CUBE = 'cube_ascii.stl'; // the unit cube, 12 triangles
 const BUNNY = 'bunny.off';
 const input = (file) => ({ bytes: readFileSync(path.join(dataDir, file)), fileName: file });
 
-const NEW_COUNTS = ['refineSegment', 'refineFacet', 'refineVolume', 'refineSkipped', 'refineCapped', 'improveFlips', 'improveSmooths', 'improvePoints'];
+const NEW_COUNTS = ['refineSegment', 'refineFacet', 'refineVolume', 'refineSkipped', 'refineSmallAngle', 'refineCapped', 'improveFlips', 'improveSmooths', 'improvePoints'];
 const HISTOGRAMS = ['radiusEdgeHistogram', 'dihedralHistogram', 'radiusEdgeHistogramBefore', 'dihedralHistogramBefore'];
 const sum = (a) => a.reduce((x, y) => x + y, 0);
 // Points added by refinement and by the improvement pass (on by default).

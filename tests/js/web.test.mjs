@@ -559,7 +559,7 @@ test('quality: the controls reach the worker, the panel shows the histograms bef
     assert.deepEqual(await compare('#re-compare'), { before: expected.radiusEdgeHistogramBefore, after: expected.radiusEdgeHistogram, pairs: 10 });
     assert.deepEqual(await compare('#dihedral-compare'), { before: expected.dihedralHistogramBefore, after: expected.dihedralHistogram, pairs: 10 });
     const en = new Intl.NumberFormat('en-US');
-    for (const k of ['refineSegment', 'refineFacet', 'refineVolume', 'refineSkipped']) {
+    for (const k of ['refineSegment', 'refineFacet', 'refineVolume', 'refineSkipped', 'refineSmallAngle']) {
       assert.equal(await page.textContent(`#stat-${k}`), en.format(expected[k]), k);
     }
     assert.equal(await page.textContent('#stat-minDihedralBefore'), `${expected.minDihedralBefore.toFixed(2)}°`);

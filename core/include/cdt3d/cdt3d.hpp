@@ -373,6 +373,11 @@ struct Statistics {
   /// angles and thin features (a thin plate, thin facets side by side); the
   /// final radius_edge_histogram counts what is left after the pass.
   size_t refine_skipped = 0;
+  /// Of refine_skipped, the tets left on purpose at a facet corner of 10 to
+  /// 60 degrees: their shortest edge joins the corner's two sides at about
+  /// the same distance from it (Shewchuk's seditious edges), so a point that
+  /// fixes one makes a shorter edge across the corner.
+  size_t refine_small_angle = 0;
   size_t refine_capped = 0;   ///< 1 when QualityOptions::max_points stopped refinement
   /// Improvement pass (min_dihedral): flips (edge removals and 2-3 flips),
   /// vertex moves, and vertices added inside the volume (counted in

@@ -59,6 +59,7 @@ inline constexpr StatisticsField kStatisticsFields[] = {
     {"refineFacet", &Statistics::refine_facet, nullptr, nullptr},
     {"refineVolume", &Statistics::refine_volume, nullptr, nullptr},
     {"refineSkipped", &Statistics::refine_skipped, nullptr, nullptr},
+    {"refineSmallAngle", &Statistics::refine_small_angle, nullptr, nullptr},
     {"refineCapped", &Statistics::refine_capped, nullptr, nullptr},
     {"improveFlips", &Statistics::improve_flips, nullptr, nullptr},
     {"improveSmooths", &Statistics::improve_smooths, nullptr, nullptr},

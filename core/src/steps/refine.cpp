@@ -1797,12 +1797,13 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
   }
   take_in_ = false;
   // Bad tets left.
-  size_t left = 0;
+  size_t left = 0, at_corners = 0;
   for (TetId t = 0; t < m_.num_tet_slots(); ++t) {
     TetShape shape;
-    if (!m_.is_dead(t) && is_bad(t, shape)) ++left;
+    if (!m_.is_dead(t) && is_bad(t, shape)) ++left, at_corners += has_seditious_edge(t);
   }
   res_.stats.refine_skipped = left;
+  res_.stats.refine_small_angle = at_corners;
   // Unconditional splits may leave faces that are not locally Delaunay where
   // flips got stuck: one more round over the whole mesh, and the result is
   // not called Delaunay if any is left (checked after the improvement pass,
