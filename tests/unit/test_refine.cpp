@@ -144,7 +144,6 @@ TEST_CASE("refinement: tets at small facet corners are left, not refined towards
   REQUIRE(r.status.ok());
   CHECK(r.stats.flat_tets == 0);
   CHECK(r.stats.refine_small_angle > 0);
-  CHECK(r.stats.refine_small_angle <= r.stats.refine_skipped);
   CHECK(r.stats.tets < 60000);
 }
 

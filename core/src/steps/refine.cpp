@@ -136,7 +136,7 @@ constexpr double kWedgeAngle = 10;
 // between the two segments closer to the corner, and makes a shorter edge
 // across it there, and so on down to the floors. Such a tet is left. On the
 // decimated scans these cascades made most of the mesh: dragon_decimated
-// 182,509 tets without the rule, 107,228 with it; plate_holes (corners of
+// 182,509 tets without the rule, 111,571 with it; plate_holes (corners of
 // 10.5 degrees in its countersinks) 105,671 and 42,725 (tests/bench/
 // README.md). Corners below kWedgeAngle are refined as before: there the
 // bench excuses the tets at the corner anyway, and leaving the seditious
@@ -176,6 +176,7 @@ struct TetShape {
   double center[3];
   double radius;    // circumradius
   double shortest;  // shortest edge
+  int ends[2];      // its ends, as indices 0-3 of the tet's vertices
   double volume;
 };
 
@@ -190,10 +191,11 @@ TetShape tet_shape(const double* p0, const double* p1, const double* p2, const d
   // One square root: it is monotonic and correctly rounded, so the root of
   // the smallest square is the smallest root (every tet popped is tested).
   double shortest2 = HUGE_VAL;
+  s.ends[0] = 0, s.ends[1] = 1;
   for (int i = 0; i < 4; ++i)
     for (int j = i + 1; j < 4; ++j) {
       const Vec3 d = to_vec(p[i]) - to_vec(p[j]);
-      shortest2 = std::min(shortest2, dot(d, d));
+      if (dot(d, d) < shortest2) shortest2 = dot(d, d), s.ends[0] = i, s.ends[1] = j;
     }
   s.shortest = std::sqrt(shortest2);
   return s;
@@ -415,7 +417,7 @@ class Refiner {
   bool split_subface(const Subface& s, double lmin, int depth = 0);
   void init_wedges();
   void init_small_corners();
-  bool has_seditious_edge(TetId t) const;
+  bool has_seditious_edge(TetId t, const TetShape& shape) const;
   bool in_thin_wedge(uint32_t tag, const Vec3& c, double r) const;
   bool fix_bad_tet(TetId t, const TetShape& shape);
 
@@ -559,12 +561,8 @@ class Refiner {
   std::vector<WedgePair> wedges_;
   std::unordered_map<uint32_t, std::vector<uint32_t>> wedges_of_;
   // Facet corners of an angle in [kWedgeAngle, kSeditiousAngle) degrees,
-  // by corner_key(apex, one neighbour, the other).
+  // by the pair of segments (indices in segments_) that are their sides.
   std::unordered_set<uint64_t> small_corners_;
-  uint64_t corner_key(uint64_t apex, uint64_t a, uint64_t b) const {
-    const uint64_t n = plc_.points.size();
-    return (apex * n + std::min(a, b)) * n + std::max(a, b);
-  }
   void init_scales();
 };
 
@@ -1516,6 +1514,8 @@ bool Refiner::split_subsegment(VertexId a, VertexId b, double lmin, int depth) {
 void Refiner::init_small_corners() {
   const double cos_low = std::cos(kWedgeAngle * 3.14159265358979323846 / 180);
   const double cos_high = std::cos(kSeditiousAngle * 3.14159265358979323846 / 180);
+  std::unordered_map<uint64_t, uint32_t> segment_of;  // edge_key of its ends -> segment
+  for (uint32_t k = 0; k < segments_.size(); ++k) segment_of[edge_key(segments_[k][0], segments_[k][1])] = k;
   for (const Facet& f : plc_.facets)
     for (const auto& loop : f.loops)
       for (size_t i = 0; i < loop.size(); ++i) {
@@ -1523,38 +1523,30 @@ void Refiner::init_small_corners() {
                        b = loop[(i + 1) % loop.size()];
         const Vec3 u = plc_.points[a] - plc_.points[apex], w = plc_.points[b] - plc_.points[apex];
         const double c = dot(u, w), len = norm(u) * norm(w);
-        if (a != b && c > cos_high * len && c <= cos_low * len)
-          small_corners_.insert(corner_key(apex, a, b));
+        if (a == b || !(c > cos_high * len && c <= cos_low * len)) continue;
+        const auto sa = segment_of.find(edge_key(apex, a)), sb = segment_of.find(edge_key(apex, b));
+        if (sa != segment_of.end() && sb != segment_of.end())
+          small_corners_.insert(edge_key(sa->second, sb->second));
       }
 }
 
 // Whether t's shortest edge is seditious (kSeditiousAngle): its ends are
 // split points of two segments that are the sides of a small facet corner,
 // at about the same distance from its apex.
-bool Refiner::has_seditious_edge(TetId t) const {
+bool Refiner::has_seditious_edge(TetId t, const TetShape& shape) const {
   if (small_corners_.empty()) return false;
   const VertexId* v = m_.tet_vertices(t);
-  int bi = 0, bj = 1;
-  double best = HUGE_VAL;
-  for (int i = 0; i < 4; ++i)
-    for (int j = i + 1; j < 4; ++j) {
-      const double d = dist(to_vec(pt(v[i])), to_vec(pt(v[j])));
-      if (d < best) best = d, bi = i, bj = j;
-    }
-  const VertexId u = v[bi], w = v[bj];
+  const VertexId u = v[shape.ends[0]], w = v[shape.ends[1]];
   if (where_[u] != Where::Segment || where_[w] != Where::Segment) return false;
   const int64_t su = cm_.parent[u], sw = cm_.parent[w];
-  if (su == sw || su < 0 || sw < 0) return false;
+  if (su == sw || su < 0 || sw < 0 ||
+      !small_corners_.count(edge_key(static_cast<uint32_t>(su), static_cast<uint32_t>(sw))))
+    return false;
   const std::array<VertexId, 2>& a = segments_[su];
   const std::array<VertexId, 2>& b = segments_[sw];
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2; ++j) {
-      if (a[i] != b[j] || !small_corners_.count(corner_key(a[i], a[1 - i], b[1 - j]))) continue;
-      const Vec3 apex = to_vec(pt(a[i]));
-      const double du = dist(to_vec(pt(u)), apex), dw = dist(to_vec(pt(w)), apex);
-      return std::fabs(du - dw) <= kSeditiousSpread * std::max(du, dw);
-    }
-  return false;
+  const VertexId apex = a[0] == b[0] || a[0] == b[1] ? a[0] : a[1];
+  const double du = dist(to_vec(pt(u)), to_vec(pt(apex))), dw = dist(to_vec(pt(w)), to_vec(pt(apex)));
+  return std::fabs(du - dw) <= kSeditiousSpread * std::max(du, dw);
 }
 
 void Refiner::init_wedges() {
@@ -1777,7 +1769,7 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
       if (m_.is_dead(t) || (m_.tflag[t] & kTetUser)) continue;
       TetShape shape;
       if (!is_bad(t, shape)) continue;
-      if (has_seditious_edge(t)) {
+      if (has_seditious_edge(t, shape)) {
         m_.tflag[t] |= kTetUser;  // left as it is
         continue;
       }
@@ -1800,7 +1792,7 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
   size_t left = 0, at_corners = 0;
   for (TetId t = 0; t < m_.num_tet_slots(); ++t) {
     TetShape shape;
-    if (!m_.is_dead(t) && is_bad(t, shape)) ++left, at_corners += has_seditious_edge(t);
+    if (!m_.is_dead(t) && is_bad(t, shape)) ++left, at_corners += has_seditious_edge(t, shape);
   }
   res_.stats.refine_skipped = left;
   res_.stats.refine_small_angle = at_corners;
