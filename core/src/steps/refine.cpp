@@ -138,12 +138,17 @@ constexpr double kWedgeAngle = 10;
 // decimated scans these cascades made most of the mesh: dragon_decimated
 // 182,509 tets without the rule, 111,571 with it; plate_holes (corners of
 // 10.5 degrees in its countersinks) 105,671 and 42,725 (tests/bench/
-// README.md). Corners below kWedgeAngle are refined as before: there the
-// bench excuses the tets at the corner anyway, and leaving the seditious
-// ones too left chazelle_n3 (corners of 6-9 degrees) with 3.3% of its tets
-// above ratio 2 against TetGen's 1.6%.
+// README.md). Corners of kTinyCorner to kWedgeAngle degrees are refined as
+// before: there the bench excuses the tets at the corner anyway, and
+// leaving the seditious ones too left chazelle_n3 (corners of 6-9 degrees)
+// with 3.3% of its tets above ratio 2 against TetGen's 1.6%. Below
+// kTinyCorner the rule holds again: refining across a corner that thin
+// makes slivers all along its sides (dragon_decimated, 122 corners below
+// 10 degrees, one of 1.2: smallest dihedral angle 0.0011 degrees without,
+// 1.8 with; 111,571 tets and 74,123).
 constexpr double kSeditiousAngle = 60;
 constexpr double kSeditiousSpread = 0.3;
+constexpr double kTinyCorner = 5;
 
 // Facets of more vertices than this are not looked at for wedges
 // (small_dihedral_pairs).
@@ -560,8 +565,9 @@ class Refiner {
   // of those it bounds (empty for most).
   std::vector<WedgePair> wedges_;
   std::unordered_map<uint32_t, std::vector<uint32_t>> wedges_of_;
-  // Facet corners of an angle in [kWedgeAngle, kSeditiousAngle) degrees,
-  // by the pair of segments (indices in segments_) that are their sides.
+  // Facet corners of an angle below kTinyCorner or in [kWedgeAngle,
+  // kSeditiousAngle) degrees, by the pair of segments (indices in
+  // segments_) that are their sides.
   std::unordered_set<uint64_t> small_corners_;
   void init_scales();
 };
@@ -1514,6 +1520,7 @@ bool Refiner::split_subsegment(VertexId a, VertexId b, double lmin, int depth) {
 void Refiner::init_small_corners() {
   const double cos_low = std::cos(kWedgeAngle * 3.14159265358979323846 / 180);
   const double cos_high = std::cos(kSeditiousAngle * 3.14159265358979323846 / 180);
+  const double cos_tiny = std::cos(kTinyCorner * 3.14159265358979323846 / 180);
   std::unordered_map<uint64_t, uint32_t> segment_of;  // edge_key of its ends -> segment
   for (uint32_t k = 0; k < segments_.size(); ++k) segment_of[edge_key(segments_[k][0], segments_[k][1])] = k;
   for (const Facet& f : plc_.facets)
@@ -1523,7 +1530,7 @@ void Refiner::init_small_corners() {
                        b = loop[(i + 1) % loop.size()];
         const Vec3 u = plc_.points[a] - plc_.points[apex], w = plc_.points[b] - plc_.points[apex];
         const double c = dot(u, w), len = norm(u) * norm(w);
-        if (a == b || !(c > cos_high * len && c <= cos_low * len)) continue;
+        if (a == b || !(c > cos_high * len && (c <= cos_low * len || c > cos_tiny * len))) continue;
         const auto sa = segment_of.find(edge_key(apex, a)), sb = segment_of.find(edge_key(apex, b));
         if (sa != segment_of.end() && sb != segment_of.end())
           small_corners_.insert(edge_key(sa->second, sb->second));
