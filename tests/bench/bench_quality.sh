@@ -18,7 +18,9 @@
 #   tetgen -pq1.414Q M.poly                       timed (wall, user CPU, peak RSS); writes M.1.*
 #   mesh_quality M.1.node M.1.ele MODEL           tets, radius-edge > 2, min dihedral, flat tets,
 #                                                 and which of them touch an input angle below 10
-#                                                 degrees (excused, issue 42)
+#                                                 degrees (excused, issue 42); of the tets below 10
+#                                                 degrees not excused, those inside such an angle
+#                                                 (reported only)
 #   cdt3d mesh MODEL --quality 1.414 --min-dihedral 15 --json -o C  timed; writes C.node/.ele/... like tetgen does,
 #                                                 so both timed runs include writing the mesh
 #   mesh_quality C.node C.ele MODEL               the same numbers for cdt3d's mesh
@@ -149,14 +151,15 @@ deg() { awk -v d="$1" 'BEGIN{ if (d !~ /^[0-9.]+([eE][-+]?[0-9]+)?$/) print "-";
 # measure NODE ELE MODEL -> Q_TETS Q_BAD Q_SHARE Q_MIND (degrees, as printed) Q_FLAT Q_MAXR
 # Q_POINTS, and (issue 42) Q_BADX (bad tets excused by an input angle below 10 degrees),
 # Q_KSHARE (share of bad tets not excused), Q_BELOW / Q_BELOWX (tets with a dihedral angle
-# below 10 degrees / of them excused), Q_MINK (min dihedral of tets not excused);
+# below 10 degrees / of them excused), Q_MINK (min dihedral of tets not excused), Q_BELOWS
+# (tets below 10 degrees not excused with a vertex in a small input angle's triangle);
 # "-" on failure, with mesh_quality's message in Q_MSG
 measure() {
   local out
   Q_TETS=- Q_BAD=- Q_SHARE=- Q_MIND=- Q_FLAT=- Q_MAXR=- Q_POINTS=- Q_MSG=""
-  Q_BADX=- Q_KSHARE=- Q_BELOW=- Q_BELOWX=- Q_MINK=-
+  Q_BADX=- Q_KSHARE=- Q_BELOW=- Q_BELOWX=- Q_MINK=- Q_BELOWS=-
   if out=$("$MQ" "$1" "$2" "$3" 2>&1); then
-    read -r Q_TETS Q_BAD Q_MIND Q_FLAT Q_MAXR Q_BADX Q_BELOW Q_BELOWX Q_MINK <<<"$out"
+    read -r Q_TETS Q_BAD Q_MIND Q_FLAT Q_MAXR Q_BADX Q_BELOW Q_BELOWX Q_MINK Q_BELOWS <<<"$out"
     Q_SHARE=$(pct "$Q_BAD" "$Q_TETS")
     Q_KSHARE=$(pct "$((Q_BAD - Q_BADX))" "$Q_TETS")
     Q_POINTS=$(grep -v -E '^[[:space:]]*(#|$)' "$1" | head -n 1 | awk '{ print $1 }')
@@ -185,14 +188,14 @@ for line in "${MODELS[@]}"; do
   printf '\rbench_quality: %d/%d %-30s tetgen   ' "$i" "$total" "$name" >&2
   t_wall=- t_user=- t_rss=-
   tq=(- - - - - - - -)  # tets share min-dihedral flat max-ratio points bad min-dihedral-unrounded
-  tx=(- - - - -)        # bad-excused share-not-excused below-10 below-10-excused min-dihedral-not-excused
+  tx=(- - - - - -)      # bad-excused share-not-excused below-10 below-10-excused min-dihedral-not-excused below-10-in-sector
   if "$CONV" "$path" "$dir/$stem.poly" 2>"$dir/conv.err"; then
     run "$dir" tetgen "$TG_FLAGS" "$stem.poly"
     if [ "$R_RC" -eq 0 ] && ! grep -qiE 'error|assert|terminate' <<<"$R_OUT$R_ERR" && [ -f "$dir/$stem.1.ele" ]; then
       t_wall=$R_WALL t_user=$R_USER t_rss=$R_RSS
       measure "$dir/$stem.1.node" "$dir/$stem.1.ele" "$path"
       tq=("$Q_TETS" "$Q_SHARE" "$(deg "$Q_MIND")" "$Q_FLAT" "$Q_MAXR" "$Q_POINTS" "$Q_BAD" "$Q_MIND")
-      tx=("$Q_BADX" "$Q_KSHARE" "$Q_BELOW" "$Q_BELOWX" "$Q_MINK")
+      tx=("$Q_BADX" "$Q_KSHARE" "$Q_BELOW" "$Q_BELOWX" "$Q_MINK" "$Q_BELOWS")
       [ -n "$Q_MSG" ] && NOTES+=("$name: mesh_quality on tetgen's mesh: $Q_MSG")
     else
       tg_failed "$R_RC" "$R_OUT" "$R_ERR"
@@ -215,7 +218,7 @@ for line in "${MODELS[@]}"; do
     c_wall=$R_WALL c_user=$R_USER c_rss=$R_RSS c_json=$R_OUT
     measure "$dir/cdt3d.node" "$dir/cdt3d.ele" "$path"
     cq=("$Q_TETS" "$Q_SHARE" "$(deg "$Q_MIND")" "$Q_FLAT" "$Q_MAXR" "$Q_POINTS" "$Q_BAD" "$Q_MIND")
-    cx=("$Q_BADX" "$Q_KSHARE" "$Q_BELOW" "$Q_BELOWX" "$Q_MINK")
+    cx=("$Q_BADX" "$Q_KSHARE" "$Q_BELOW" "$Q_BELOWX" "$Q_MINK" "$Q_BELOWS")
     [ -n "$Q_MSG" ] && NOTES+=("$name: mesh_quality on cdt3d's mesh: $Q_MSG")
     printf '\rbench_quality: %d/%d %-30s validate ' "$i" "$total" "$name" >&2
     run "$dir" "$BIN" mesh "$path" --quality "$QUALITY" --min-dihedral "$MIN_DIHEDRAL" --json --validate
@@ -258,10 +261,10 @@ for line in "${MODELS[@]}"; do
   # Issue 17's targets; the share compared as counts over tets (no rounding).
   s_ok=$(awk -v bt="${tq[6]}" -v nt="${tq[0]}" -v bc="${cq[6]}" -v nc="${cq[0]}" 'BEGIN{ n = "^[0-9]+$";
     if (bt !~ n || nt !~ n || bc !~ n || nc !~ n || nt == 0 || nc == 0) print "-"; else print (bc / nc <= bt / nt ? "yes" : "NO") }')
-  T3+=("| $name | ${tx[1]} / ${cx[1]} | $(deg "${tx[4]}") / $(deg "${cx[4]}") | ${tq[6]} / ${cq[6]} | ${tx[0]} / ${cx[0]} | ${cx[2]} | ${cx[3]} | $(awk -v a="${cx[2]}" -v b="${cx[3]}" 'BEGIN{ n = "^[0-9]+$"; print (a ~ n && b ~ n) ? a - b : "-" }') |")
+  T3+=("| $name | ${tx[1]} / ${cx[1]} | $(deg "${tx[4]}") / $(deg "${cx[4]}") | ${tq[6]} / ${cq[6]} | ${tx[0]} / ${cx[0]} | ${cx[2]} | ${cx[3]} | $(awk -v a="${cx[2]}" -v b="${cx[3]}" 'BEGIN{ n = "^[0-9]+$"; print (a ~ n && b ~ n) ? a - b : "-" }') | ${cx[5]} | $(awk -v a="${tx[2]}" -v b="${tx[3]}" 'BEGIN{ n = "^[0-9]+$"; print (a ~ n && b ~ n) ? a - b : "-" }') / ${tx[5]} |")
   k_ok=$(awk -v bt="${tq[6]}" -v xt="${tx[0]}" -v nt="${tq[0]}" -v bc="${cq[6]}" -v xc="${cx[0]}" -v nc="${cq[0]}" 'BEGIN{ n = "^[0-9]+$";
     if (bt !~ n || xt !~ n || nt !~ n || bc !~ n || xc !~ n || nc !~ n || nt == 0 || nc == 0) print "-"; else print ((bc - xc) / nc <= (bt - xt) / nt ? "yes" : "NO") }')
-  TARGETS42+=("- $name: share not excused ${cx[1]} <= ${tx[1]}: $k_ok; min dihedral ${cq[2]} >= ${tq[2]}: $(meets 'a + 0 >= b + 0' "${cq[7]}" "${tq[7]}"); tets below 10 degrees not excused: $(awk -v a="${cx[2]}" -v b="${cx[3]}" 'BEGIN{ n = "^[0-9]+$"; print (a ~ n && b ~ n) ? a - b : "-" }') (0: $(meets 'a - b == 0' "${cx[2]}" "${cx[3]}"))")
+  TARGETS42+=("- $name: share not excused ${cx[1]} <= ${tx[1]}: $k_ok; min dihedral ${cq[2]} >= ${tq[2]}: $(meets 'a + 0 >= b + 0' "${cq[7]}" "${tq[7]}"); tets below 10 degrees not excused: $(awk -v a="${cx[2]}" -v b="${cx[3]}" 'BEGIN{ n = "^[0-9]+$"; print (a ~ n && b ~ n) ? a - b : "-" }') (0: $(meets 'a - b == 0' "${cx[2]}" "${cx[3]}")), of them in a small angle's triangle: ${cx[5]}")
   TARGETS+=("- $name: share radius-edge>2 ${cq[1]} <= ${tq[1]}: $s_ok; min dihedral ${cq[2]} >= ${tq[2]}: $(meets 'a + 0 >= b + 0' "${cq[7]}" "${tq[7]}"); time ratio $time_r <= 0.5: $(meets 'a + 0 <= 0.5' "$time_r" 0); memory ratio $mem_r <= 0.5: $(meets 'a + 0 <= 0.5' "$mem_r" 0); valid: $valid")
 done
 printf '\r%80s\r' '' >&2
@@ -290,10 +293,12 @@ echo
 echo "Table 3 (issue 42): tets excused by a small input angle. A tet is excused when a vertex of it lies at a facet"
 echo "corner of less than 10 degrees or on an input edge where two facets meet at less than 10 degrees (mesh_quality with"
 echo "the model); share not excused = bad tets (radius-edge > 2) that are not excused, over all tets; min dihedral over"
-echo "tets not excused; then cdt3d's tets with a dihedral angle below 10 degrees, excused, and not excused"
+echo "tets not excused; then cdt3d's tets with a dihedral angle below 10 degrees, excused, and not excused; of the"
+echo "latter, those with a vertex in the triangle of a facet corner below 10 degrees and its two neighbours (inside the"
+echo "small angle, away from its corner: on a thin input triangle, anywhere on it); last, tetgen's not excused / in it"
 echo
-echo "| model | share not excused tetgen / cdt3d | min dihedral not excused tetgen / cdt3d | bad tetgen / cdt3d | bad excused tetgen / cdt3d | cdt3d tets < 10 deg | excused | not excused |"
-echo "|---|---|---|---|---|---|---|---|"
+echo "| model | share not excused tetgen / cdt3d | min dihedral not excused tetgen / cdt3d | bad tetgen / cdt3d | bad excused tetgen / cdt3d | cdt3d tets < 10 deg | excused | not excused | in a small angle's triangle | tetgen not excused / in it |"
+echo "|---|---|---|---|---|---|---|---|---|---|"
 printf '%s\n' "${T3[@]}"
 echo
 echo "Targets of issue 42 (share of bad tets not excused at most tetgen's, min dihedral at least tetgen's, no tet below"

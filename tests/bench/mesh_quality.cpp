@@ -24,10 +24,13 @@
 //                (longest edge)^3 in the majority orientation; zero and
 //                inverted tets count)
 //   max ratio    the largest radius-edge ratio (%.4g; "inf" with a flat tet)
-// and with MODEL four more: "<bad excused> <below> <below excused>
-// <min dihedral not excused>": bad tets that are excused, tets with a
-// dihedral angle below kSmallAngle, those of them excused, and the
-// smallest dihedral angle over tets not excused (degrees; 180 if none).
+// and with MODEL five more: "<bad excused> <below> <below excused>
+// <min dihedral not excused> <below in sector>": bad tets that are excused,
+// tets with a dihedral angle below kSmallAngle, those of them excused, the
+// smallest dihedral angle over tets not excused (degrees; 180 if none), and
+// the tets below kSmallAngle not excused with a vertex inside the triangle
+// of a small facet corner and its two neighbours (sector_points; reported,
+// not excused).
 // The dihedral angle at edge ij is the angle between the normals e x u and
 // e x v (e = pj - pi, u and v from pi to the other two corners), taken with
 // atan2 so that angles near 0 and 180 degrees keep their digits.
@@ -93,10 +96,13 @@ constexpr double kPi = 3.14159265358979323846;
 double angle_deg(const V3& a, const V3& b) { return std::atan2(len(cross(a, b)), dot(a, b)) * 180 / kPi; }
 V3 vsub(const cdt3d::Vec3& a, const cdt3d::Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 
-// Where the input has angles below kSmallAngle: corner points and edges.
+// Where the input has angles below kSmallAngle: corner points and edges, and
+// per small facet corner the triangle of the corner and its two neighbours
+// on the facet's boundary (for a triangle facet the facet itself).
 struct SmallAngles {
   std::vector<cdt3d::Vec3> corners;
   std::vector<std::array<cdt3d::Vec3, 2>> edges;
+  std::vector<std::array<cdt3d::Vec3, 3>> sectors;
 };
 
 SmallAngles small_angles(const cdt3d::Plc& plc) {
@@ -110,6 +116,7 @@ SmallAngles small_angles(const cdt3d::Plc& plc) {
       for (size_t i = 0; i < loop.size(); ++i) {
         const uint32_t a = loop[(i + loop.size() - 1) % loop.size()], v = loop[i], b = loop[(i + 1) % loop.size()];
         const double corner = angle_deg(vsub(plc.points[a], plc.points[v]), vsub(plc.points[b], plc.points[v]));
+        if (corner < kSmallAngle) out.sectors.push_back({plc.points[a], plc.points[v], plc.points[b]});
         if (corner < kSmallAngle && corner_ids.insert(v).second) out.corners.push_back(plc.points[v]);
         by_edge[key(v, b)].push_back(f);
       }
@@ -204,6 +211,47 @@ std::vector<char> excused_points(const std::vector<double>& xyz, const SmallAngl
   return out;
 }
 
+// Per mesh point: inside (or on the border of) one of the triangles of
+// sa.sectors, within a relative tolerance of its plane. Every point of such
+// a triangle lies between the two sides of its small angle, as far as they
+// go; on a thin input triangle (a needle or a cap) the whole facet does.
+// Only reported: such points are not excused (issue 42 excuses the corner).
+std::vector<char> sector_points(const std::vector<double>& xyz, const SmallAngles& sa,
+                                const std::vector<char>& wanted) {
+  const size_t n = xyz.size() / 3;
+  std::vector<char> out(n, 0);
+  if (n == 0 || sa.sectors.empty()) return out;
+  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) lo[c] = std::min(lo[c], xyz[3 * i + c]), hi[c] = std::max(hi[c], xyz[3 * i + c]);
+  const double tol = 1e-9 * std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                      (hi[2] - lo[2]) * (hi[2] - lo[2]));
+  // Every wanted point against every sector: the wanted points are those of
+  // the few tets below the angle, so no grid is needed.
+  for (size_t i = 0; i < n; ++i) {
+    if (!wanted[i]) continue;
+    const double* p = &xyz[3 * i];
+    for (const auto& t : sa.sectors) {
+      const V3 nrm = cross(vsub(t[1], t[0]), vsub(t[2], t[0]));
+      const double area2 = len(nrm);
+      if (!(area2 > 0)) continue;
+      const V3 ap = {p[0] - t[0].x, p[1] - t[0].y, p[2] - t[0].z};
+      if (std::fabs(dot(ap, nrm)) / area2 > tol) continue;
+      bool inside = true;
+      for (int k = 0; k < 3 && inside; ++k) {
+        const V3 e = vsub(t[(k + 1) % 3], t[k]), up = {p[0] - t[k].x, p[1] - t[k].y, p[2] - t[k].z};
+        // Signed distance of p from edge k in the triangle's plane.
+        inside = dot(cross(e, up), nrm) / area2 >= -tol * len(e);
+      }
+      if (inside) {
+        out[i] = 1;
+        break;
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -220,14 +268,29 @@ int main(int argc, char** argv) {
       !bad.empty())
     return bench::fail("mesh_quality", argv[2], bad);
 
-  std::vector<char> excused;
+  std::vector<char> excused, in_sector;
   if (argc == 4) {
     cdt3d::Plc plc;
     const cdt3d::Status st = cdt3d::read_plc_file(argv[3], plc);
     if (!st.ok()) return bench::fail("mesh_quality", argv[3], st.error.message);
-    excused = excused_points(xyz, small_angles(plc));
+    const SmallAngles sa = small_angles(plc);
+    excused = excused_points(xyz, sa);
+    // The points of the tets below kSmallAngle not excused, then which of
+    // them lie in a small angle's triangle.
+    std::vector<char> wanted(xyz.size() / 3, 0);
+    for (const auto& t : tets) {
+      const double* p[4];
+      bool touches = false;
+      for (int k = 0; k < 4; ++k) {
+        p[k] = &xyz[3 * static_cast<size_t>(t[k])];
+        touches = touches || excused[static_cast<size_t>(t[k])];
+      }
+      if (!touches && min_dihedral(p) * 180 / kPi < kSmallAngle)
+        for (int k = 0; k < 4; ++k) wanted[static_cast<size_t>(t[k])] = 1;
+    }
+    in_sector = sector_points(xyz, sa, wanted);
   }
-  size_t bad = 0, bad_excused = 0, below = 0, below_excused = 0;
+  size_t bad = 0, bad_excused = 0, below = 0, below_excused = 0, below_sector = 0;
   double min_angle = HUGE_VAL, min_kept = HUGE_VAL, max_ratio = 0;
   for (size_t t = 0; t < tets.size(); ++t) {
     const double* p[4];
@@ -240,6 +303,11 @@ int main(int argc, char** argv) {
     const double angle = min_dihedral(p) * 180 / kPi;
     if (!(ratio <= 2)) ++bad, bad_excused += touches;
     if (angle < kSmallAngle) ++below, below_excused += touches;
+    if (angle < kSmallAngle && !touches && !in_sector.empty()) {
+      bool sector = false;
+      for (int k = 0; k < 4; ++k) sector = sector || in_sector[static_cast<size_t>(tets[t][k])];
+      below_sector += sector;
+    }
     max_ratio = std::max(max_ratio, ratio);
     min_angle = std::min(min_angle, angle);
     if (!touches) min_kept = std::min(min_kept, angle);
@@ -247,7 +315,8 @@ int main(int argc, char** argv) {
   const size_t flat = bench::count_flat(xyz, tets, cdt3d::kFlatTetRatio).flat;
   std::printf("%zu %zu %.6g %zu %.4g", tets.size(), bad, tets.empty() ? 0.0 : min_angle, flat, max_ratio);
   if (argc == 4)
-    std::printf(" %zu %zu %zu %.6g", bad_excused, below, below_excused, std::isfinite(min_kept) ? min_kept : 180.0);
+    std::printf(" %zu %zu %zu %.6g %zu", bad_excused, below, below_excused,
+                std::isfinite(min_kept) ? min_kept : 180.0, below_sector);
   std::printf("\n");
   return 0;
 }
