@@ -168,6 +168,84 @@ TEST_CASE("refinement: tets at facet corners below 5 degrees are left too", "[re
   CHECK(r.stats.tets < 90000);
 }
 
+// A box 1 x 1 x `thickness`, one quad facet per side.
+Plc slab(double thickness) {
+  Plc plc;
+  for (int i = 0; i < 8; ++i)
+    plc.points.push_back({double(i & 1), double((i >> 1) & 1), (i >> 2) * thickness});
+  const VertexId q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& f : q) {
+    Facet facet;
+    facet.loops.push_back({f[0], f[1], f[2], f[3]});
+    plc.facets.push_back(facet);
+  }
+  return plc;
+}
+
+// Circumradius over shortest edge of tet t of m.
+double radius_edge(const TetMeshData& m, size_t t) {
+  double p[4][3];
+  for (int k = 0; k < 4; ++k)
+    for (int c = 0; c < 3; ++c) p[k][c] = m.points[3 * size_t(m.tets[4 * t + k]) + c];
+  double a[3], b[3], c[3];
+  for (int k = 0; k < 3; ++k) a[k] = p[0][k] - p[3][k], b[k] = p[1][k] - p[3][k], c[k] = p[2][k] - p[3][k];
+  auto cross = [](const double* u, const double* v, double* w) {
+    w[0] = u[1] * v[2] - u[2] * v[1], w[1] = u[2] * v[0] - u[0] * v[2], w[2] = u[0] * v[1] - u[1] * v[0];
+  };
+  auto dot = [](const double* u, const double* v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; };
+  double bc[3], ca[3], ab[3];
+  cross(b, c, bc), cross(c, a, ca), cross(a, b, ab);
+  const double det = dot(a, bc), wa = dot(a, a), wb = dot(b, b), wc = dot(c, c);
+  double o[3];
+  for (int k = 0; k < 3; ++k) o[k] = (wa * bc[k] + wb * ca[k] + wc * ab[k]) / (2 * det);
+  double shortest = HUGE_VAL;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) {
+      const double d[3] = {p[i][0] - p[j][0], p[i][1] - p[j][1], p[i][2] - p[j][2]};
+      shortest = std::min(shortest, std::sqrt(dot(d, d)));
+    }
+  return std::sqrt(dot(o, o)) / shortest;
+}
+
+TEST_CASE("improvement pass: slivers across a thin slab go by sliding facet points in their planes", "[refine]") {
+  // Refined to the ratio bound, a slab 100 times thinner than wide has
+  // slivers with two vertices on each face: no free vertex to move, and
+  // no flip helps (11.5 degrees at best). Points of the faces (planes
+  // perpendicular to an axis) slide in their planes: every tet reaches the
+  // pass's 15 degrees, and the faces stay covered (validated).
+  Options o;
+  o.quality.enabled = true;
+  o.quality.radius_edge = 1.414;
+  o.quality.min_dihedral = 15;
+  o.validate = true;
+  const Result r = tetrahedralize(slab(0.01), o);
+  INFO(r.status.error.to_string());
+  REQUIRE(r.status.ok());
+  CHECK(r.stats.flat_tets == 0);
+  CHECK(r.stats.min_dihedral >= 15);
+  CHECK(r.stats.improve_smooths > 0);
+}
+
+TEST_CASE("improvement pass: tets above ratio 2 are moved away where a vertex may move", "[refine]") {
+  // decimated_knight at the quality bench's bound: 316 tets above ratio 2
+  // after the rounds, 274 once vertices of those tets move to leave fewer
+  // of them around (without a new sliver).
+  Plc plc;
+  REQUIRE(read_plc_file(corpus::kData + "/decimated_knight.off", plc).ok());
+  Options o;
+  o.quality.enabled = true;
+  o.quality.radius_edge = 1.414;
+  o.quality.min_dihedral = 15;
+  o.validate = true;
+  const Result r = tetrahedralize(plc, o);
+  INFO(r.status.error.to_string());
+  REQUIRE(r.status.ok());
+  size_t above = 0;
+  for (size_t t = 0; t < r.mesh.tets.size() / 4; ++t) above += !(radius_edge(r.mesh, t) <= 2);
+  CHECK(above < 295);
+  CHECK(r.stats.flat_tets == 0);
+}
+
 TEST_CASE("refinement: a maximum volume on a cube is met, and the result validates", "[refine]") {
   const Plc plc = unit_cube();
   Options o;

@@ -142,7 +142,11 @@ class Improver {
   bool remove_edge(TetId t, VertexId a, VertexId b);
   bool flip23(TetId t, int face);
   bool smooth(VertexId v);
-  void compass_search(VertexId v, Vec3& best, double& best_q);
+  void compass_search(VertexId v, int keep, Vec3& best, double& best_q);
+  static constexpr int kFixed = -2;  // sliding_axis: v does not move
+  int sliding_axis(VertexId v, const std::vector<TetId>& star) const;
+  bool reduce_ratio_bad(const volatile bool* cancel);
+  bool move_for_ratio(VertexId v);
   size_t ratio_bad_count(const std::vector<TetId>& star) const;
   double max_ratio(const std::vector<TetId>& tets) const;
   double ratio_of(const Tet& t) const;
@@ -184,6 +188,7 @@ class Improver {
     double inv;
   };
   std::vector<StarTet> star_tets_;
+  std::vector<double> floors_;  // move_for_ratio's per star tet
   void cache_star(VertexId v);
   std::vector<std::array<VertexId, 3>> faces_;
   std::vector<Tet> fresh_;
@@ -397,16 +402,64 @@ void Improver::cache_star(VertexId v) {
   }
 }
 
-// Moves free vertex v to the best of a few candidate points (rounded to
+// p with its k-th coordinate taken from q.
+Vec3 with_coordinate(Vec3 p, int k, const Vec3& q) {
+  (k == 0 ? p.x : k == 1 ? p.y : p.z) = k == 0 ? q.x : k == 1 ? q.y : q.z;
+  return p;
+}
+
+// The coordinate a move of vertex v must keep: -1 for a free vertex
+// (free_vertex), k for a Steiner point on a facet whose plane is
+// perpendicular to axis k (every vertex of the subfaces around v has v's
+// k-th coordinate exactly), which may slide in that plane; kFixed
+// otherwise. A slide changes v's other coordinates only, so the subfaces
+// stay exactly in the facet's plane, and with every tet of the star
+// positive they cannot fold: the facet stays covered. On other planes a
+// rounded position would leave the plane, so those points stay. Slivers
+// between the two faces of a thin plate have all four vertices on facets
+// (thin_plate.off: every one of its tets below 10 degrees after the pass
+// without slides).
+int Improver::sliding_axis(VertexId v, const std::vector<TetId>& star) const {
+  if (free_vertex(v, star)) return -1;
+  if (cm_.where[v] != Where::Facet || star.empty()) return kFixed;
+  uint32_t facet = kNoTag;
+  bool same[3] = {true, true, true};
+  const double* pv = cm_.pt(v);
+  for (TetId t : star) {
+    const int iv = m_.index_in_tet(t, v);
+    for (int i = 0; i < 4; ++i) {
+      if (i == iv) continue;
+      const HalfFace hf = make_hf(t, i);
+      const uint32_t tag = cm_.tag(hf);
+      if (tag == kNoTag) {
+        if (m_.adjacent(hf) == kNoHalfFace) return kFixed;
+        continue;
+      }
+      if (is_hull_tag(tag) || (facet != kNoTag && tag != facet)) return kFixed;
+      facet = tag;
+      for (VertexId w : cm_.face_of(hf))
+        for (int k = 0; k < 3; ++k) same[k] = same[k] && cm_.pt(w)[k] == pv[k];
+    }
+  }
+  if (facet == kNoTag) return kFixed;
+  for (int k = 0; k < 3; ++k)
+    if (same[k]) return k;
+  return kFixed;
+}
+
+// Moves free vertex v (or slides a facet point in its facet's plane,
+// sliding_axis) to the best of a few candidate points (rounded to
 // doubles; every tet of its star re-tested exactly), if that raises the
 // smallest angle of its star.
 bool Improver::smooth(VertexId v) {
   if (v < smooth_failed_.size() && smooth_failed_[v] != kNever && v < touched_.size() &&
       touched_[v] <= smooth_failed_[v])
     return false;
-  if (cm_.where[v] != Where::Volume) return false;  // free_vertex's first test, before the star
+  // sliding_axis's first test, before the star.
+  if (cm_.where[v] != Where::Volume && cm_.where[v] != Where::Facet) return false;
   m_.vertex_star(v, star_);
-  if (!free_vertex(v, star_)) return false;
+  const int keep = sliding_axis(v, star_);
+  if (keep == kFixed) return false;
   const Vec3 home = to_vec(cm_.pt(v));
   // Target points: the centroid of the star's other vertices, and the point
   // above the face opposite v in its worst tet at the height of a regular
@@ -437,6 +490,8 @@ bool Improver::smooth(VertexId v) {
     if (len > 0)
       targets[1] = (1.0 / 3) * (pa + pb + pc) - (std::sqrt(2.0 / 3) * edge / len) * nrm;
   }
+  if (keep >= 0)  // in the facet's plane
+    for (Vec3& target : targets) target = with_coordinate(target, keep, home);
   double* xyz = &m_.coords[3 * static_cast<size_t>(v)];
   Vec3 best = home;
   double best_q = old_q;
@@ -453,7 +508,7 @@ bool Improver::smooth(VertexId v) {
   {
     Vec3 b = best;
     double bq = best_q;
-    compass_search(v, b, bq);
+    compass_search(v, keep, b, bq);
     if (bq > best_q) {
       xyz[0] = b.x, xyz[1] = b.y, xyz[2] = b.z;
       const size_t bad = ratio_bad_count(star_);
@@ -461,8 +516,18 @@ bool Improver::smooth(VertexId v) {
       if (bad <= ratio_bad_count(star_)) best = b, best_q = bq;
     }
   }
+  // A slide must not add tets above kRatioGuard either: facet points sit
+  // where refinement put them to bound the ratio (on thin_plate.off the
+  // slides without this check left 10 tets above ratio 2, TetGen none).
+  bool adds_bad = false;
+  if (keep >= 0 && best_q > old_q + kMoveGain) {
+    xyz[0] = home.x, xyz[1] = home.y, xyz[2] = home.z;
+    const size_t before = ratio_bad_count(star_);
+    xyz[0] = best.x, xyz[1] = best.y, xyz[2] = best.z;
+    adds_bad = ratio_bad_count(star_) > before;
+  }
   xyz[0] = best.x, xyz[1] = best.y, xyz[2] = best.z;
-  if (!(best_q > old_q + kMoveGain)) {
+  if (!(best_q > old_q + kMoveGain) || adds_bad) {
     xyz[0] = home.x, xyz[1] = home.y, xyz[2] = home.z;
     if (smooth_failed_.size() <= v) smooth_failed_.resize(m_.num_vertices(), kNever);
     smooth_failed_[v] = ops_;
@@ -541,7 +606,7 @@ bool Improver::adds_ratio_bad(const std::vector<TetId>& old, const std::vector<T
 // (often one the pass inserted) needs small steps in a direction neither
 // target gives. A candidate is mostly refuted by one tet, so the tet that
 // refuted the last one is tried first.
-void Improver::compass_search(VertexId v, Vec3& best, double& best_q) {
+void Improver::compass_search(VertexId v, int keep, Vec3& best, double& best_q) {
   double* xyz = &m_.coords[3 * static_cast<size_t>(v)];
   double reach = HUGE_VAL;  // the shortest edge at v
   for (TetId t : star_) {
@@ -554,6 +619,7 @@ void Improver::compass_search(VertexId v, Vec3& best, double& best_q) {
   for (int moves = 0, halvings = 0; moves < kCompassMoves && halvings < kCompassHalvings;) {
     bool moved = false;
     for (int d = 0; d < 6 && !moved; ++d) {
+      if (d / 2 == keep) continue;  // a facet point slides in its plane
       Vec3 p = best;
       double& c = d < 2 ? p.x : d < 4 ? p.y : p.z;
       c += (d & 1) ? -step : step;
@@ -781,6 +847,112 @@ bool Improver::unchanged_since_failure(TetId t) const {
   return true;
 }
 
+// Tets above kRatioGuard left by refinement (a split point refused by the
+// radius rule) or by the rounds (a fix of a tet below kGuardAngle may add
+// them): a move of one of their vertices (free or sliding, as smooth())
+// that leaves fewer such tets in its star and makes no new sliver
+// (move_for_ratio). The rounds maximise the smallest angle; this is the one
+// place that lowers a ratio for its own sake.
+// False when cancelled.
+bool Improver::reduce_ratio_bad(const volatile bool* cancel) {
+  std::vector<TetId> bad;
+  for (TetId t = 0; t < m_.num_tet_slots(); ++t) {
+    if (m_.is_dead(t)) continue;
+    const VertexId* tv = m_.tet_vertices(t);
+    if (!(ratio_of(Tet{tv[0], tv[1], tv[2], tv[3]}) <= kRatioGuard)) bad.push_back(t);
+  }
+  for (size_t k = 0; k < bad.size(); ++k) {
+    if ((k & 1023) == 0 && cancel && *cancel) return false;
+    const TetId t = bad[k];
+    if (m_.is_dead(t)) continue;
+    const VertexId* tv = m_.tet_vertices(t);
+    const Tet v{tv[0], tv[1], tv[2], tv[3]};
+    if (ratio_of(v) <= kRatioGuard) continue;  // a move for an earlier one fixed it
+    for (VertexId w : v)
+      if (move_for_ratio(w)) break;
+  }
+  return true;
+}
+
+// Moves v (free, or sliding in its facet's plane) towards the centroid of
+// its star's other vertices or by compass steps, to the candidate whose
+// star has the fewest tets above kRatioGuard, if that is fewer than now and
+// no star tet ends below its floor (below).
+bool Improver::move_for_ratio(VertexId v) {
+  if (cm_.where[v] != Where::Volume && cm_.where[v] != Where::Facet) return false;
+  m_.vertex_star(v, star_);
+  const int keep = sliding_axis(v, star_);
+  if (keep == kFixed) return false;
+  const size_t old_bad = ratio_bad_count(star_);
+  if (old_bad == 0) return false;
+  const Vec3 home = to_vec(cm_.pt(v));
+  Vec3 centroid{0, 0, 0};
+  size_t count = 0;
+  double reach = HUGE_VAL;
+  for (TetId t : star_) {
+    const VertexId* tv = m_.tet_vertices(t);
+    for (int i = 0; i < 4; ++i)
+      if (tv[i] != v) {
+        const Vec3 p = to_vec(cm_.pt(tv[i]));
+        centroid = centroid + p, ++count, reach = std::min(reach, dist(home, p));
+      }
+  }
+  // The tets above kRatioGuard first: a candidate that leaves the first of
+  // them so is mostly turned down at once (when it is the only one).
+  std::stable_partition(star_.begin(), star_.end(), [&](TetId t) {
+    const VertexId* tv = m_.tet_vertices(t);
+    return !(ratio_of(Tet{tv[0], tv[1], tv[2], tv[3]}) <= kRatioGuard);
+  });
+  // Each star tet's floor: its quality now, or the target or the star's
+  // smallest quality, the larger of those two, if lower: no new sliver,
+  // and the mesh's smallest angle does not drop.
+  double star_q = HUGE_VAL;
+  for (TetId t : star_) star_q = std::min(star_q, quality(t));
+  floors_.clear();
+  for (TetId t : star_) floors_.push_back(std::min(quality(t), std::max(target_, star_q)));
+  double* xyz = &m_.coords[3 * static_cast<size_t>(v)];
+  Vec3 best = home;
+  size_t best_bad = old_bad;
+  // A candidate: fewer star tets above kRatioGuard than the best so far
+  // (counted first, stopping at that many), then no star tet below its floor
+  // or invalid (quality_of's exact tests).
+  auto consider = [&](Vec3 p) {
+    if (keep >= 0) p = with_coordinate(p, keep, home);
+    if (!finite(p)) return;
+    xyz[0] = p.x, xyz[1] = p.y, xyz[2] = p.z;
+    size_t n_bad = 0;
+    for (TetId t : star_) {
+      const VertexId* tv = m_.tet_vertices(t);
+      n_bad += !(ratio_of(Tet{tv[0], tv[1], tv[2], tv[3]}) <= kRatioGuard);
+      if (n_bad >= best_bad) return;
+    }
+    for (size_t k = 0; k < star_.size(); ++k) {
+      const VertexId* tv = m_.tet_vertices(star_[k]);
+      if (quality(Tet{tv[0], tv[1], tv[2], tv[3]}) < floors_[k]) return;
+    }
+    best = p, best_bad = n_bad;
+  };
+  const Vec3 target = (1.0 / static_cast<double>(count)) * centroid;
+  for (double step : kSteps) consider(home + step * (target - home));
+  if (std::isfinite(reach) && reach > 0)
+    for (double step = kCompassFirst * reach; step > kCompassFirst * reach / 8; step *= 0.5)
+      for (int d = 0; d < 6; ++d) {
+        if (d / 2 == keep) continue;
+        Vec3 p = home;
+        (d < 2 ? p.x : d < 4 ? p.y : p.z) += (d & 1) ? -step : step;
+        consider(p);
+      }
+  xyz[0] = best.x, xyz[1] = best.y, xyz[2] = best.z;
+  if (best_bad >= old_bad) {
+    xyz[0] = home.x, xyz[1] = home.y, xyz[2] = home.z;
+    return false;
+  }
+  ++ops_;
+  for (TetId t : star_) queue_.push_back(t), touch(m_.tet_vertices(t), 4), forget_quality(t);
+  ++counts_.smooths;
+  return true;
+}
+
 // When no tet is below the target, the smallest angle of the mesh can still
 // rise by flips at its worst tets (a small mesh meets any target at once,
 // and its smallest angle is what one compares): edge removals and 2-3 flips
@@ -876,6 +1048,8 @@ Status Improver::run(const volatile bool* cancel, const ImproveProgress& progres
     left.erase(std::unique(left.begin(), left.end()), left.end());
     if (counts_.flips + counts_.smooths + counts_.inserts == done_before) break;
   }
+  if (!reduce_ratio_bad(cancel))
+    return make_error(ErrorCode::Cancelled, "Cancelled during the improvement pass.");
   polish();
   counts = counts_;
   return Status::success();

@@ -16,7 +16,9 @@
 //  * the 2-3 flip across a face that is not constrained;
 //  * smoothing: a free vertex (a Steiner point inside the volume, on no
 //    constrained face) moves towards the centre of its star, or away from
-//    the face opposite it in its worst tet;
+//    the face opposite it in its worst tet; a Steiner point on a facet whose
+//    plane is perpendicular to an axis slides in that plane (its subfaces
+//    stay exactly in the facet), which slivers across thin plates need;
 //  * as the last resort, a new vertex inside the union of the tet and its
 //    neighbours across unconstrained faces (a Steiner point in the volume).
 // When no tet is left below the target, edge removals and 2-3 flips at the
@@ -24,6 +26,9 @@
 // meets the target at once).
 // Fixes of tets at or above 10 degrees must not add tets above radius-edge
 // ratio 2 (refinement's work) unless they lower the largest ratio there.
+// After the rounds, vertices of the tets left above ratio 2 move (freely or
+// sliding) where fewer such tets are left around them, making no new
+// sliver.
 // A new tet must be positive by the exact orientation test and not
 // numerically flat; constrained faces and subsegments are never removed, so
 // the mesh stays a constrained tetrahedralization of the PLC (every facet
