@@ -22,9 +22,11 @@ using namespace cdt3d;
 
 namespace {
 
-Plc unit_cube() {
+// A box 1 x 1 x `thickness`, one quad facet per side.
+Plc slab(double thickness) {
   Plc plc;
-  for (int i = 0; i < 8; ++i) plc.points.push_back({double(i & 1), double((i >> 1) & 1), double(i >> 2)});
+  for (int i = 0; i < 8; ++i)
+    plc.points.push_back({double(i & 1), double((i >> 1) & 1), (i >> 2) * thickness});
   const VertexId q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& f : q) {
     Facet facet;
@@ -33,6 +35,8 @@ Plc unit_cube() {
   }
   return plc;
 }
+
+Plc unit_cube() { return slab(1); }
 
 double tet_volume(const TetMeshData& m, size_t t) {
   const double* p[4];
@@ -166,20 +170,6 @@ TEST_CASE("refinement: tets at facet corners below 5 degrees are left too", "[re
   CHECK(r.stats.refine_small_angle > 0);
   CHECK(r.stats.min_dihedral > 1);
   CHECK(r.stats.tets < 90000);
-}
-
-// A box 1 x 1 x `thickness`, one quad facet per side.
-Plc slab(double thickness) {
-  Plc plc;
-  for (int i = 0; i < 8; ++i)
-    plc.points.push_back({double(i & 1), double((i >> 1) & 1), (i >> 2) * thickness});
-  const VertexId q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  for (const auto& f : q) {
-    Facet facet;
-    facet.loops.push_back({f[0], f[1], f[2], f[3]});
-    plc.facets.push_back(facet);
-  }
-  return plc;
 }
 
 // Circumradius over shortest edge of tet t of m.
