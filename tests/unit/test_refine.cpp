@@ -108,6 +108,21 @@ double min_dihedral_of(const TetMeshData& m, size_t t) {
   return best;
 }
 
+// plc meshed at the quality bench's settings (ratio 1.414, the pass's
+// default target of 15 degrees), validated; the mesh has no flat tet.
+Result at_bench_bound(const Plc& plc) {
+  Options o;
+  o.quality.enabled = true;
+  o.quality.radius_edge = 1.414;
+  o.quality.min_dihedral = 15;
+  o.validate = true;
+  const Result r = tetrahedralize(plc, o);
+  INFO(r.status.error.to_string());
+  REQUIRE(r.status.ok());
+  CHECK(r.stats.flat_tets == 0);
+  return r;
+}
+
 }  // namespace
 
 TEST_CASE("refinement: a thin wedge of the domain keeps its slivers at its edge", "[refine]") {
@@ -115,15 +130,7 @@ TEST_CASE("refinement: a thin wedge of the domain keeps its slivers at its edge"
   // degrees unless refined to the wedge's thickness; split points in them
   // only moved the slivers off the edge (issue 42 excuses a tet touching
   // it). Every tet below 10 degrees must have a vertex on the edge.
-  Options o;
-  o.quality.enabled = true;
-  o.quality.radius_edge = 1.414;
-  o.quality.min_dihedral = 15;
-  o.validate = true;
-  const Result r = tetrahedralize(wedge_prism(5), o);
-  INFO(r.status.error.to_string());
-  REQUIRE(r.status.ok());
-  CHECK(r.stats.flat_tets == 0);
+  const Result r = at_bench_bound(wedge_prism(5));
   for (size_t t = 0; t < r.stats.tets; ++t) {
     if (min_dihedral_of(r.mesh, t) >= 10) continue;
     bool on_edge = false;
@@ -159,14 +166,7 @@ TEST_CASE("refinement: tets at facet corners below 5 degrees are left too", "[re
   // 74,123 with the pass on, its default; TetGen -pq1.414: 0.3).
   Plc plc;
   REQUIRE(read_plc_file(corpus::kData + "/dragon_decimated.off", plc).ok());
-  Options o;
-  o.quality.enabled = true;
-  o.quality.radius_edge = 1.414;  // the quality bench's bound
-  o.validate = true;
-  const Result r = tetrahedralize(plc, o);
-  INFO(r.status.error.to_string());
-  REQUIRE(r.status.ok());
-  CHECK(r.stats.flat_tets == 0);
+  const Result r = at_bench_bound(plc);
   CHECK(r.stats.refine_small_angle > 0);
   CHECK(r.stats.min_dihedral > 1);
   CHECK(r.stats.tets < 90000);
@@ -203,15 +203,7 @@ TEST_CASE("improvement pass: slivers across a thin slab go by sliding facet poin
   // no flip helps (11.5 degrees at best). Points of the faces (planes
   // perpendicular to an axis) slide in their planes: every tet reaches the
   // pass's 15 degrees, and the faces stay covered (validated).
-  Options o;
-  o.quality.enabled = true;
-  o.quality.radius_edge = 1.414;
-  o.quality.min_dihedral = 15;
-  o.validate = true;
-  const Result r = tetrahedralize(slab(0.01), o);
-  INFO(r.status.error.to_string());
-  REQUIRE(r.status.ok());
-  CHECK(r.stats.flat_tets == 0);
+  const Result r = at_bench_bound(slab(0.01));
   CHECK(r.stats.min_dihedral >= 15);
   CHECK(r.stats.improve_smooths > 0);
 }
@@ -222,18 +214,10 @@ TEST_CASE("improvement pass: tets above ratio 2 are moved away where a vertex ma
   // of them around (without a new sliver).
   Plc plc;
   REQUIRE(read_plc_file(corpus::kData + "/decimated_knight.off", plc).ok());
-  Options o;
-  o.quality.enabled = true;
-  o.quality.radius_edge = 1.414;
-  o.quality.min_dihedral = 15;
-  o.validate = true;
-  const Result r = tetrahedralize(plc, o);
-  INFO(r.status.error.to_string());
-  REQUIRE(r.status.ok());
+  const Result r = at_bench_bound(plc);
   size_t above = 0;
   for (size_t t = 0; t < r.mesh.tets.size() / 4; ++t) above += !(radius_edge(r.mesh, t) <= 2);
   CHECK(above < 295);
-  CHECK(r.stats.flat_tets == 0);
 }
 
 TEST_CASE("refinement: a maximum volume on a cube is met, and the result validates", "[refine]") {

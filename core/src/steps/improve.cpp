@@ -403,6 +403,12 @@ void Improver::cache_star(VertexId v) {
   }
 }
 
+// p moved by `step` along compass direction d (0-5: +x, -x, +y, -y, +z, -z).
+Vec3 compass_step(Vec3 p, int d, double step) {
+  (d < 2 ? p.x : d < 4 ? p.y : p.z) += (d & 1) ? -step : step;
+  return p;
+}
+
 // p with its k-th coordinate taken from q.
 Vec3 with_coordinate(Vec3 p, int k, const Vec3& q) {
   (k == 0 ? p.x : k == 1 ? p.y : p.z) = k == 0 ? q.x : k == 1 ? q.y : q.z;
@@ -411,8 +417,8 @@ Vec3 with_coordinate(Vec3 p, int k, const Vec3& q) {
 
 // Whether tet t's radius-edge ratio is above kRatioGuard (or undefined):
 // radius_edge_ratio's test with squared lengths, no square root (a
-// heuristic's test, not a topological decision). Every smoothing candidate
-// and every move against ratio 2 tests its whole star.
+// heuristic's test, not a topological decision). Smoothing's guard and
+// every candidate of the moves against ratio 2 test a whole star.
 bool Improver::above_guard(const Tet& t) const {
   const Vec3 p[4] = {to_vec(cm_.pt(t[0])), to_vec(cm_.pt(t[1])), to_vec(cm_.pt(t[2])),
                      to_vec(cm_.pt(t[3]))};
@@ -634,9 +640,7 @@ void Improver::compass_search(VertexId v, int keep, Vec3& best, double& best_q) 
     bool moved = false;
     for (int d = 0; d < 6 && !moved; ++d) {
       if (d / 2 == keep) continue;  // a facet point slides in its plane
-      Vec3 p = best;
-      double& c = d < 2 ? p.x : d < 4 ? p.y : p.z;
-      c += (d & 1) ? -step : step;
+      const Vec3 p = compass_step(best, d, step);
       xyz[0] = p.x, xyz[1] = p.y, xyz[2] = p.z;
       const double q = star_quality(best_q);
       if (q > best_q) best_q = q, best = p, moved = true, ++moves;
@@ -950,19 +954,15 @@ bool Improver::move_for_ratio(VertexId v) {
   for (double step : kSteps) consider(home + step * (target - home));
   if (std::isfinite(reach) && reach > 0)
     for (double step = kCompassFirst * reach; step > kCompassFirst * reach / 8; step *= 0.5)
-      for (int d = 0; d < 6; ++d) {
-        if (d / 2 == keep) continue;
-        Vec3 p = home;
-        (d < 2 ? p.x : d < 4 ? p.y : p.z) += (d & 1) ? -step : step;
-        consider(p);
-      }
+      for (int d = 0; d < 6; ++d)
+        if (d / 2 != keep) consider(compass_step(home, d, step));
   xyz[0] = best.x, xyz[1] = best.y, xyz[2] = best.z;
   if (best_bad >= old_bad) {
     xyz[0] = home.x, xyz[1] = home.y, xyz[2] = home.z;
     return false;
   }
-  ++ops_;
-  for (TetId t : star_) queue_.push_back(t), touch(m_.tet_vertices(t), 4), forget_quality(t);
+  ++ops_;  // after the rounds: nothing is queued, the caches are updated
+  for (TetId t : star_) touch(m_.tet_vertices(t), 4), forget_quality(t);
   ++counts_.smooths;
   return true;
 }
