@@ -387,7 +387,8 @@ export interface MeshStatistics {
   /**
    * Quality refinement: bad tets it left (before the improvement pass), where every fix
    * would have put a point too close to others, encroached upon a constraint it could not
-   * split, or made a flat tet: near small input angles and thin features.
+   * split (with the improvement pass on, a side of a facet corner below 10 degrees is not
+   * split), or made a flat tet: near small input angles and thin features.
    * `radiusEdgeHistogram` counts what is left after the pass.
    */
   refineSkipped: number;

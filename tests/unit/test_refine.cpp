@@ -11,6 +11,7 @@
 #include <cdt3d/cdt3d.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <string>
@@ -223,6 +224,79 @@ TEST_CASE("improvement pass: slivers across a thin slab go by sliding facet poin
   const Result r = at_bench_bound(slab(0.01));
   CHECK(r.stats.min_dihedral >= 15);
   CHECK(r.stats.improve_smooths > 0);
+}
+
+namespace {
+
+// The Steiner points of r on the sides of plc's needles: the sides of a
+// facet corner below 10 degrees (the third side too on a triangle facet)
+// whose longer side is at most a quarter of the bounding-box diagonal,
+// within 1e-9 of a side's length of its line (split points are rounded).
+size_t points_on_needle_sides(const Plc& plc, const Result& r) {
+  Plc merged;
+  std::vector<uint32_t> into;
+  merge_flat_facets(plc, merged, into);
+  Vec3 lo = merged.points[0], hi = lo;
+  for (const Vec3& p : merged.points)
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)},
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  auto sub = [](const Vec3& a, const Vec3& b) { return Vec3{a.x - b.x, a.y - b.y, a.z - b.z}; };
+  auto dotp = [](const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; };
+  const double reach = 0.25 * std::sqrt(dotp(sub(hi, lo), sub(hi, lo)));
+  std::vector<std::array<Vec3, 2>> sides;
+  for (const Facet& f : merged.facets)
+    for (const auto& loop : f.loops)
+      for (size_t i = 0; i < loop.size(); ++i) {
+        const Vec3 a = merged.points[loop[(i + loop.size() - 1) % loop.size()]], v = merged.points[loop[i]],
+                   b = merged.points[loop[(i + 1) % loop.size()]];
+        const Vec3 u = sub(a, v), w = sub(b, v);
+        const double lu = std::sqrt(dotp(u, u)), lw = std::sqrt(dotp(w, w));
+        if (!(dotp(u, w) > std::cos(10 * 3.14159265358979323846 / 180) * lu * lw) || std::max(lu, lw) > reach)
+          continue;
+        sides.push_back({v, a}), sides.push_back({v, b});
+        if (loop.size() == 3) sides.push_back({a, b});
+      }
+  size_t n = 0;
+  for (size_t k = r.input_points; k < r.mesh.points.size() / 3; ++k) {
+    const Vec3 p{r.mesh.points[3 * k], r.mesh.points[3 * k + 1], r.mesh.points[3 * k + 2]};
+    for (const auto& s : sides) {
+      const Vec3 e = sub(s[1], s[0]), d = sub(p, s[0]);
+      const double t = dotp(d, e) / dotp(e, e);
+      const Vec3 off = sub(d, {t * e.x, t * e.y, t * e.z});
+      if (t > 0 && t < 1 && std::sqrt(dotp(off, off)) <= 1e-9 * std::sqrt(dotp(e, e))) {
+        ++n;
+        break;
+      }
+    }
+  }
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("refinement with the pass keeps the sides of needles whole", "[refine]") {
+  // dragon_decimated has 151 facet corners below 10 degrees. A split point
+  // on a side of one lies inside the needle, where the tets are slivers,
+  // and the needle's width becomes a feature refinement resolves all
+  // around (74k tets without the rule, 34k with it). With the pass on,
+  // refinement adds no point on those sides (segment recovery's stay), but
+  // splits other segments; with the pass off (the result a CDT) it may.
+  Plc plc;
+  REQUIRE(read_plc_file(corpus::kData + "/dragon_decimated.off", plc).ok());
+  Options o;
+  o.validate = true;
+  const Result cdt = tetrahedralize(plc, o);
+  REQUIRE(cdt.status.ok());
+  const size_t recovered = points_on_needle_sides(plc, cdt);
+  const Result r = at_bench_bound(plc);
+  CHECK(r.stats.refine_segment > 0);
+  CHECK(points_on_needle_sides(plc, r) == recovered);
+  o.quality.enabled = true;
+  o.quality.radius_edge = 1.414;
+  o.quality.min_dihedral = 0;
+  const Result off = tetrahedralize(plc, o);
+  REQUIRE(off.status.ok());
+  CHECK(points_on_needle_sides(plc, off) > recovered);
 }
 
 TEST_CASE("improvement pass: a tet across two nearly coplanar facets rises in steps below the fixed gain", "[refine]") {

@@ -369,9 +369,11 @@ struct Statistics {
   /// limit) that refinement left, counted before the improvement pass: each
   /// fix it tried would have put a point too close to others (the floors
   /// that make refinement stop), encroached upon a constraint it could not
-  /// split, or made a numerically flat tet. They lie near small input
-  /// angles and thin features (a thin plate, thin facets side by side); the
-  /// final radius_edge_histogram counts what is left after the pass.
+  /// split (with the improvement pass on, the sides of a facet corner below
+  /// 10 degrees are not split), or made a numerically flat tet. They lie
+  /// near small input angles and thin features (a thin plate, thin facets
+  /// side by side); the final radius_edge_histogram counts what is left
+  /// after the pass.
   size_t refine_skipped = 0;
   /// Of refine_skipped, the tets left on purpose at a facet corner of 10 to
   /// 60 degrees: their shortest edge joins the corner's two sides at about

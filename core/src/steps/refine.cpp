@@ -47,7 +47,10 @@
 // each need the other first, and refinement gives up there. A second sweep
 // after flips over the whole mesh retries the bad tets left (run()), and
 // every cavity must be a ball (cavity_is_ball), which Bowyer-Watson no
-// longer guarantees in a mesh that is not Delaunay everywhere.
+// longer guarantees in a mesh that is not Delaunay everywhere. The sides of
+// needles (facet corners below 10 degrees) are then not split at all
+// (kNeedleReach), and a circumcentre goes in even where its cone fails the
+// Delaunay test at a subface whose split that refused (at_locked_face).
 #include "refine.hpp"
 
 #include <algorithm>
@@ -1727,9 +1730,10 @@ bool Refiner::fix_bad_tet(TetId t, const TetShape& shape) {
     ++res_.stats.refine_volume;
     changed = true;
   } else if (verdict == Verdict::SplitSubface) {
+    const SplitKey named = sorted_triangle(split_face_.v);  // split_face_ may change below
     needle_refused_ = false;
     changed = split_subface(split_face_, lmin);
-    if (!changed && needle_refused_) locked_.insert(sorted_triangle(split_face_.v));
+    if (!changed && needle_refused_) locked_.insert(named);
   } else if (verdict == Verdict::SplitSubsegment) {
     changed = split_subsegment(split_a_, split_b_, lmin);
   }
