@@ -1730,10 +1730,14 @@ bool Refiner::fix_bad_tet(TetId t, const TetShape& shape) {
     ++res_.stats.refine_volume;
     changed = true;
   } else if (verdict == Verdict::SplitSubface) {
-    const SplitKey named = sorted_triangle(split_face_.v);  // split_face_ may change below
     needle_refused_ = false;
     changed = split_subface(split_face_, lmin);
-    if (!changed && needle_refused_) locked_.insert(named);
+    // split_face_ as the attempt leaves it: the last subface its chain of
+    // splits reached (a split's cavity may name another), the one whose
+    // split the needle rule refused. Locking the subface named first instead
+    // gave the same meshes on seven models but took nefertiti's smallest
+    // angle from 0.0126 to 0.0092 degrees (TetGen's: 0.0120).
+    if (!changed && needle_refused_) locked_.insert(sorted_triangle(split_face_.v));
   } else if (verdict == Verdict::SplitSubsegment) {
     changed = split_subsegment(split_a_, split_b_, lmin);
   }
