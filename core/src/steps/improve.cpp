@@ -125,8 +125,10 @@ double quality_of_angle(double degrees) { return 1 - std::cos(degrees * 3.141592
 
 class Improver {
  public:
-  Improver(ConstrainedMesh& cm, double target, const VolumeBounds& bounds)
-      : bounds_(bounds),
+  Improver(ConstrainedMesh& cm, double target, const VolumeBounds& bounds,
+           const std::vector<char>* needle)
+      : needle_(needle),
+        bounds_(bounds),
         cm_(cm),
         m_(cm.m),
         target_(quality_of_angle(target)),
@@ -165,10 +167,23 @@ class Improver {
   bool star_cavity(TetId t, const double* p);
   bool sees(HalfFace hf, const double* p) const;
   bool insert_point(TetId t);
+  // insert_point's helpers: the best candidate point so far, its cavity
+  // and the cavity's boundary faces.
+  struct Candidate {
+    double q = -1;
+    Vec3 at{};
+    std::vector<TetId> cavity;
+    std::vector<std::array<VertexId, 3>> faces;
+  };
+  long added_ratio_bad(const Vec3& c);
+  void fewer_ratio_bad(TetId t, Vec3 at, double edge, Candidate& best);
+  bool at_needle(const VertexId* tv) const;
+  double worst_fresh_ = 0;  // added_ratio_bad's largest ratio of the new tets
   bool free_vertex(VertexId v, const std::vector<TetId>& star) const;
   double star_quality(double floor);
   bool replace(const std::vector<TetId>& old, const std::vector<Tet>& fresh);
 
+  const std::vector<char>* needle_;  // improve_mesh's `needle`, or null
   const VolumeBounds& bounds_;
   ConstrainedMesh& cm_;
   TetMesh& m_;
@@ -714,6 +729,58 @@ bool Improver::sees(HalfFace hf, const double* p) const {
 // boundary of its star cavity. The candidate whose new tets have the
 // largest smallest angle goes in, if that beats the cavity's tets;
 // smoothing may move it on later, as it is free.
+// For a new vertex at c with the cavity and faces star_cavity() left: how
+// many more tets above kRatioGuard its tets hold than the cavity's (its
+// largest ratio in worst_fresh_).
+long Improver::added_ratio_bad(const Vec3& c) {
+  long bad = 0;
+  worst_fresh_ = 0;
+  for (const auto& f : faces_) {
+    const Vec3 tp[4] = {to_vec(cm_.pt(f[0])), to_vec(cm_.pt(f[1])), to_vec(cm_.pt(f[2])), c};
+    const double r = radius_edge_ratio(tp);
+    bad += !(r <= kRatioGuard);
+    worst_fresh_ = std::max(worst_fresh_, r);
+  }
+  return bad - static_cast<long>(ratio_bad_count(cavity_));
+}
+
+// From candidate `best` (at, taken for tet t), compass steps that still
+// raise the tets of their cavity (gain_bar) and add fewer tets above
+// kRatioGuard; best becomes the last such point.
+void Improver::fewer_ratio_bad(TetId t, Vec3 at, double edge, Candidate& best) {
+  const double home[3] = {at.x, at.y, at.z};
+  if (!star_cavity(t, home)) return;
+  long fewest = added_ratio_bad(at);
+  double step = 0.5 * kCompassFirst * edge;
+  for (int halvings = 0, moves = 0; halvings < kCompassHalvings && moves < 2 * kCompassMoves && fewest > 0;) {
+    bool moved = false;
+    for (int d = 0; d < 6 && !moved; ++d) {
+      const Vec3 c = compass_step(at, d, step);
+      const double p[3] = {c.x, c.y, c.z};
+      if (!star_cavity(t, p)) continue;
+      double old_q = HUGE_VAL, q = HUGE_VAL;
+      for (TetId u : cavity_) old_q = std::min(old_q, quality(u));
+      const double bar = gain_bar(old_q);
+      for (const auto& f : faces_) {
+        q = std::min(q, quality_of(cm_.pt(f[0]), cm_.pt(f[1]), cm_.pt(f[2]), p, bar));
+        if (q <= bar) break;
+      }
+      if (!(q > bar)) continue;
+      const long added = added_ratio_bad(c);
+      if (added < fewest) fewest = added, at = c, moved = true, ++moves, best = {q, c, cavity_, faces_};
+    }
+    if (!moved) step *= 0.5, ++halvings;
+  }
+}
+
+// Whether a vertex of tv is on a needle (improve_mesh's `needle`).
+bool Improver::at_needle(const VertexId* tv) const {
+  if (!needle_) return false;
+  for (int i = 0; i < 4; ++i)
+    if (tv[i] < needle_->size() && (*needle_)[tv[i]]) return true;
+  return false;
+}
+
 bool Improver::insert_point(TetId t) {
   const VertexId* tv = m_.tet_vertices(t);
   Vec3 centre{0, 0, 0};
@@ -754,41 +821,60 @@ bool Improver::insert_point(TetId t) {
   // The best candidate that adds no tet above kRatioGuard (clean), and the
   // best of all; the latter only for a tet below kGuardAngle, as
   // adds_ratio_bad, and only when the clean one stays below it and is worse.
-  struct Candidate {
-    double q = -1;
-    Vec3 at{};
-    std::vector<TetId> cavity;
-    std::vector<std::array<VertexId, 3>> faces;
-  } clean_best, any_best;
+  Candidate clean_best, any_best;
   const bool guarded = quality(t) >= guard_q_;
-  for (int k = 0; k < nd; ++k)
-    for (double h : kInsertHeights) {
-      const Vec3 c = centre + (h * edge) * directions[k];
-      const double p[3] = {c.x, c.y, c.z};
-      if (!star_cavity(t, p)) continue;
-      double old_q = HUGE_VAL, q = HUGE_VAL;
-      for (TetId u : cavity_) old_q = std::min(old_q, quality(u));
-      // What q must beat to be taken (the test below); at or under it, the
-      // rest of the faces need not be looked at.
-      const double floor =
-          std::max(gain_bar(old_q), guarded ? clean_best.q : std::min(clean_best.q, any_best.q));
-      for (const auto& f : faces_) {
-        q = std::min(q, quality_of(cm_.pt(f[0]), cm_.pt(f[1]), cm_.pt(f[2]), p, floor));
-        if (q <= floor) break;
-      }
-      if (!(q > gain_bar(old_q)) || !(q > clean_best.q || (!guarded && q > any_best.q))) continue;
-      size_t bad = 0;
-      double worst = 0;
-      for (const auto& f : faces_) {
-        const Vec3 tp[4] = {to_vec(cm_.pt(f[0])), to_vec(cm_.pt(f[1])), to_vec(cm_.pt(f[2])), c};
-        const double r = radius_edge_ratio(tp);
-        bad += !(r <= kRatioGuard);
-        worst = std::max(worst, r);
-      }
-      const bool clean = bad == 0 || bad <= ratio_bad_count(cavity_) || worst < max_ratio(cavity_);
-      if (clean && q > clean_best.q) clean_best = {q, c, cavity_, faces_};
-      if (!guarded && q > any_best.q) any_best = {q, c, cavity_, faces_};
+  // One candidate point c: its star cavity, the smallest quality of the
+  // tets it would make, and whether those add tets above kRatioGuard.
+  // seen: the best point with a cavity so far, taken or not (the compass
+  // search below starts there).
+  Vec3 seen_at{};
+  double seen_q = -1;
+  auto consider = [&](const Vec3& c) {
+    const double p[3] = {c.x, c.y, c.z};
+    if (!star_cavity(t, p)) return;
+    double old_q = HUGE_VAL, q = HUGE_VAL;
+    for (TetId u : cavity_) old_q = std::min(old_q, quality(u));
+    // What q must beat to be taken (the test below), or to be seen; at or
+    // under it, the rest of the faces need not be looked at.
+    const double floor =
+        std::max(gain_bar(old_q), guarded ? clean_best.q : std::min(clean_best.q, any_best.q));
+    const double look = std::min(floor, seen_q);
+    for (const auto& f : faces_) {
+      q = std::min(q, quality_of(cm_.pt(f[0]), cm_.pt(f[1]), cm_.pt(f[2]), p, look));
+      if (q <= look) break;
     }
+    if (q > seen_q) seen_q = q, seen_at = c;
+    if (!(q > gain_bar(old_q)) || !(q > clean_best.q || (!guarded && q > any_best.q))) return;
+    const long added = added_ratio_bad(c);
+    const bool clean = added <= 0 || worst_fresh_ < max_ratio(cavity_);
+    if (clean && q > clean_best.q) clean_best = {q, c, cavity_, faces_};
+    if (!guarded && q > any_best.q) any_best = {q, c, cavity_, faces_};
+  };
+  for (int k = 0; k < nd; ++k)
+    for (double h : kInsertHeights) consider(centre + (h * edge) * directions[k]);
+  // Below kGuardAngle with no candidate taken: the fixed points are
+  // guesses along two lines, and a wedge between facets or a sliver beside
+  // a new vertex of the pass wants a point off them. A compass search from
+  // the best point seen, then from the one it finds a second search that
+  // lowers the number of tets above kRatioGuard it adds while it still
+  // raises the tet. Not at needles: their slivers come from the input, and
+  // the points there added tets above ratio 2 by the hundred
+  // (dragon_decimated's share above TetGen's; tests/bench/README.md).
+  if (!guarded && any_best.q < 0 && seen_q > 0 && !at_needle(tv)) {
+    Vec3 at = seen_at;
+    double step = kCompassFirst * edge;
+    for (int halvings = 0, moves = 0; halvings < kCompassHalvings + 1 && moves < 2 * kCompassMoves &&
+                                      any_best.q < 0;) {
+      const double before = seen_q;
+      bool moved = false;
+      for (int d = 0; d < 6 && !moved; ++d) {
+        consider(compass_step(at, d, step));
+        if (seen_q > before) at = seen_at, moved = true, ++moves;
+      }
+      if (!moved) step *= 0.5, ++halvings;
+    }
+    if (clean_best.q < 0 && any_best.q >= 0) fewer_ratio_bad(t, any_best.at, edge, any_best);
+  }
   const Candidate& pick =
       clean_best.q >= 0 && (clean_best.q >= any_best.q || clean_best.q >= guard_q_) ? clean_best
                                                                                     : any_best;
@@ -1082,8 +1168,8 @@ Status Improver::run(const volatile bool* cancel, const ImproveProgress& progres
 
 Status improve_mesh(ConstrainedMesh& cm, double target, const volatile bool* cancel,
                     ImproveCounts& counts, const ImproveProgress& progress,
-                    const VolumeBounds& bounds) {
-  Improver improver(cm, target, bounds);
+                    const VolumeBounds& bounds, const std::vector<char>* needle) {
+  Improver improver(cm, target, bounds, needle);
   return improver.run(cancel, progress, counts);
 }
 

@@ -20,7 +20,11 @@
 //    plane is perpendicular to an axis slides in that plane (its subfaces
 //    stay exactly in the facet), which slivers across thin plates need;
 //  * as the last resort, a new vertex inside the union of the tet and its
-//    neighbours across unconstrained faces (a Steiner point in the volume).
+//    neighbours across unconstrained faces (a Steiner point in the volume);
+//    for a tet below 10 degrees that none of the fixed candidate points
+//    raises, a compass search from the best of them, then one that adds
+//    fewer tets above radius-edge ratio 2 (not at needles, where the tets
+//    are slivers of the input's making).
 // When no tet is left below the target, edge removals and 2-3 flips at the
 // worst tets of the mesh go on raising its smallest angle (a small mesh
 // meets the target at once).
@@ -66,9 +70,11 @@ struct VolumeBounds {
 };
 
 /// Raises the smallest dihedral angle of cm's tets towards `target`
-/// degrees. Errors: Cancelled when *cancel becomes true.
+/// degrees. `needle` (optional): per vertex, 1 on a side or at the apex of
+/// a needle (refine.cpp), where a new vertex is not searched for beyond its
+/// fixed candidates. Errors: Cancelled when *cancel becomes true.
 Status improve_mesh(ConstrainedMesh& cm, double target, const volatile bool* cancel,
                     ImproveCounts& counts, const ImproveProgress& progress = {},
-                    const VolumeBounds& bounds = {});
+                    const VolumeBounds& bounds = {}, const std::vector<char>* needle = nullptr);
 
 }  // namespace cdt3d
