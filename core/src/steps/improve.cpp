@@ -175,6 +175,8 @@ class Improver {
     std::vector<TetId> cavity;
     std::vector<std::array<VertexId, 3>> faces;
   };
+  bool cavity_at(TetId t, const double* p, double& old_q);
+  double new_quality(const double* p, double look) const;
   long added_ratio_bad(const Vec3& c);
   void fewer_ratio_bad(TetId t, Vec3 at, double edge, Candidate& best);
   bool at_needle(const VertexId* tv) const;
@@ -720,15 +722,26 @@ bool Improver::sees(HalfFace hf, const double* p) const {
          !numerically_flat(cm_.pt(f[0]), cm_.pt(f[1]), cm_.pt(f[2]), p);
 }
 
-// The last resort for a sliver no flip or move fixes, typically one on the
-// boundary whose two constrained faces lie on nearly coplanar facets (any tet
-// holding both is flat, so a vertex inside must see them apart): a new
-// vertex at a point inward of t (from its centroid, away from its
-// constrained and open faces or from those of t and its neighbours, by a
-// fraction of its mean edge), joined to the
-// boundary of its star cavity. The candidate whose new tets have the
-// largest smallest angle goes in, if that beats the cavity's tets;
-// smoothing may move it on later, as it is free.
+// The star cavity of a new vertex at p from t (star_cavity: cavity_ and
+// faces_), and the smallest quality of its tets now in old_q.
+bool Improver::cavity_at(TetId t, const double* p, double& old_q) {
+  if (!star_cavity(t, p)) return false;
+  old_q = HUGE_VAL;
+  for (TetId u : cavity_) old_q = std::min(old_q, quality(u));
+  return true;
+}
+
+// The smallest quality of the tets joining faces_ to p, exact above `look`
+// (quality_of): at or under it, the rest of the faces are not looked at.
+double Improver::new_quality(const double* p, double look) const {
+  double q = HUGE_VAL;
+  for (const auto& f : faces_) {
+    q = std::min(q, quality_of(cm_.pt(f[0]), cm_.pt(f[1]), cm_.pt(f[2]), p, look));
+    if (q <= look) break;
+  }
+  return q;
+}
+
 // For a new vertex at c with the cavity and faces star_cavity() left: how
 // many more tets above kRatioGuard its tets hold than the cavity's (its
 // largest ratio in worst_fresh_).
@@ -757,14 +770,10 @@ void Improver::fewer_ratio_bad(TetId t, Vec3 at, double edge, Candidate& best) {
     for (int d = 0; d < 6 && !moved; ++d) {
       const Vec3 c = compass_step(at, d, step);
       const double p[3] = {c.x, c.y, c.z};
-      if (!star_cavity(t, p)) continue;
-      double old_q = HUGE_VAL, q = HUGE_VAL;
-      for (TetId u : cavity_) old_q = std::min(old_q, quality(u));
+      double old_q;
+      if (!cavity_at(t, p, old_q)) continue;
       const double bar = gain_bar(old_q);
-      for (const auto& f : faces_) {
-        q = std::min(q, quality_of(cm_.pt(f[0]), cm_.pt(f[1]), cm_.pt(f[2]), p, bar));
-        if (q <= bar) break;
-      }
+      const double q = new_quality(p, bar);
       if (!(q > bar)) continue;
       const long added = added_ratio_bad(c);
       if (added < fewest) fewest = added, at = c, moved = true, ++moves, best = {q, c, cavity_, faces_};
@@ -781,6 +790,15 @@ bool Improver::at_needle(const VertexId* tv) const {
   return false;
 }
 
+// The last resort for a sliver no flip or move fixes, typically one on the
+// boundary whose two constrained faces lie on nearly coplanar facets (any tet
+// holding both is flat, so a vertex inside must see them apart): a new
+// vertex at a point inward of t (from its centroid, away from its
+// constrained and open faces or from those of t and its neighbours, by a
+// fraction of its mean edge), joined to the
+// boundary of its star cavity. The candidate whose new tets have the
+// largest smallest angle goes in, if that beats the cavity's tets;
+// smoothing may move it on later, as it is free.
 bool Improver::insert_point(TetId t) {
   const VertexId* tv = m_.tet_vertices(t);
   Vec3 centre{0, 0, 0};
@@ -831,18 +849,12 @@ bool Improver::insert_point(TetId t) {
   double seen_q = -1;
   auto consider = [&](const Vec3& c) {
     const double p[3] = {c.x, c.y, c.z};
-    if (!star_cavity(t, p)) return;
-    double old_q = HUGE_VAL, q = HUGE_VAL;
-    for (TetId u : cavity_) old_q = std::min(old_q, quality(u));
-    // What q must beat to be taken (the test below), or to be seen; at or
-    // under it, the rest of the faces need not be looked at.
+    double old_q;
+    if (!cavity_at(t, p, old_q)) return;
+    // What q must beat to be taken (the test below), or to be seen.
     const double floor =
         std::max(gain_bar(old_q), guarded ? clean_best.q : std::min(clean_best.q, any_best.q));
-    const double look = std::min(floor, seen_q);
-    for (const auto& f : faces_) {
-      q = std::min(q, quality_of(cm_.pt(f[0]), cm_.pt(f[1]), cm_.pt(f[2]), p, look));
-      if (q <= look) break;
-    }
+    const double q = new_quality(p, std::min(floor, seen_q));
     if (q > seen_q) seen_q = q, seen_at = c;
     if (!(q > gain_bar(old_q)) || !(q > clean_best.q || (!guarded && q > any_best.q))) return;
     const long added = added_ratio_bad(c);
