@@ -23,8 +23,9 @@
 //    neighbours across unconstrained faces (a Steiner point in the volume);
 //    for a tet below 10 degrees that none of the fixed candidate points
 //    raises, a compass search from the best of them, then one that adds
-//    fewer tets above radius-edge ratio 2 (not at needles, where the tets
-//    are slivers of the input's making).
+//    fewer tets above radius-edge ratio 2 (at needles, where the tets are
+//    slivers of the input's making, only a point that leaves no more tets
+//    below 10 degrees than it replaces).
 // When no tet is left below the target, edge removals and 2-3 flips at the
 // worst tets of the mesh go on raising its smallest angle (a small mesh
 // meets the target at once).
@@ -32,7 +33,9 @@
 // ratio 2 (refinement's work) unless they lower the largest ratio there.
 // After the rounds, vertices of the tets left above ratio 2 move (freely or
 // sliding) where fewer such tets are left around them, making no new
-// sliver.
+// sliver; then 2-3 flips and edge removals at the tets still above it
+// replace tets by fewer such ones, none below the target or the smallest
+// angle they replace.
 // A new tet must be positive by the exact orientation test and not
 // numerically flat; constrained faces and subsegments are never removed, so
 // the mesh stays a constrained tetrahedralization of the PLC (every facet
@@ -71,8 +74,8 @@ struct VolumeBounds {
 
 /// Raises the smallest dihedral angle of cm's tets towards `target`
 /// degrees. `needle` (optional): per vertex, 1 on a side or at the apex of
-/// a needle (refine.cpp), where a new vertex is not searched for beyond its
-/// fixed candidates. Errors: Cancelled when *cancel becomes true.
+/// a needle (refine.cpp), where a new vertex found by search must not add
+/// tets below 10 degrees. Errors: Cancelled when *cancel becomes true.
 Status improve_mesh(ConstrainedMesh& cm, double target, const volatile bool* cancel,
                     ImproveCounts& counts, const ImproveProgress& progress = {},
                     const VolumeBounds& bounds = {}, const std::vector<char>* needle = nullptr);
