@@ -213,6 +213,9 @@ class Improver {
   // smooth_failed_[v]: the count when smooth(v) last failed. Every tet of
   // v's star asks for the same move; without its star changed it fails again.
   std::vector<uint32_t> smooth_failed_;
+  // ratio_failed_[v]: the same for move_for_ratio(v), which a vertex of many
+  // tets above the guard is asked for again and again.
+  std::vector<uint32_t> ratio_failed_;
   static constexpr double kUnknown = -2;  // below every quality (-1 is "invalid")
   mutable std::vector<double> qcache_;
   // Buffers.
@@ -1055,6 +1058,11 @@ bool Improver::reduce_ratio_bad(const volatile bool* cancel) {
 // no star tet ends below its floor (below).
 bool Improver::move_for_ratio(VertexId v) {
   if (cm_.where[v] != Where::Volume && cm_.where[v] != Where::Facet) return false;
+  // Its star unchanged since it last failed (a vertex never touched has
+  // the star it had then): it fails again.
+  if (v < ratio_failed_.size() && ratio_failed_[v] != kNever &&
+      (v < touched_.size() ? touched_[v] : 0) <= ratio_failed_[v])
+    return false;
   m_.vertex_star(v, star_);
   const int keep = sliding_axis(v, star_);
   if (keep == kFixed) return false;
@@ -1116,6 +1124,8 @@ bool Improver::move_for_ratio(VertexId v) {
   xyz[0] = best.x, xyz[1] = best.y, xyz[2] = best.z;
   if (best_bad >= old_bad) {
     xyz[0] = home.x, xyz[1] = home.y, xyz[2] = home.z;
+    if (ratio_failed_.size() <= v) ratio_failed_.resize(m_.num_vertices(), kNever);
+    ratio_failed_[v] = ops_;
     return false;
   }
   ++ops_;  // after the rounds: nothing is queued, the caches are updated
