@@ -1613,8 +1613,8 @@ bool Refiner::on_needle(VertexId v) const {
 // is then a needle whose circumsphere takes in a vertex beside F; splitting
 // F refines the boundary where no bad tet is, and the attempt has grown a
 // cavity of hundreds of tets for it. On spot.obj 2,613 circumcentres failed
-// so, at F from 4 to over 100 circumradii away in 2,225 of them, with 757
-// tets in their cavities on average: refinement took 0.38 s (TetGen's whole
+// so, at F 4 or more circumradii away in 2,225 of them, with 757 tets in
+// their cavities on average: refinement took 0.38 s (TetGen's whole
 // run: 0.35 s); with this rule 0.09 s, and fewer tets above ratio 2 (2.04%
 // -> 1.80%). At needles the rule is not applied: there it left more slivers
 // (dragon_decimated: 32 -> 47 tets below 10 degrees away from small input
