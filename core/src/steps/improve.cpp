@@ -833,7 +833,8 @@ bool Improver::adds_slivers(const Candidate& c) const {
   long below = 0;
   for (TetId u : c.cavity) below -= quality(u) < guard_q_;
   const double p[3] = {c.at.x, c.at.y, c.at.z};
-  for (const auto& f : c.faces) below += quality_of(cm_.pt(f[0]), cm_.pt(f[1]), cm_.pt(f[2]), p) < guard_q_;
+  for (const auto& f : c.faces)
+    below += quality_of(cm_.pt(f[0]), cm_.pt(f[1]), cm_.pt(f[2]), p) < guard_q_;
   return below > 0;
 }
 
@@ -938,7 +939,8 @@ bool Improver::insert_point(TetId t) {
     // below 10 degrees, no search at needles / search / search with this
     // test: nefertiti 151 / 217 / 130, dragon_decimated 67 / 25 / 32
     // (tests/bench/README.md).
-    if (clean_best.q < 0 && any_best.q >= 0 && at_needle(tv) && adds_slivers(any_best)) any_best = Candidate{};
+    if (clean_best.q < 0 && any_best.q >= 0 && at_needle(tv) && adds_slivers(any_best))
+      any_best = Candidate{};
   }
   const Candidate& pick =
       clean_best.q >= 0 && (clean_best.q >= any_best.q || clean_best.q >= guard_q_) ? clean_best
@@ -1160,7 +1162,8 @@ bool Improver::flip_ratio_bad(const volatile bool* cancel) {
     if (m_.is_dead(t)) continue;
     const VertexId* tv = m_.tet_vertices(t);
     if (!above_guard(Tet{tv[0], tv[1], tv[2], tv[3]})) continue;
-    if (flip_for_ratio(t)) work.insert(work.end(), queue_.begin(), queue_.end());  // replace() queued them
+    if (flip_for_ratio(t))  // the tets it made, which replace() queued, are tried too
+      work.insert(work.end(), queue_.begin(), queue_.end());
     queue_.clear();
   }
   return true;
@@ -1191,7 +1194,8 @@ bool Improver::flip_for_ratio(TetId t) {
       ok = q >= floor && q > 0;
       fresh_.push_back(n);
     }
-    if (!ok || bad >= old_bad || exceeds_volume({t, u}, fresh_) || !replace({t, u}, fresh_)) continue;
+    if (!ok || bad >= old_bad || exceeds_volume({t, u}, fresh_) || !replace({t, u}, fresh_))
+      continue;
     ++counts_.flips;
     return true;
   }
