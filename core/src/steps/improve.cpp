@@ -155,6 +155,7 @@ class Improver {
   bool unchanged_since_failure(TetId t) const;
   bool remove_edge(TetId t, VertexId a, VertexId b);
   bool flip23(TetId t, int face);
+  bool flip23_tets(TetId t, int face, TetId& u);
   bool smooth(VertexId v);
   void compass_search(VertexId v, int keep, Vec3& best, double& best_q);
   static constexpr int kFixed = -2;  // sliding_axis: v does not move
@@ -168,6 +169,8 @@ class Improver {
   void ring_fresh(const std::array<VertexId, kMaxRing>& r, int turn, VertexId a, VertexId b,
                   const size_t (*pick)[kMaxRing], size_t n);
   bool above_guard(const Tet& t) const;
+  bool above_guard(TetId t) const;
+  std::vector<TetId> tets_above_guard() const;
   bool move_for_ratio(VertexId v);
   size_t ratio_bad_count(const std::vector<TetId>& star) const;
   double max_ratio(const std::vector<TetId>& tets) const;
@@ -373,27 +376,35 @@ bool Improver::remove_edge(TetId t, VertexId a, VertexId b) {
   return true;
 }
 
+// The three tets of the 2-3 flip across face `face` of t into fresh_ (see
+// flip23), and the tet u beyond; false when the face is constrained or has
+// no tet beyond.
+bool Improver::flip23_tets(TetId t, int face, TetId& u) {
+  const HalfFace hf = make_hf(t, face);
+  const HalfFace nb = m_.adjacent(hf);
+  if (nb == kNoHalfFace || cm_.tag(hf) != kNoTag) return false;
+  u = hf_tet(nb);
+  const VertexId e = m_.opposite(nb);
+  const VertexId* tv = m_.tet_vertices(t);
+  fresh_.clear();
+  for (int k = 0; k < 3; ++k) {
+    Tet n{tv[0], tv[1], tv[2], tv[3]};
+    n[kFaceVertex[face][k]] = e;
+    fresh_.push_back(n);
+  }
+  return true;
+}
+
 // The 2-3 flip across face `face` of t (not constrained, a tet beyond): the
 // two tets become three around the edge joining their apexes. Each new tet
 // is t with one vertex of the face replaced by the other apex; all three
 // positive means that edge crosses the face inside.
 bool Improver::flip23(TetId t, int face) {
-  const HalfFace hf = make_hf(t, face);
-  const HalfFace nb = m_.adjacent(hf);
-  if (nb == kNoHalfFace || cm_.tag(hf) != kNoTag) return false;
-  const TetId u = hf_tet(nb);
-  const VertexId e = m_.opposite(nb);
-  const VertexId* tv = m_.tet_vertices(t);
+  TetId u;
+  if (!flip23_tets(t, face, u)) return false;
   const double old_q = std::min(quality(t), quality(u));
-  double new_q = HUGE_VAL;
-  fresh_.clear();
-  for (int k = 0; k < 3 && new_q > gain_bar(old_q); ++k) {
-    Tet n{tv[0], tv[1], tv[2], tv[3]};
-    n[kFaceVertex[face][k]] = e;
-    new_q = std::min(new_q, quality(n));
-    fresh_.push_back(n);
-  }
-  if (!(new_q > gain_bar(old_q))) return false;
+  for (const Tet& n : fresh_)
+    if (!(quality(n) > gain_bar(old_q))) return false;
   if (adds_ratio_bad({t, u}, fresh_, old_q) || (polishing_ && exceeds_volume({t, u}, fresh_)) ||
       !replace({t, u}, fresh_))
     return false;
@@ -491,6 +502,19 @@ bool Improver::above_guard(const Tet& t) const {
   const Vec3 o = sphere_center(p[0], p[1], p[2], p[3]);
   if (!(shortest2 > 0) || !finite(o)) return true;
   return !(dot(o - p[0], o - p[0]) <= kRatioGuard * kRatioGuard * shortest2);
+}
+
+bool Improver::above_guard(TetId t) const {
+  const VertexId* tv = m_.tet_vertices(t);
+  return above_guard(Tet{tv[0], tv[1], tv[2], tv[3]});
+}
+
+// The live tets above kRatioGuard, in slot order.
+std::vector<TetId> Improver::tets_above_guard() const {
+  std::vector<TetId> out;
+  for (TetId t = 0; t < m_.num_tet_slots(); ++t)
+    if (!m_.is_dead(t) && above_guard(t)) out.push_back(t);
+  return out;
 }
 
 // The coordinate a move of vertex v must keep: -1 for a free vertex
@@ -632,8 +656,7 @@ bool Improver::smooth(VertexId v) {
 size_t Improver::ratio_bad_count(const std::vector<TetId>& star) const {
   size_t n = 0;
   for (TetId t : star) {
-    const VertexId* tv = m_.tet_vertices(t);
-    n += above_guard(Tet{tv[0], tv[1], tv[2], tv[3]});
+    n += above_guard(t);
   }
   return n;
 }
@@ -1035,12 +1058,7 @@ bool Improver::unchanged_since_failure(TetId t) const {
 // place that lowers a ratio for its own sake.
 // False when cancelled.
 bool Improver::reduce_ratio_bad(const volatile bool* cancel) {
-  std::vector<TetId> bad;
-  for (TetId t = 0; t < m_.num_tet_slots(); ++t) {
-    if (m_.is_dead(t)) continue;
-    const VertexId* tv = m_.tet_vertices(t);
-    if (above_guard(Tet{tv[0], tv[1], tv[2], tv[3]})) bad.push_back(t);
-  }
+  std::vector<TetId> bad = tets_above_guard();
   for (size_t k = 0; k < bad.size(); ++k) {
     if ((k & 1023) == 0 && cancel && *cancel) return false;
     const TetId t = bad[k];
@@ -1071,8 +1089,7 @@ bool Improver::move_for_ratio(VertexId v) {
   // The tets above kRatioGuard first: a candidate that leaves the first of
   // them so is mostly turned down at once (when it is the only one).
   const auto first_good = std::stable_partition(star_.begin(), star_.end(), [&](TetId t) {
-    const VertexId* tv = m_.tet_vertices(t);
-    return above_guard(Tet{tv[0], tv[1], tv[2], tv[3]});
+    return above_guard(t);
   });
   const size_t old_bad = static_cast<size_t>(first_good - star_.begin());
   if (old_bad == 0) return false;
@@ -1107,8 +1124,7 @@ bool Improver::move_for_ratio(VertexId v) {
     xyz[0] = p.x, xyz[1] = p.y, xyz[2] = p.z;
     size_t n_bad = 0;
     for (TetId t : star_) {
-      const VertexId* tv = m_.tet_vertices(t);
-      n_bad += above_guard(Tet{tv[0], tv[1], tv[2], tv[3]});
+      n_bad += above_guard(t);
       if (n_bad >= best_bad) return;
     }
     for (size_t k = 0; k < star_.size(); ++k) {
@@ -1148,20 +1164,14 @@ bool Improver::move_for_ratio(VertexId v) {
 // a flip makes are tried in turn; the work is bounded by kRatioFlipWork per
 // tet above the guard.
 bool Improver::flip_ratio_bad(const volatile bool* cancel) {
-  std::vector<TetId> work;
-  for (TetId t = 0; t < m_.num_tet_slots(); ++t) {
-    if (m_.is_dead(t)) continue;
-    const VertexId* tv = m_.tet_vertices(t);
-    if (above_guard(Tet{tv[0], tv[1], tv[2], tv[3]})) work.push_back(t);
-  }
+  std::vector<TetId> work = tets_above_guard();
   queue_.clear();
   const size_t budget = kRatioFlipWork * work.size();
   for (size_t k = 0; k < work.size() && k < budget; ++k) {
     if ((k & 1023) == 0 && cancel && *cancel) return false;
     const TetId t = work[k];
     if (m_.is_dead(t)) continue;
-    const VertexId* tv = m_.tet_vertices(t);
-    if (!above_guard(Tet{tv[0], tv[1], tv[2], tv[3]})) continue;
+    if (!above_guard(t)) continue;
     if (flip_for_ratio(t))  // the tets it made, which replace() queued, are tried too
       work.insert(work.end(), queue_.begin(), queue_.end());
     queue_.clear();
@@ -1175,24 +1185,16 @@ bool Improver::flip_for_ratio(TetId t) {
   const VertexId* tv = m_.tet_vertices(t);
   const Tet v{tv[0], tv[1], tv[2], tv[3]};
   for (int face = 0; face < 4; ++face) {
-    const HalfFace hf = make_hf(t, face);
-    const HalfFace nb = m_.adjacent(hf);
-    if (nb == kNoHalfFace || cm_.tag(hf) != kNoTag) continue;
-    const TetId u = hf_tet(nb);
-    const VertexId e = m_.opposite(nb);
-    const VertexId* uv = m_.tet_vertices(u);
+    TetId u;
+    if (!flip23_tets(t, face, u)) continue;
     const double floor = std::min(std::min(quality(t), quality(u)), target_);
-    const int old_bad = above_guard(v) + above_guard(Tet{uv[0], uv[1], uv[2], uv[3]});
+    const int old_bad = above_guard(v) + above_guard(u);
     int bad = 0;
     bool ok = true;
-    fresh_.clear();
-    for (int k = 0; k < 3 && ok && bad < old_bad; ++k) {  // as in flip23
-      Tet n = v;
-      n[kFaceVertex[face][k]] = e;
-      bad += above_guard(n);
-      const double q = quality(n);
+    for (size_t k = 0; k < fresh_.size() && ok && bad < old_bad; ++k) {
+      bad += above_guard(fresh_[k]);
+      const double q = quality(fresh_[k]);
       ok = q >= floor && q > 0;
-      fresh_.push_back(n);
     }
     if (!ok || bad >= old_bad || exceeds_volume({t, u}, fresh_) || !replace({t, u}, fresh_))
       continue;

@@ -1917,12 +1917,7 @@ Status Refiner::run(const volatile bool* cancel, const RefineProgress& progress)
     ImproveCounts counts;
     // The needles' vertices: their sides' ends and split points.
     std::vector<char> needle(needle_side_.empty() ? 0 : m_.num_vertices(), 0);
-    for (uint32_t k = 0; k < needle_side_.size(); ++k)
-      if (needle_side_[k]) needle[segments_[k][0]] = needle[segments_[k][1]] = 1;
-    for (VertexId v = 0; v < needle.size(); ++v)
-      if (where_[v] == Where::Segment && cm_.parent[v] >= 0 &&
-          needle_side_[static_cast<size_t>(cm_.parent[v])])
-        needle[v] = 1;
+    for (VertexId v = 0; v < needle.size(); ++v) needle[v] = on_needle(v);
     st = improve_mesh(cm_, q_.min_dihedral, cancel, counts,
                       {progress.report, progress.user, kRefineShare, 1.0},
                       {q_.max_volume, region_limits_}, &needle);
